@@ -1,0 +1,175 @@
+//! Scalar abstraction: one source of math for `f32`, `f64` and dual numbers over them.
+//!
+//! [`Float`] is a primitive floating-point type (`f32` or `f64`) together with its glam vector
+//! type. [`Real`] is anything the surface formulas can be evaluated in: a [`Float`] itself, or a
+//! [`Dual`](crate::dual::Dual) number over one (which carries an exact derivative along).
+
+use core::fmt::Debug;
+use core::ops::{Add, AddAssign, Div, Mul, MulAssign, Neg, Sub, SubAssign};
+
+use crate::vec::V3;
+
+mod sealed {
+    pub trait Sealed {}
+    impl Sealed for f32 {}
+    impl Sealed for f64 {}
+    impl<T: super::Real> Sealed for crate::dual::Dual<T> {}
+}
+
+/// A number the patch formulas can be evaluated in: `f32`, `f64`, or a dual number over them.
+///
+/// Comparisons (`<`, `>`, …) compare the value part only. This trait is sealed.
+pub trait Real:
+    Copy
+    + Debug
+    + PartialOrd
+    + Add<Output = Self>
+    + Sub<Output = Self>
+    + Mul<Output = Self>
+    + Div<Output = Self>
+    + Neg<Output = Self>
+    + AddAssign
+    + SubAssign
+    + MulAssign
+    + sealed::Sealed
+{
+    /// The primitive float under this number (`f32` or `f64`).
+    type F: Float;
+    /// Lifts a primitive constant (derivative zero).
+    fn cst(x: Self::F) -> Self;
+    /// The value part.
+    fn re(self) -> Self::F;
+    /// Square root of `max(self, 0)`; its derivative is taken as zero where the value is zero,
+    /// so the result is never NaN for finite input.
+    fn sqrt0(self) -> Self;
+    /// `true` when the value and every derivative part are finite.
+    fn all_finite(self) -> bool;
+
+    /// `0`.
+    #[inline(always)]
+    fn zero() -> Self {
+        Self::cst(Self::F::ZERO)
+    }
+    /// `1`.
+    #[inline(always)]
+    fn one() -> Self {
+        Self::cst(Self::F::ONE)
+    }
+    /// Lifts an `f64` literal (rounded to the primitive precision).
+    #[inline(always)]
+    fn lit(x: f64) -> Self {
+        Self::cst(Self::F::from_f64(x))
+    }
+    /// `max(self, 0)` with a zero derivative where clamped.
+    #[inline(always)]
+    fn max0(self) -> Self {
+        if self.re() > Self::F::ZERO { self } else { Self::zero() }
+    }
+    /// `|self|`.
+    #[inline(always)]
+    fn abs(self) -> Self {
+        if self.re() < Self::F::ZERO { -self } else { self }
+    }
+    /// `+1` for a value ≥ 0 (including +0 and −0), `−1` otherwise.
+    #[inline(always)]
+    fn sign1(self) -> Self::F {
+        if self.re() < Self::F::ZERO { -Self::F::ONE } else { Self::F::ONE }
+    }
+}
+
+/// A primitive float (`f32` or `f64`) with its glam vector type. This trait is sealed.
+pub trait Float: Real<F = Self> + Copy + Default + PartialEq {
+    /// The glam 3-vector over this float (`glam::Vec3` or `glam::DVec3`).
+    type Vec3: Copy + Debug + PartialEq;
+    /// `0.0`.
+    const ZERO: Self;
+    /// `1.0`.
+    const ONE: Self;
+    /// Machine epsilon (`f32::EPSILON` or `f64::EPSILON`).
+    const EPSILON: Self;
+    /// Smallest positive normal number.
+    const MIN_POSITIVE: Self;
+    /// Largest finite number.
+    const MAX: Self;
+    /// Rounds an `f64` to this precision.
+    fn from_f64(x: f64) -> Self;
+    /// Widens to `f64` (exact).
+    fn to_f64(self) -> f64;
+    /// `true` when finite (neither NaN nor infinite).
+    fn is_fin(self) -> bool;
+    /// Square root (correctly rounded, libm); NaN for negative input.
+    fn sqrt(self) -> Self;
+    /// Converts from the glam vector.
+    fn from_glam(v: Self::Vec3) -> V3<Self>;
+    /// Converts to the glam vector.
+    fn to_glam(v: V3<Self>) -> Self::Vec3;
+    /// The smaller of two numbers (the other one if one is NaN).
+    #[inline(always)]
+    fn min(self, o: Self) -> Self {
+        if o < self || self != self { o } else { self }
+    }
+    /// The larger of two numbers (the other one if one is NaN).
+    #[inline(always)]
+    fn max(self, o: Self) -> Self {
+        if o > self || self != self { o } else { self }
+    }
+}
+
+macro_rules! impl_float {
+    ($f:ty, $v:ty, $sqrt:path) => {
+        impl Real for $f {
+            type F = $f;
+            #[inline(always)]
+            fn cst(x: $f) -> $f {
+                x
+            }
+            #[inline(always)]
+            fn re(self) -> $f {
+                self
+            }
+            #[inline(always)]
+            fn sqrt0(self) -> $f {
+                if self > 0.0 { $sqrt(self) } else { 0.0 }
+            }
+            #[inline(always)]
+            fn all_finite(self) -> bool {
+                self.is_finite()
+            }
+        }
+        impl Float for $f {
+            type Vec3 = $v;
+            const ZERO: $f = 0.0;
+            const ONE: $f = 1.0;
+            const EPSILON: $f = <$f>::EPSILON;
+            const MIN_POSITIVE: $f = <$f>::MIN_POSITIVE;
+            const MAX: $f = <$f>::MAX;
+            #[inline(always)]
+            fn from_f64(x: f64) -> $f {
+                x as $f
+            }
+            #[inline(always)]
+            fn to_f64(self) -> f64 {
+                self as f64
+            }
+            #[inline(always)]
+            fn is_fin(self) -> bool {
+                self.is_finite()
+            }
+            #[inline(always)]
+            fn sqrt(self) -> $f {
+                $sqrt(self)
+            }
+            #[inline(always)]
+            fn from_glam(v: $v) -> V3<$f> {
+                V3::new(v.x, v.y, v.z)
+            }
+            #[inline(always)]
+            fn to_glam(v: V3<$f>) -> $v {
+                <$v>::new(v.x, v.y, v.z)
+            }
+        }
+    };
+}
+
+impl_float!(f32, glam::Vec3, crate::math::sqrt_f32);
+impl_float!(f64, glam::DVec3, crate::math::sqrt_f64);

@@ -1,0 +1,105 @@
+//! The shell: the prism-like region `{ P(X) + σ·D(X) : X in the triangle, σmin ≤ σ ≤ σmax }` that
+//! contains the patch (DESIGN.md §2). Its cross-section at height `σ` is the triangle
+//! `Ai(σ) = Pi + σ·di`; its side walls are the ruled surfaces `Xi = 0`.
+//!
+//! # How the height range is bounded
+//! The surface height is zero at the vertices, equals the conjugation lines' heights on the
+//! edges and is smooth inside. [`height_bounds`] samples it at [`SAMPLES`] fixed points (edge
+//! points at `t = ¼, ½, ¾` and four interior points) and widens the sampled range by
+//! [`MARGIN_REL`] of the range plus [`MARGIN_ABS`] of the triangle's size. The margin is
+//! validated, not proven: a property test samples thousands of random patches (normals up to 60°
+//! from the face) on a dense grid and checks every point lies inside; the largest overshoot seen
+//! there is reported in `tests/shell.rs`.
+
+use crate::patch::Patch;
+use crate::real::Float;
+use crate::surface::height;
+use crate::vec::V3;
+
+/// Number of surface samples used to bound the height range.
+pub const SAMPLES: usize = 13;
+/// Relative widening of the sampled height range (fraction of its width).
+pub const MARGIN_REL: f64 = 0.25;
+/// Absolute widening as a fraction of the triangle's longest edge.
+pub const MARGIN_ABS: f64 = 1e-4;
+
+/// Conservative `[σmin, σmax]` for an otherwise fully built patch.
+pub(crate) fn height_bounds<F: Float>(patch: &Patch<F>) -> [F; 2] {
+    let mut lo = F::ZERO;
+    let mut hi = F::ZERO;
+    let mut acc = |h: F| {
+        lo = lo.min(h);
+        hi = hi.max(h);
+    };
+    for j in 0..3 {
+        for t in [0.25, 0.5, 0.75] {
+            acc(patch.edge_point_local(j, F::from_f64(t)).z);
+        }
+    }
+    let a = F::from_f64(2.0 / 3.0);
+    let b = F::from_f64(1.0 / 6.0);
+    let c = F::from_f64(1.0 / 3.0);
+    for x in [[a, b, b], [b, a, b], [b, b, a], [c, c, c]] {
+        acc(height(patch, x));
+    }
+    let size = longest_edge(patch);
+    let m = F::from_f64(MARGIN_REL) * (hi - lo) + F::from_f64(MARGIN_ABS) * size;
+    [lo - m, hi + m]
+}
+
+/// Longest edge of the triangle.
+pub(crate) fn longest_edge<F: Float>(patch: &Patch<F>) -> F {
+    let [p0, p1, p2] = patch.p;
+    (p1 - p0).length2().max((p2 - p1).length2()).max((p0 - p2).length2()).sqrt()
+}
+
+/// Twice the signed area of the cross-section triangle `A(σ)`, as the coefficients of the
+/// quadratic `c0 + c1·σ + c2·σ²`.
+pub(crate) fn section_area_poly<F: Float>(patch: &Patch<F>) -> [F; 3] {
+    let [p0, p1, p2] = patch.p;
+    let [d0, d1, d2] = patch.d;
+    let (u0, u1) = (p1 - p0, d1 - d0);
+    let (v0, v1) = (p2 - p0, d2 - d0);
+    cross2_poly(u0, u1, v0, v1)
+}
+
+/// Coefficients of `cross2(u0 + t·u1, v0 + t·v1)` (the z-component of the 2D cross product).
+#[inline(always)]
+pub(crate) fn cross2_poly<F: Float>(u0: V3<F>, u1: V3<F>, v0: V3<F>, v1: V3<F>) -> [F; 3] {
+    let c = |a: V3<F>, b: V3<F>| a.x * b.y - a.y * b.x;
+    [c(u0, v0), c(u0, v1) + c(u1, v0), c(u1, v1)]
+}
+
+/// The shell is valid when its cross-section keeps at least a quarter of the triangle's area
+/// (same orientation) over the whole height range.
+pub(crate) fn is_valid<F: Float>(patch: &Patch<F>) -> bool {
+    let [c0, c1, c2] = section_area_poly(patch);
+    let [lo, hi] = patch.sigma;
+    let eval = |s: F| c0 + s * (c1 + s * c2);
+    let mut m = eval(lo).min(eval(hi));
+    if c2 != F::ZERO {
+        let v = -c1 / (c2 + c2);
+        if v > lo && v < hi {
+            m = m.min(eval(v));
+        }
+    }
+    m >= F::from_f64(0.25) * c0 && c0 > F::ZERO
+}
+
+/// Axis-aligned box of the six shell corners, world coordinates.
+pub(crate) fn aabb<F: Float>(patch: &Patch<F>) -> (V3<F>, V3<F>) {
+    let [lo_s, hi_s] = patch.sigma;
+    let mut lo = V3::new(F::MAX, F::MAX, F::MAX);
+    let mut hi = V3::new(-F::MAX, -F::MAX, -F::MAX);
+    for (p, d) in patch.p.iter().zip(patch.d.iter()) {
+        for s in [lo_s, hi_s] {
+            let w = patch.to_world(*p + *d * s);
+            lo = V3::new(lo.x.min(w.x), lo.y.min(w.y), lo.z.min(w.z));
+            hi = V3::new(hi.x.max(w.x), hi.y.max(w.y), hi.z.max(w.z));
+        }
+    }
+    // Widen by a few ulps of the box so rounding of the frame cannot exclude a surface point.
+    let pad = |a: F, b: F| (a.abs().max(b.abs())) * F::from_f64(8.0) * F::EPSILON;
+    let e = V3::new(pad(lo.x, hi.x), pad(lo.y, hi.y), pad(lo.z, hi.z));
+    (lo - e, hi + e)
+}
