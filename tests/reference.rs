@@ -30,13 +30,25 @@ fn surface_points_match_reference_f64_and_f32() {
         let e = (got - want).length() / size;
         let e_scale = (got - want).length() / scale;
         worst64 = worst64.max(e);
-        assert!(e <= 2e-11, "patch {} at ({w1},{w2}): {got} vs {want}, rel {e:e}", r[0]);
-        assert!(e_scale <= 2e-14, "patch {} at ({w1},{w2}): {got} vs {want}, rel {e_scale:e}", r[0]);
+        assert!(
+            e <= 2e-11,
+            "patch {} at ({w1},{w2}): {got} vs {want}, rel {e:e}",
+            r[0]
+        );
+        assert!(
+            e_scale <= 2e-14,
+            "patch {} at ({w1},{w2}): {got} vs {want}, rel {e_scale:e}",
+            r[0]
+        );
         let wn = v(r, 24);
         if wn.is_finite() {
             let en = (nrm - wn).length();
             worst_n = worst_n.max(en);
-            assert!(en <= 1e-6, "normal of patch {} at ({w1},{w2}): {nrm} vs {wn}", r[0]);
+            assert!(
+                en <= 1e-6,
+                "normal of patch {} at ({w1},{w2}): {nrm} vs {wn}",
+                r[0]
+            );
         }
         let p32 = p.map(|x| x.as_vec3());
         let n32 = n.map(|x| x.as_vec3());
@@ -51,9 +63,15 @@ fn surface_points_match_reference_f64_and_f32() {
         let scale = p.iter().fold(size, |m, x| m.max(x.abs().max_element()));
         let e32 = (got32.as_dvec3() - want32).length() / scale;
         worst32 = worst32.max(e32);
-        assert!(e32 <= 1e-5, "f32 patch {} at ({w1},{w2}): {got32} vs {want}, rel {e32:e}", r[0]);
+        assert!(
+            e32 <= 1e-5,
+            "f32 patch {} at ({w1},{w2}): {got32} vs {want}, rel {e32:e}",
+            r[0]
+        );
     }
-    eprintln!("reference surface points: worst rel error f64 {worst64:e}, f32 {worst32:e}; normals {worst_n:e}");
+    eprintln!(
+        "reference surface points: worst rel error f64 {worst64:e}, f32 {worst32:e}; normals {worst_n:e}"
+    );
 }
 
 #[test]

@@ -49,21 +49,30 @@ impl<T: Real> Add for Dual<T> {
     type Output = Self;
     #[inline(always)]
     fn add(self, o: Self) -> Self {
-        Dual { re: self.re + o.re, du: self.du + o.du }
+        Dual {
+            re: self.re + o.re,
+            du: self.du + o.du,
+        }
     }
 }
 impl<T: Real> Sub for Dual<T> {
     type Output = Self;
     #[inline(always)]
     fn sub(self, o: Self) -> Self {
-        Dual { re: self.re - o.re, du: self.du - o.du }
+        Dual {
+            re: self.re - o.re,
+            du: self.du - o.du,
+        }
     }
 }
 impl<T: Real> Mul for Dual<T> {
     type Output = Self;
     #[inline(always)]
     fn mul(self, o: Self) -> Self {
-        Dual { re: self.re * o.re, du: self.du * o.re + self.re * o.du }
+        Dual {
+            re: self.re * o.re,
+            du: self.du * o.re + self.re * o.du,
+        }
     }
 }
 impl<T: Real> Div for Dual<T> {
@@ -71,14 +80,20 @@ impl<T: Real> Div for Dual<T> {
     #[inline(always)]
     fn div(self, o: Self) -> Self {
         let q = self.re / o.re;
-        Dual { re: q, du: (self.du - q * o.du) / o.re }
+        Dual {
+            re: q,
+            du: (self.du - q * o.du) / o.re,
+        }
     }
 }
 impl<T: Real> Neg for Dual<T> {
     type Output = Self;
     #[inline(always)]
     fn neg(self) -> Self {
-        Dual { re: -self.re, du: -self.du }
+        Dual {
+            re: -self.re,
+            du: -self.du,
+        }
     }
 }
 impl<T: Real> AddAssign for Dual<T> {
@@ -114,7 +129,10 @@ impl<T: Real> Real for Dual<T> {
     fn sqrt0(self) -> Self {
         let r = self.re.sqrt0();
         if r > T::zero() {
-            Dual { re: r, du: self.du / (r + r) }
+            Dual {
+                re: r,
+                du: self.du / (r + r),
+            }
         } else {
             Dual::constant(T::zero())
         }

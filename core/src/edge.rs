@@ -62,7 +62,9 @@ pub(crate) fn edge_point_normal<S: Real>(e: &EdgeView<S::F>, t: S) -> (V3<S>, V3
     };
     let n = match n.try_normalize() {
         Some(n) => n,
-        None => g.try_normalize().unwrap_or(V3::new(S::zero(), S::zero(), S::one())),
+        None => g
+            .try_normalize()
+            .unwrap_or(V3::new(S::zero(), S::zero(), S::one())),
     };
     (c, n)
 }

@@ -17,12 +17,16 @@
 #![no_std]
 #![forbid(unsafe_code)]
 #![deny(missing_docs)]
+// `!(a > b)` is deliberate throughout: it is true for NaN, which must take the safe branch.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 pub mod dual;
 pub mod edge;
 pub mod error;
+pub mod kernel;
 mod math;
 pub mod patch;
+pub mod ray;
 pub mod real;
 pub mod shell;
 pub mod sphere;
@@ -30,5 +34,8 @@ pub mod surface;
 pub mod vec;
 
 pub use error::PatchError;
+pub use kernel::flat::{flat_hit, moller_trumbore};
+pub use kernel::{DEFAULT_SAMPLES, KernelStats};
 pub use patch::{DPatch, Patch};
+pub use ray::{DHit, DRay, Hit, Ray};
 pub use real::{Float, Real};

@@ -63,17 +63,29 @@ pub trait Real:
     /// `max(self, 0)` with a zero derivative where clamped.
     #[inline(always)]
     fn max0(self) -> Self {
-        if self.re() > Self::F::ZERO { self } else { Self::zero() }
+        if self.re() > Self::F::ZERO {
+            self
+        } else {
+            Self::zero()
+        }
     }
     /// `|self|`.
     #[inline(always)]
     fn abs(self) -> Self {
-        if self.re() < Self::F::ZERO { -self } else { self }
+        if self.re() < Self::F::ZERO {
+            -self
+        } else {
+            self
+        }
     }
     /// `+1` for a value ≥ 0 (including +0 and −0), `−1` otherwise.
     #[inline(always)]
     fn sign1(self) -> Self::F {
-        if self.re() < Self::F::ZERO { -Self::F::ONE } else { Self::F::ONE }
+        if self.re() < Self::F::ZERO {
+            -Self::F::ONE
+        } else {
+            Self::F::ONE
+        }
     }
 }
 
@@ -97,6 +109,8 @@ pub trait Float: Real<F = Self> + Copy + Default + PartialEq {
     fn to_f64(self) -> f64;
     /// `true` when finite (neither NaN nor infinite).
     fn is_fin(self) -> bool;
+    /// `true` when NaN.
+    fn is_nan(self) -> bool;
     /// Square root (correctly rounded, libm); NaN for negative input.
     fn sqrt(self) -> Self;
     /// Converts from the glam vector.
@@ -104,15 +118,9 @@ pub trait Float: Real<F = Self> + Copy + Default + PartialEq {
     /// Converts to the glam vector.
     fn to_glam(v: V3<Self>) -> Self::Vec3;
     /// The smaller of two numbers (the other one if one is NaN).
-    #[inline(always)]
-    fn min(self, o: Self) -> Self {
-        if o < self || self != self { o } else { self }
-    }
+    fn min(self, o: Self) -> Self;
     /// The larger of two numbers (the other one if one is NaN).
-    #[inline(always)]
-    fn max(self, o: Self) -> Self {
-        if o > self || self != self { o } else { self }
-    }
+    fn max(self, o: Self) -> Self;
 }
 
 macro_rules! impl_float {
@@ -156,8 +164,20 @@ macro_rules! impl_float {
                 self.is_finite()
             }
             #[inline(always)]
+            fn is_nan(self) -> bool {
+                <$f>::is_nan(self)
+            }
+            #[inline(always)]
             fn sqrt(self) -> $f {
                 $sqrt(self)
+            }
+            #[inline(always)]
+            fn min(self, o: $f) -> $f {
+                <$f>::min(self, o)
+            }
+            #[inline(always)]
+            fn max(self, o: $f) -> $f {
+                <$f>::max(self, o)
             }
             #[inline(always)]
             fn from_glam(v: $v) -> V3<$f> {

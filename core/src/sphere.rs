@@ -47,7 +47,11 @@ pub fn nearest_root<T: Real>(base: V3<T>, g: V3<T>, a: V3<T>, m: V3<T>, kappa: T
     let qc = kappa * w.length2() - T::lit(2.0) * w.dot(m);
     let disc = (qb * qb - qa * qc).max0();
     let sq = disc.sqrt0();
-    let q = if qb.re() < <T::F as crate::real::Float>::ZERO { sq - qb } else { -qb - sq };
+    let q = if qb.re() < <T::F as crate::real::Float>::ZERO {
+        sq - qb
+    } else {
+        -qb - sq
+    };
     if q.re() != <T::F as crate::real::Float>::ZERO {
         let s = qc / q;
         if s.all_finite() { s } else { T::zero() }

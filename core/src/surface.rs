@@ -18,7 +18,13 @@ use crate::vec::V3;
 /// clamped to 0, and the three are renormalised to sum to one (the centroid if all vanish).
 #[inline(always)]
 pub(crate) fn project_bary<F: Float>(w1: F, w2: F) -> [F; 3] {
-    let clean = |x: F| if x.is_fin() && x > F::ZERO { x } else { F::ZERO };
+    let clean = |x: F| {
+        if x.is_fin() && x > F::ZERO {
+            x
+        } else {
+            F::ZERO
+        }
+    };
     let w0r = F::ONE - w1 - w2;
     let (a, b, c) = (clean(w0r), clean(w1), clean(w2));
     let s = a + b + c;
@@ -55,7 +61,11 @@ fn vertex_term<S: Real>(
     dir: V3<S>,
 ) -> S {
     let den = xa + xb;
-    let t = if den.re() > <S::F as Float>::EPSILON { xb / den } else { S::lit(0.5) };
+    let t = if den.re() > <S::F as Float>::EPSILON {
+        xb / den
+    } else {
+        S::lit(0.5)
+    };
     let (c, nc) = edge_point_normal(&patch.edge(opposite_edge), t);
     let pi = V3::<S>::lift(pi);
     let ni = V3::<S>::lift(ni);
@@ -99,10 +109,27 @@ pub(crate) fn point_local<S: Real>(patch: &Patch<S::F>, x: [S; 3]) -> V3<S> {
 pub(crate) fn point_derivs_local<F: Float>(patch: &Patch<F>, x: [F; 3]) -> [V3<F>; 3] {
     let [x0, x1, x2] = x;
     let one = Dual::<F>::var(x1);
-    let d1 = point_local(patch, [Dual { re: x0, du: -F::ONE }, one, Dual::constant(x2)]);
+    let d1 = point_local(
+        patch,
+        [
+            Dual {
+                re: x0,
+                du: -F::ONE,
+            },
+            one,
+            Dual::constant(x2),
+        ],
+    );
     let d2 = point_local(
         patch,
-        [Dual { re: x0, du: -F::ONE }, Dual::constant(x1), Dual::var(x2)],
+        [
+            Dual {
+                re: x0,
+                du: -F::ONE,
+            },
+            Dual::constant(x1),
+            Dual::var(x2),
+        ],
     );
     let (p, du1) = split(d1);
     let (_, du2) = split(d2);
@@ -117,7 +144,9 @@ pub(crate) fn normal_local<F: Float>(patch: &Patch<F>, x: [F; 3], du1: V3<F>, du
     let [x0, x1, x2] = x;
     let [n0, n1, n2] = patch.n;
     let phong = n0 * x0 + n1 * x1 + n2 * x2;
-    let fallback = phong.try_normalize().unwrap_or(V3::new(F::ZERO, F::ZERO, F::ONE));
+    let fallback = phong
+        .try_normalize()
+        .unwrap_or(V3::new(F::ZERO, F::ZERO, F::ONE));
     let cr = du1.cross(du2);
     match cr.try_normalize() {
         Some(n) => {
@@ -145,7 +174,7 @@ impl<F: Float> Patch<F> {
     /// Never; the result is finite for every accepted patch.
     pub fn point(&self, w1: F, w2: F) -> F::Vec3 {
         let x = project_bary(w1, w2);
-        F::to_glam(self.to_world(point_local(self, x)))
+        F::to_glam(self.local_to_world(point_local(self, x)))
     }
 
     /// Height of the surface over the triangle's plane at `(w1, w2)` (signed, along the face
@@ -174,7 +203,10 @@ impl<F: Float> Patch<F> {
         let x = project_bary(w1, w2);
         let [p, du1, du2] = point_derivs_local(self, x);
         let n = normal_local(self, x, du1, du2);
-        (F::to_glam(self.to_world(p)), F::to_glam(self.dir_to_world(n)))
+        (
+            F::to_glam(self.local_to_world(p)),
+            F::to_glam(self.local_dir_to_world(n)),
+        )
     }
 
     /// Exact partial derivatives `(∂pS/∂w1, ∂pS/∂w2)` at `(w1, w2)` (with `w0 = 1 − w1 − w2`),
@@ -186,7 +218,10 @@ impl<F: Float> Patch<F> {
     /// Never.
     pub fn derivatives(&self, w1: F, w2: F) -> (F::Vec3, F::Vec3) {
         let [_, du1, du2] = point_derivs_local(self, project_bary(w1, w2));
-        (F::to_glam(self.dir_to_world(du1)), F::to_glam(self.dir_to_world(du2)))
+        (
+            F::to_glam(self.local_dir_to_world(du1)),
+            F::to_glam(self.local_dir_to_world(du2)),
+        )
     }
 
     /// Point of edge `edge`'s conjugation line (eq. (2)) at `t ∈ [0, 1]` (`t` is clamped), with
@@ -198,8 +233,15 @@ impl<F: Float> Patch<F> {
     /// # Panics
     /// Never.
     pub fn edge_point_normal(&self, edge: usize, t: F) -> (F::Vec3, F::Vec3) {
-        let t = if t.is_fin() { t.max(F::ZERO).min(F::ONE) } else { F::ZERO };
+        let t = if t.is_fin() {
+            t.max(F::ZERO).min(F::ONE)
+        } else {
+            F::ZERO
+        };
         let (c, n) = edge_point_normal::<F>(&self.edge(edge % 3), t);
-        (F::to_glam(self.to_world(c)), F::to_glam(self.dir_to_world(n)))
+        (
+            F::to_glam(self.local_to_world(c)),
+            F::to_glam(self.local_dir_to_world(n)),
+        )
     }
 }

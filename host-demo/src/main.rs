@@ -1,1 +1,3 @@
-fn main() { println!("smoothtri demo: coming soon"); }
+fn main() {
+    println!("smoothtri demo: coming soon");
+}

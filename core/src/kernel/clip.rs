@@ -1,0 +1,196 @@
+//! Clipping a ray to a patch's shell (DESIGN.md §8 step 1): the slab `σmin ≤ σ ≤ σmax` and the
+//! three side walls `Xi = 0`, each wall a quadratic in the ray parameter.
+
+use crate::patch::Patch;
+use crate::real::Float;
+use crate::shell::cross2_poly;
+use crate::vec::V3;
+
+/// A ray in a patch's local frame, re-based at `t0` so that polynomials in `τ = t − t0` stay
+/// well-conditioned.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct LocalRay<F> {
+    /// Local origin at `t = t0`.
+    pub o: V3<F>,
+    /// Local direction.
+    pub r: V3<F>,
+}
+
+impl<F: Float> LocalRay<F> {
+    /// Local point at `τ` (relative parameter).
+    #[inline(always)]
+    pub fn at(&self, tau: F) -> V3<F> {
+        self.o + self.r * tau
+    }
+}
+
+/// Ray–box slab test, world coordinates; returns the parameter interval inside the box.
+#[inline(always)]
+pub(crate) fn aabb_interval<F: Float>(
+    o: V3<F>,
+    d: V3<F>,
+    lo: V3<F>,
+    hi: V3<F>,
+    t_min: F,
+    t_max: F,
+) -> Option<(F, F)> {
+    let mut a = t_min;
+    let mut b = t_max;
+    for (((oc, dc), l), h) in [o.x, o.y, o.z]
+        .into_iter()
+        .zip([d.x, d.y, d.z])
+        .zip([lo.x, lo.y, lo.z])
+        .zip([hi.x, hi.y, hi.z])
+    {
+        if dc == F::ZERO {
+            if oc < l || oc > h {
+                return None;
+            }
+        } else {
+            let inv = F::ONE / dc;
+            let t1 = (l - oc) * inv;
+            let t2 = (h - oc) * inv;
+            a = a.max(t1.min(t2));
+            b = b.min(t1.max(t2));
+        }
+    }
+    if a <= b && a.is_fin() && b.is_fin() {
+        Some((a, b))
+    } else {
+        None
+    }
+}
+
+/// Real roots of `c0 + c1·x + c2·x²` (numerically careful; up to two, NaN-free; `None` slots).
+#[inline(always)]
+pub(crate) fn quadratic_roots<F: Float>(c: [F; 3]) -> [Option<F>; 2] {
+    let [c0, c1, c2] = c;
+    let scale = c1.abs().max(c0.abs());
+    if c2.abs() <= F::EPSILON * F::from_f64(1e-3) * scale || c2 == F::ZERO {
+        if c1 != F::ZERO {
+            let x = -c0 / c1;
+            return [if x.is_fin() { Some(x) } else { None }, None];
+        }
+        return [None, None];
+    }
+    let disc = c1 * c1 - F::from_f64(4.0) * c2 * c0;
+    if !(disc >= F::ZERO) || !disc.is_fin() {
+        return [None, None];
+    }
+    let sq = disc.sqrt();
+    let q = if c1 < F::ZERO {
+        F::from_f64(-0.5) * (c1 - sq)
+    } else {
+        F::from_f64(-0.5) * (c1 + sq)
+    };
+    let r1 = q / c2;
+    let r2 = if q != F::ZERO { c0 / q } else { r1 };
+    let ok = |x: F| if x.is_fin() { Some(x) } else { None };
+    [ok(r1), ok(r2)]
+}
+
+/// The three barycentric numerators of the local point `x` in the cross-section `A(σ = x.z)`
+/// and their sum (twice the cross-section's area).
+#[inline(always)]
+pub(crate) fn bary_numerators<F: Float>(patch: &Patch<F>, x: V3<F>) -> ([F; 3], F) {
+    let [p0, p1, p2] = patch.p;
+    let [d0, d1, d2] = patch.d;
+    let s = x.z;
+    let a0 = p0 + d0 * s - x;
+    let a1 = p1 + d1 * s - x;
+    let a2 = p2 + d2 * s - x;
+    let c = |u: V3<F>, v: V3<F>| u.x * v.y - u.y * v.x;
+    let n = [c(a1, a2), c(a2, a0), c(a0, a1)];
+    let [n0, n1, n2] = n;
+    (n, n0 + n1 + n2)
+}
+
+/// Coefficients (in `τ`) of the three wall quadratics `num_k(τ)` along the local ray.
+#[inline(always)]
+fn wall_polys<F: Float>(patch: &Patch<F>, ray: &LocalRay<F>) -> [[F; 3]; 3] {
+    let o = ray.o;
+    let r = ray.r;
+    // a_i(τ) − q(τ) = (p_i + o.z·d_i − o) + τ (r.z·d_i − r), in the xy-plane.
+    let lin = |p: V3<F>, d: V3<F>| (p + d * o.z - o, d * r.z - r);
+    let [p0, p1, p2] = patch.p;
+    let [d0, d1, d2] = patch.d;
+    let (u0, v0) = lin(p0, d0);
+    let (u1, v1) = lin(p1, d1);
+    let (u2, v2) = lin(p2, d2);
+    [
+        cross2_poly(u1, v1, u2, v2),
+        cross2_poly(u2, v2, u0, v0),
+        cross2_poly(u0, v0, u1, v1),
+    ]
+}
+
+/// Maximum number of breakpoints (two interval ends and two roots per wall).
+const MAX_BREAKS: usize = 8;
+
+/// The parameter interval `[τa, τb]` of the local ray inside the shell: the hull of the
+/// sub-intervals of `[τ_lo, τ_hi]` (already clipped to the slab) where all three walls are
+/// satisfied. Fixed work: at most 8 breakpoints, sorted by a fixed network, 7 midpoint tests.
+#[inline(always)]
+pub(crate) fn shell_interval<F: Float>(
+    patch: &Patch<F>,
+    ray: &LocalRay<F>,
+    tau_lo: F,
+    tau_hi: F,
+) -> Option<(F, F)> {
+    let polys = wall_polys(patch, ray);
+    let mut brk = [tau_hi; MAX_BREAKS];
+    let mut count = 1usize;
+    if let Some(b) = brk.get_mut(0) {
+        *b = tau_lo;
+    }
+    for poly in polys {
+        for x in quadratic_roots(poly).into_iter().flatten() {
+            if x > tau_lo && x < tau_hi {
+                if let Some(slot) = brk.get_mut(count) {
+                    *slot = x;
+                }
+                count += 1;
+            }
+        }
+    }
+    // Fixed insertion sort network over all slots (unused slots hold τ_hi, which sorts last).
+    for i in 1..MAX_BREAKS {
+        for j in (1..=i).rev() {
+            if let (Some(&x), Some(&y)) = (brk.get(j - 1), brk.get(j))
+                && y < x
+            {
+                brk.swap(j - 1, j);
+            }
+        }
+    }
+    let inside = |tau: F| {
+        polys
+            .iter()
+            .all(|&[c0, c1, c2]| c0 + tau * (c1 + tau * c2) >= F::ZERO)
+    };
+    let mut first: Option<F> = None;
+    let mut last: Option<F> = None;
+    for w in brk.windows(2) {
+        if let [a, b] = *w
+            && b > a
+            && inside(F::from_f64(0.5) * (a + b))
+        {
+            if first.is_none() {
+                first = Some(a);
+            }
+            last = Some(b);
+        }
+    }
+    match (first, last) {
+        (Some(a), Some(b)) => Some((a, b)),
+        _ => {
+            // A ray that only touches the shell at a point (or is inside over a zero-length
+            // interval) can still cross the surface there: test the single point.
+            if tau_hi <= tau_lo && inside(tau_lo) {
+                Some((tau_lo, tau_lo))
+            } else {
+                None
+            }
+        }
+    }
+}

@@ -1,0 +1,216 @@
+//! The bounded-work ray kernel (DESIGN.md §8).
+//!
+//! Along a ray `x(t)`, the patch is the zero set of `f(t) = σ(t) − σS(X(t))`: the height of the
+//! ray point over the triangle's plane minus the surface's height at the ray point's
+//! barycentrics (both exact consequences of the construction, DESIGN.md §2). The kernel
+//!
+//! 1. clips the ray to the patch's box, then to its shell (slab and three side walls, exact
+//!    quadratics): `[ta, tb]`;
+//! 2. samples `f` at `ta`, at `K` evenly spaced interior points and at `tb`, and takes the first
+//!    sign change (so a ray grazing a bulge twice inside the shell is not missed when the
+//!    crossings are at least `(tb − ta)/(K + 1)` apart);
+//! 3. refines that bracket with exactly `N` ITP iterations ([`itp`]);
+//! 4. evaluates the exact surface normal once at the estimate.
+//!
+//! Work per ray is at most `K + 2 + N` height evaluations plus one normal evaluation, whatever
+//! the input: every loop has a compile-time trip count (a loop may stop early when it has its
+//! answer, never run longer). The final bracket's width is returned as [`Hit::t_error`].
+
+pub mod clip;
+pub mod flat;
+pub mod itp;
+
+use crate::patch::Patch;
+use crate::ray::{Hit, Ray};
+use crate::real::Float;
+use crate::surface::{height, normal_local, point_derivs_local, project_bary};
+use crate::vec::V3;
+use clip::{LocalRay, aabb_interval, bary_numerators, shell_interval};
+use itp::{Bracket, refine};
+
+/// Default number `K` of interior bracketing samples used by [`Patch::intersect`].
+pub const DEFAULT_SAMPLES: usize = 4;
+
+/// Statistics of one kernel call, for tests and studies.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct KernelStats {
+    /// Number of height evaluations `σS` performed (at most `K + 2 + N`).
+    pub height_evals: u32,
+    /// Number of full point-and-normal evaluations (0 or 1).
+    pub normal_evals: u32,
+}
+
+impl<F: Float> Patch<F> {
+    /// Closest intersection of `ray` with the patch for `t` in `[t_min, t_max]`, with `N`
+    /// refinement iterations and [`DEFAULT_SAMPLES`] bracketing samples.
+    ///
+    /// Returns `None` when the ray misses (including degenerate rays: zero or non-finite
+    /// direction, non-finite origin, `t_max < t_min`, NaN bounds). `t_max` may be infinite.
+    ///
+    /// # Accuracy
+    /// `|t − t_true| ≤ hit.t_error` where `t_true` is the crossing inside the final bracket;
+    /// `t_error ≤ (tb − ta) / ((K + 1)·2^(N−1))` for the shell interval `[ta, tb]`, and usually
+    /// far less (superlinear convergence: icosphere f64 error ≈ 1e-15 at N = 4). Rays that cross
+    /// the surface twice within one sampling step `(tb − ta)/(K + 1)` may be reported as misses.
+    /// # Panics
+    /// Never. Work is bounded: at most `K + 2 + N` height evaluations and one normal evaluation.
+    #[inline]
+    pub fn intersect<const N: usize>(&self, ray: &Ray<F>, t_min: F, t_max: F) -> Option<Hit<F>> {
+        self.intersect_stats::<DEFAULT_SAMPLES, N>(ray, t_min, t_max)
+            .0
+    }
+
+    /// [`Patch::intersect`] with `K` bracketing samples and `N` refinement iterations chosen by
+    /// the caller, also returning the [`KernelStats`] (evaluation counts) of the call.
+    ///
+    /// # Accuracy
+    /// As [`Patch::intersect`].
+    /// # Panics
+    /// Never.
+    pub fn intersect_stats<const K: usize, const N: usize>(
+        &self,
+        ray: &Ray<F>,
+        t_min: F,
+        t_max: F,
+    ) -> (Option<Hit<F>>, KernelStats) {
+        let mut stats = KernelStats::default();
+        let hit = self.intersect_impl::<K, N>(ray, t_min, t_max, &mut stats);
+        (hit, stats)
+    }
+
+    #[inline(always)]
+    fn intersect_impl<const K: usize, const N: usize>(
+        &self,
+        ray: &Ray<F>,
+        t_min: F,
+        t_max: F,
+        stats: &mut KernelStats,
+    ) -> Option<Hit<F>> {
+        let o = F::from_glam(ray.origin);
+        let d = F::from_glam(ray.dir);
+        if !o.all_finite() || !d.all_finite() || d.length2() == F::ZERO {
+            return None;
+        }
+        if t_min.is_nan() || t_max.is_nan() || t_max < t_min {
+            return None;
+        }
+        let (lo, hi) = crate::shell::aabb(self);
+        let (ta, tb) = aabb_interval(o, d, lo, hi, t_min, t_max)?;
+        // Local ray re-based at the middle of the box interval.
+        let t0 = F::from_f64(0.5) * (ta + tb);
+        let lray = LocalRay {
+            o: self.world_to_local(o + d * t0),
+            r: self.world_dir_to_local(d),
+        };
+        // Slab σmin ≤ σ ≤ σmax.
+        let [s_lo, s_hi] = self.sigma;
+        let (mut a, mut b) = (ta - t0, tb - t0);
+        if lray.r.z != F::ZERO {
+            let inv = F::ONE / lray.r.z;
+            let u = (s_lo - lray.o.z) * inv;
+            let v = (s_hi - lray.o.z) * inv;
+            a = a.max(u.min(v));
+            b = b.min(u.max(v));
+        } else if lray.o.z < s_lo || lray.o.z > s_hi {
+            return None;
+        }
+        if !(a <= b) {
+            return None;
+        }
+        let (a, b) = shell_interval(self, &lray, a, b)?;
+
+        let mut f = |tau: F| -> F {
+            stats.height_evals += 1;
+            let x = lray.at(tau);
+            let h = height(self, bary_at(self, x));
+            x.z - h
+        };
+        let bracket = first_sign_change::<F, K>(a, b, &mut f)?;
+        let fin = refine::<F, N>(bracket, &mut f);
+        let tau = fin.estimate();
+        let xl = lray.at(tau);
+        let bary = bary_at(self, xl);
+        stats.normal_evals += 1;
+        let [_, du1, du2] = point_derivs_local(self, bary);
+        let nl = normal_local(self, bary, du1, du2);
+        let normal = self.local_dir_to_world(nl);
+        let t = t0 + tau;
+        let [_, w1, w2] = bary;
+        let hit = Hit {
+            t,
+            t_error: fin.b - fin.a,
+            point: F::to_glam(o + d * t),
+            normal: F::to_glam(normal),
+            w1,
+            w2,
+            front_face: normal.dot(d) < F::ZERO,
+            feature: 0,
+        };
+        if t.is_fin() && hit.t_error.is_fin() && normal.all_finite() {
+            Some(hit)
+        } else {
+            None
+        }
+    }
+}
+
+/// Barycentrics (projected onto the triangle) of the local point `x` in the cross-section at
+/// its height.
+#[inline(always)]
+pub(crate) fn bary_at<F: Float>(patch: &Patch<F>, x: V3<F>) -> [F; 3] {
+    let ([_, n1, n2], area) = bary_numerators(patch, x);
+    let inv = F::ONE / area;
+    project_bary(n1 * inv, n2 * inv)
+}
+
+/// Samples `f` at `a`, `K` interior points and `b`; returns the first bracket with a sign
+/// change (or an exact zero). At most `K + 2` evaluations.
+#[inline(always)]
+fn first_sign_change<F: Float, const K: usize>(
+    a: F,
+    b: F,
+    f: &mut impl FnMut(F) -> F,
+) -> Option<Bracket<F>> {
+    let fa = f(a);
+    if fa == F::ZERO {
+        return Some(Bracket {
+            a,
+            b: a,
+            fa,
+            fb: fa,
+        });
+    }
+    if !(b > a) {
+        return None;
+    }
+    let step = (b - a) / F::from_f64((K + 1) as f64);
+    let mut x0 = a;
+    let mut f0 = fa;
+    for j in 1..=K + 1 {
+        let x1 = if j == K + 1 {
+            b
+        } else {
+            a + step * F::from_f64(j as f64)
+        };
+        let f1 = f(x1);
+        if f1 == F::ZERO {
+            return Some(Bracket {
+                a: x1,
+                b: x1,
+                fa: f1,
+                fb: f1,
+            });
+        }
+        if (f1 > F::ZERO) != (f0 > F::ZERO) {
+            return Some(Bracket {
+                a: x0,
+                b: x1,
+                fa: f0,
+                fb: f1,
+            });
+        }
+        x0 = x1;
+        f0 = f1;
+    }
+    None
+}

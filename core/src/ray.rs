@@ -1,0 +1,65 @@
+//! Rays and hits (parry style: `Ray { origin, dir }`, hits with `t`, normal and feature id).
+
+use crate::real::Float;
+
+/// A ray `origin + t·dir`. `dir` need not be unit length: `t` is measured in units of `dir`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Ray<F: Float = f32> {
+    /// Origin, world coordinates.
+    pub origin: F::Vec3,
+    /// Direction (any non-zero finite length).
+    pub dir: F::Vec3,
+}
+
+/// A [`Ray`] in `f64`.
+pub type DRay = Ray<f64>;
+
+impl<F: Float> Ray<F> {
+    /// A ray from `origin` along `dir`.
+    ///
+    /// # Panics
+    /// Never (a zero or non-finite direction is accepted here and gives no hit in every query).
+    pub fn new(origin: F::Vec3, dir: F::Vec3) -> Self {
+        Ray { origin, dir }
+    }
+
+    /// The point `origin + t·dir`.
+    ///
+    /// # Accuracy
+    /// One rounding per component operation.
+    /// # Panics
+    /// Never.
+    pub fn at(&self, t: F) -> F::Vec3 {
+        let o = F::from_glam(self.origin);
+        let d = F::from_glam(self.dir);
+        F::to_glam(o + d * t)
+    }
+}
+
+/// A ray–surface intersection.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Hit<F: Float = f32> {
+    /// Ray parameter of the hit, in units of the ray's `dir`.
+    pub t: F,
+    /// Certified bound on `|t − t_true|`, where `t_true` is the crossing of the ray with the
+    /// patch's (floating-point) height field inside the final bracket: the width of that bracket.
+    /// Add the rounding slack of the height evaluation (about `64·ε·size / |cos θ|` for a ray at
+    /// angle θ to the surface normal) to bound the distance to the exact-arithmetic surface.
+    pub t_error: F,
+    /// Hit point `ray.at(t)`, world coordinates.
+    pub point: F::Vec3,
+    /// Unit surface normal at the hit (exact derivatives of the patch), oriented like the vertex
+    /// normals (not flipped toward the ray: see `front_face`).
+    pub normal: F::Vec3,
+    /// Barycentric coordinate `w1` of the hit on the patch (`w0 = 1 − w1 − w2`).
+    pub w1: F,
+    /// Barycentric coordinate `w2` of the hit on the patch.
+    pub w2: F,
+    /// `true` when the ray arrives from the side the normals point to.
+    pub front_face: bool,
+    /// Feature id: the patch's index in the scene (0 for a lone patch).
+    pub feature: u32,
+}
+
+/// A [`Hit`] in `f64`.
+pub type DHit = Hit<f64>;

@@ -1,0 +1,54 @@
+//! The shell's height range and bounding box must contain the whole surface (dense sampling of
+//! random patches), and its cross-section must stay a proper triangle.
+
+mod common;
+use common::*;
+use smoothtri::{DPatch, Patch};
+
+#[test]
+fn height_range_and_box_contain_dense_samples() {
+    let mut rng = Rng(7);
+    let grid = bary_grid(40);
+    for deg in [10.0, 20.0, 30.0, 40.0, 50.0] {
+        let mut worst = f64::NEG_INFINITY;
+        for _ in 0..400 {
+            let (p, n) = random_patch(&mut rng, deg);
+            let patch = DPatch::new(p, n).unwrap();
+            let (lo, hi) = patch.height_range();
+            let (bmin, bmax) = patch.bounds();
+            for &(w1, w2) in &grid {
+                let h = patch.height(w1, w2);
+                assert!(
+                    h >= lo && h <= hi,
+                    "height {h} outside [{lo}, {hi}] at ({w1},{w2}), {p:?} {n:?}"
+                );
+                let x = patch.point(w1, w2);
+                assert!(
+                    x.cmpge(bmin).all() && x.cmple(bmax).all(),
+                    "{x} outside box {bmin} {bmax}"
+                );
+                // Fraction of the margin used: (excursion beyond the height's own range) / width.
+                worst = worst.max(((h - hi) / (hi - lo)).max((lo - h) / (hi - lo)));
+            }
+        }
+        eprintln!(
+            "normals ≤ {deg}°: closest approach to the shell's faces {:.3} of its width",
+            -worst
+        );
+    }
+}
+
+#[test]
+fn f32_height_range_contains_dense_samples() {
+    let mut rng = Rng(8);
+    let grid = bary_grid(24);
+    for _ in 0..500 {
+        let (p, n) = random_patch(&mut rng, 40.0);
+        let patch: Patch = Patch::new(p.map(|x| x.as_vec3()), n.map(|x| x.as_vec3())).unwrap();
+        let (lo, hi) = patch.height_range();
+        for &(w1, w2) in &grid {
+            let h = patch.height(w1 as f32, w2 as f32);
+            assert!(h >= lo && h <= hi, "f32 height {h} outside [{lo}, {hi}]");
+        }
+    }
+}
