@@ -20,6 +20,7 @@
 // `!(a > b)` is deliberate throughout: it is true for NaN, which must take the safe branch.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+pub mod bvh;
 pub mod dual;
 pub mod edge;
 pub mod error;
@@ -33,6 +34,7 @@ pub mod sphere;
 pub mod surface;
 pub mod vec;
 
+pub use bvh::{Bvh, BvhError, BvhNode};
 pub use error::PatchError;
 pub use kernel::flat::{flat_hit, moller_trumbore};
 pub use kernel::{DEFAULT_SAMPLES, KernelStats};

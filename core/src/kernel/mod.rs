@@ -94,7 +94,7 @@ impl<F: Float> Patch<F> {
         if t_min.is_nan() || t_max.is_nan() || t_max < t_min {
             return None;
         }
-        let (lo, hi) = crate::shell::aabb(self);
+        let [lo, hi] = self.bbox;
         let (ta, tb) = aabb_interval(o, d, lo, hi, t_min, t_max)?;
         // Local ray re-based at the middle of the box interval.
         let t0 = F::from_f64(0.5) * (ta + tb);
