@@ -38,7 +38,7 @@ pub(crate) fn degenerate_ratio<F: Float>() -> F {
 /// and three vertex normals (any positive length). The surface interpolates the vertices with
 /// the given normals, passes through the edge conjugation lines, and reproduces spheres exactly.
 ///
-/// Memory: `size_of::<Patch<f32>>()` is 212 bytes, `Patch<f64>` 424 bytes (checked by a test).
+/// Memory: `size_of::<Patch<f32>>()` is 216 bytes, `Patch<f64>` 432 bytes (checked by a test).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Patch<F: Float = f32> {
     /// World position of `P0`: the local frame's origin.
@@ -57,7 +57,15 @@ pub struct Patch<F: Float = f32> {
     pub(crate) sigma: [F; 2],
     /// World bounding box of the shell (min, max), cached for the kernel and the BVH.
     pub(crate) bbox: [V3<F>; 2],
+    /// Index + 1 into [`NORMAL_CLAMP_DEG`] of the clamp applied by [`Patch::new_or_tilted`]
+    /// (0: the normals were used as given).
+    pub(crate) remedy: u8,
 }
+
+/// Angle clamps (degrees from the face normal) tried in order by [`Patch::new_or_tilted`]
+/// for patches whose normals the construction cannot represent. The last, 0°, is the flat
+/// triangle, which is always valid.
+pub const NORMAL_CLAMP_DEG: [f64; 6] = [75.0, 60.0, 45.0, 30.0, 15.0, 0.0];
 
 /// A [`Patch`] in `f64`: the reference precision.
 pub type DPatch = Patch<f64>;
@@ -154,6 +162,7 @@ impl<F: Float> Patch<F> {
             k: [[F::ZERO; 2]; 3],
             sigma: [F::ZERO; 2],
             bbox: [V3::zero(); 2],
+            remedy: 0,
         };
         for j in 0..3 {
             let ev = patch.edge(j);
@@ -173,6 +182,70 @@ impl<F: Float> Patch<F> {
             return Err(PatchError::OutOfRange);
         }
         Ok(patch)
+    }
+
+    /// Builds the patch like [`Patch::new`], and where the normals are outside the method's
+    /// domain (a zero, back-facing or near-perpendicular normal, or a shell that degenerates)
+    /// applies the documented remedy instead of failing: each normal steeper than a clamp angle
+    /// is rotated toward the face normal down to that angle, trying the clamps of
+    /// [`NORMAL_CLAMP_DEG`] in order (75°, 60°, 45°, 30°, 15°, then 0° = the flat triangle);
+    /// zero normals become the face normal. The clamp used is reported by
+    /// [`Patch::normal_clamp`]. Only non-finite input, degenerate triangles and overflow are
+    /// still errors.
+    ///
+    /// Work is bounded: at most 7 constructions.
+    /// # Accuracy
+    /// As [`Patch::new`] for the (possibly clamped) normals.
+    /// # Panics
+    /// Never.
+    pub fn new_or_tilted(p: [F::Vec3; 3], n: [F::Vec3; 3]) -> Result<Self, PatchError> {
+        let first = match Self::new(p, n) {
+            Ok(patch) => return Ok(patch),
+            Err(
+                e @ (PatchError::NonFinite
+                | PatchError::DegenerateTriangle
+                | PatchError::OutOfRange),
+            ) => {
+                return Err(e);
+            }
+            Err(e) => e,
+        };
+        let [p0, p1, p2] = p.map(F::from_glam);
+        let Some(nf) = (p1 - p0).cross(p2 - p0).try_normalize() else {
+            return Err(first);
+        };
+        let units = n.map(|v| F::from_glam(v).try_normalize().unwrap_or(nf));
+        for (k, deg) in NORMAL_CLAMP_DEG.iter().enumerate() {
+            let (s, c) = libm::sincos(deg.to_radians());
+            let (sin_max, cos_max) = (F::from_f64(s), F::from_f64(c));
+            let clamped = units.map(|u| {
+                let cos = u.dot(nf);
+                if cos >= cos_max {
+                    return F::to_glam(u);
+                }
+                // Rotate toward nf in the plane of (nf, u) down to the clamp angle.
+                match (u - nf * cos).try_normalize() {
+                    Some(w) => F::to_glam(nf * cos_max + w * sin_max),
+                    None => F::to_glam(nf),
+                }
+            });
+            if let Ok(mut patch) = Self::new(p, clamped) {
+                patch.remedy = (k + 1) as u8;
+                return Ok(patch);
+            }
+        }
+        Err(first)
+    }
+
+    /// The clamp angle (degrees from the face normal) that [`Patch::new_or_tilted`] applied to
+    /// this patch's normals, or `None` when they were used as given.
+    ///
+    /// # Panics
+    /// Never.
+    pub fn normal_clamp(&self) -> Option<f64> {
+        NORMAL_CLAMP_DEG
+            .get(usize::from(self.remedy).checked_sub(1)?)
+            .copied()
     }
 
     /// The data of edge `j` (from `Pj` to `Pj+1`); `j` is 0, 1 or 2 (anything else means 2).
