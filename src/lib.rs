@@ -1,1 +1,3 @@
-//! Integration tests and benchmarks of the smoothtri workspace (no code of its own).
+//! Integration tests and benchmarks of the smoothtri workspace. The README is included here so
+//! its embedding example is compiled and run as a doctest by `cargo test --workspace`.
+#![doc = include_str!("../README.md")]
