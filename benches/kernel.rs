@@ -42,9 +42,14 @@ fn rays_at_patch(p: &DPatch, n: usize) -> Vec<DRay> {
     (0..n)
         .map(|_| {
             let (a, b) = (rng.f(), rng.f());
-            let (a, b) = if a + b > 1.0 { (1.0 - a, 1.0 - b) } else { (a, b) };
+            let (a, b) = if a + b > 1.0 {
+                (1.0 - a, 1.0 - b)
+            } else {
+                (a, b)
+            };
             let target = v[0] * (1.0 - a - b) + v[1] * a + v[2] * b;
-            let dir = (nf + DVec3::new(rng.f() - 0.5, rng.f() - 0.5, rng.f() - 0.5) * 1.2).normalize();
+            let dir =
+                (nf + DVec3::new(rng.f() - 0.5, rng.f() - 0.5, rng.f() - 0.5) * 1.2).normalize();
             DRay::new(target + dir * 2.0, -dir)
         })
         .collect()
@@ -65,18 +70,36 @@ fn setup() -> Setup {
     let p64 = DPatch::new(p, n).unwrap();
     let p32 = Patch::new(p.map(|x| x.as_vec3()), n.map(|x| x.as_vec3())).unwrap();
     let rays64 = rays_at_patch(&p64, 1024);
-    let rays32 = rays64.iter().map(|r| Ray::new(r.origin.as_vec3(), r.dir.as_vec3())).collect();
-    Setup { p64, p32, tri32: p.map(|x| x.as_vec3()), tri64: p, rays64, rays32 }
+    let rays32 = rays64
+        .iter()
+        .map(|r| Ray::new(r.origin.as_vec3(), r.dir.as_vec3()))
+        .collect();
+    Setup {
+        p64,
+        p32,
+        tri32: p.map(|x| x.as_vec3()),
+        tri64: p,
+        rays64,
+        rays32,
+    }
 }
 
 macro_rules! smooth32 {
     ($s:expr, $n:literal) => {
-        |rays: &[Ray]| rays.iter().filter(|r| $s.p32.intersect::<$n>(r, 0.0, f32::INFINITY).is_some()).count()
+        |rays: &[Ray]| {
+            rays.iter()
+                .filter(|r| $s.p32.intersect::<$n>(r, 0.0, f32::INFINITY).is_some())
+                .count()
+        }
     };
 }
 macro_rules! smooth64 {
     ($s:expr, $n:literal) => {
-        |rays: &[DRay]| rays.iter().filter(|r| $s.p64.intersect::<$n>(r, 0.0, f64::INFINITY).is_some()).count()
+        |rays: &[DRay]| {
+            rays.iter()
+                .filter(|r| $s.p64.intersect::<$n>(r, 0.0, f64::INFINITY).is_some())
+                .count()
+        }
     };
 }
 
@@ -84,21 +107,51 @@ fn bench_kernel(c: &mut Criterion) {
     let s = setup();
     let mut g = c.benchmark_group("per_ray_patch_test_1024_rays");
     g.bench_function("moller_trumbore_f32", |b| {
-        b.iter(|| s.rays32.iter().filter(|r| moller_trumbore(&s.tri32, r, 0.0, f32::INFINITY).is_some()).count())
+        b.iter(|| {
+            s.rays32
+                .iter()
+                .filter(|r| moller_trumbore(&s.tri32, r, 0.0, f32::INFINITY).is_some())
+                .count()
+        })
     });
     g.bench_function("moller_trumbore_f64", |b| {
-        b.iter(|| s.rays64.iter().filter(|r| moller_trumbore(&s.tri64, r, 0.0, f64::INFINITY).is_some()).count())
+        b.iter(|| {
+            s.rays64
+                .iter()
+                .filter(|r| moller_trumbore(&s.tri64, r, 0.0, f64::INFINITY).is_some())
+                .count()
+        })
     });
-    g.bench_function("smooth_f32_N0", |b| b.iter(|| smooth32!(s, 0)(black_box(&s.rays32))));
-    g.bench_function("smooth_f32_N2", |b| b.iter(|| smooth32!(s, 2)(black_box(&s.rays32))));
-    g.bench_function("smooth_f32_N4", |b| b.iter(|| smooth32!(s, 4)(black_box(&s.rays32))));
-    g.bench_function("smooth_f32_N8", |b| b.iter(|| smooth32!(s, 8)(black_box(&s.rays32))));
-    g.bench_function("smooth_f32_N16", |b| b.iter(|| smooth32!(s, 16)(black_box(&s.rays32))));
-    g.bench_function("smooth_f64_N0", |b| b.iter(|| smooth64!(s, 0)(black_box(&s.rays64))));
-    g.bench_function("smooth_f64_N2", |b| b.iter(|| smooth64!(s, 2)(black_box(&s.rays64))));
-    g.bench_function("smooth_f64_N4", |b| b.iter(|| smooth64!(s, 4)(black_box(&s.rays64))));
-    g.bench_function("smooth_f64_N8", |b| b.iter(|| smooth64!(s, 8)(black_box(&s.rays64))));
-    g.bench_function("smooth_f64_N16", |b| b.iter(|| smooth64!(s, 16)(black_box(&s.rays64))));
+    g.bench_function("smooth_f32_N0", |b| {
+        b.iter(|| smooth32!(s, 0)(black_box(&s.rays32)))
+    });
+    g.bench_function("smooth_f32_N2", |b| {
+        b.iter(|| smooth32!(s, 2)(black_box(&s.rays32)))
+    });
+    g.bench_function("smooth_f32_N4", |b| {
+        b.iter(|| smooth32!(s, 4)(black_box(&s.rays32)))
+    });
+    g.bench_function("smooth_f32_N8", |b| {
+        b.iter(|| smooth32!(s, 8)(black_box(&s.rays32)))
+    });
+    g.bench_function("smooth_f32_N16", |b| {
+        b.iter(|| smooth32!(s, 16)(black_box(&s.rays32)))
+    });
+    g.bench_function("smooth_f64_N0", |b| {
+        b.iter(|| smooth64!(s, 0)(black_box(&s.rays64)))
+    });
+    g.bench_function("smooth_f64_N2", |b| {
+        b.iter(|| smooth64!(s, 2)(black_box(&s.rays64)))
+    });
+    g.bench_function("smooth_f64_N4", |b| {
+        b.iter(|| smooth64!(s, 4)(black_box(&s.rays64)))
+    });
+    g.bench_function("smooth_f64_N8", |b| {
+        b.iter(|| smooth64!(s, 8)(black_box(&s.rays64)))
+    });
+    g.bench_function("smooth_f64_N16", |b| {
+        b.iter(|| smooth64!(s, 16)(black_box(&s.rays64)))
+    });
     g.finish();
 
     let mesh = torus(8, 8, 1.0, 0.4);
@@ -109,7 +162,13 @@ fn bench_kernel(c: &mut Criterion) {
         })
         .collect();
     let mut g = c.benchmark_group("patch_construction_128_patches");
-    g.bench_function("f32", |b| b.iter(|| tris.iter().filter(|(p, n)| Patch::<f32>::new(*p, *n).is_ok()).count()));
+    g.bench_function("f32", |b| {
+        b.iter(|| {
+            tris.iter()
+                .filter(|(p, n)| Patch::<f32>::new(*p, *n).is_ok())
+                .count()
+        })
+    });
     g.finish();
 }
 
@@ -145,9 +204,15 @@ impl Scene {
         let patches = patches32(m);
         let mut nodes = vec![BvhNode::default(); Bvh::<f32>::nodes_needed(patches.len())];
         let mut order = vec![0u32; patches.len()];
-        let used = Bvh::build(&patches, &mut nodes, &mut order).unwrap().node_count();
+        let used = Bvh::build(&patches, &mut nodes, &mut order)
+            .unwrap()
+            .node_count();
         nodes.truncate(used);
-        Scene { patches, nodes, order }
+        Scene {
+            patches,
+            nodes,
+            order,
+        }
     }
     fn bvh(&self) -> Bvh<'_, f32> {
         Bvh::from_parts(&self.patches, &self.nodes, &self.order)
@@ -178,14 +243,27 @@ fn bench_scene(c: &mut Criterion) {
     let mut g = c.benchmark_group("scene_torus_19200_camera_rays");
     g.bench_function("smooth_8x8_f32_N8", |b| {
         let bvh = smooth.bvh();
-        b.iter(|| rays.iter().filter(|r| matches!(bvh.closest_hit::<8>(r, 0.0, f32::INFINITY), Ok(Some(_)))).count())
+        b.iter(|| {
+            rays.iter()
+                .filter(|r| matches!(bvh.closest_hit::<8>(r, 0.0, f32::INFINITY), Ok(Some(_))))
+                .count()
+        })
     });
     g.bench_function(format!("flat_{n}x{n}_equal_error_f32"), |b| {
         let bvh = flat.bvh();
         b.iter(|| {
             rays.iter()
                 .filter(|r| {
-                    matches!(bvh.closest_with(r, 0.0, f32::INFINITY, |p, a, t| flat_hit(&p.vertices(), None, r, a, t)), Ok(Some(_)))
+                    matches!(
+                        bvh.closest_with(r, 0.0, f32::INFINITY, |p, a, t| flat_hit(
+                            &p.vertices(),
+                            None,
+                            r,
+                            a,
+                            t
+                        )),
+                        Ok(Some(_))
+                    )
                 })
                 .count()
         })
@@ -194,7 +272,11 @@ fn bench_scene(c: &mut Criterion) {
 }
 
 /// Interleaved timing of `a` and `b` (ABAB…, `rounds` each); returns mean seconds per call.
-fn interleaved(mut a: impl FnMut() -> usize, mut b: impl FnMut() -> usize, rounds: usize) -> (f64, f64) {
+fn interleaved(
+    mut a: impl FnMut() -> usize,
+    mut b: impl FnMut() -> usize,
+    rounds: usize,
+) -> (f64, f64) {
     let (mut ta, mut tb) = (Duration::ZERO, Duration::ZERO);
     let mut sink = 0usize;
     for _ in 0..rounds {
@@ -206,13 +288,20 @@ fn interleaved(mut a: impl FnMut() -> usize, mut b: impl FnMut() -> usize, round
         tb += t.elapsed();
     }
     black_box(sink);
-    (ta.as_secs_f64() / rounds as f64, tb.as_secs_f64() / rounds as f64)
+    (
+        ta.as_secs_f64() / rounds as f64,
+        tb.as_secs_f64() / rounds as f64,
+    )
 }
 
 fn cpu_name() -> String {
     std::fs::read_to_string("/proc/cpuinfo")
         .ok()
-        .and_then(|s| s.lines().find(|l| l.starts_with("model name")).map(|l| l.split(':').nth(1).unwrap_or("").trim().to_owned()))
+        .and_then(|s| {
+            s.lines()
+                .find(|l| l.starts_with("model name"))
+                .map(|l| l.split(':').nth(1).unwrap_or("").trim().to_owned())
+        })
         .unwrap_or_else(|| "unknown CPU".into())
 }
 
@@ -220,11 +309,25 @@ fn cpu_name() -> String {
 fn summary() {
     let s = setup();
     let nr = s.rays32.len() as f64;
-    println!("\n## Summary ({}; interleaved timing, {} rays per batch)\n", cpu_name(), s.rays32.len());
+    println!(
+        "\n## Summary ({}; interleaved timing, {} rays per batch)\n",
+        cpu_name(),
+        s.rays32.len()
+    );
     println!("| kernel | f32 ns/test | f32 × MT | f64 ns/test | f64 × MT |");
     println!("|---|---|---|---|---|");
-    let mt32 = || s.rays32.iter().filter(|r| moller_trumbore(&s.tri32, r, 0.0, f32::INFINITY).is_some()).count();
-    let mt64 = || s.rays64.iter().filter(|r| moller_trumbore(&s.tri64, r, 0.0, f64::INFINITY).is_some()).count();
+    let mt32 = || {
+        s.rays32
+            .iter()
+            .filter(|r| moller_trumbore(&s.tri32, r, 0.0, f32::INFINITY).is_some())
+            .count()
+    };
+    let mt64 = || {
+        s.rays64
+            .iter()
+            .filter(|r| moller_trumbore(&s.tri64, r, 0.0, f64::INFINITY).is_some())
+            .count()
+    };
     macro_rules! row {
         ($n:literal) => {{
             let (m32, k32) = interleaved(mt32, || smooth32!(s, $n)(&s.rays32), 200);
@@ -238,7 +341,11 @@ fn summary() {
                 k64 / m64
             );
             if $n == 0 {
-                println!("| Möller–Trumbore | {:.1} | 1 | {:.1} | 1 |", m32 / nr * 1e9, m64 / nr * 1e9);
+                println!(
+                    "| Möller–Trumbore | {:.1} | 1 | {:.1} | 1 |",
+                    m32 / nr * 1e9,
+                    m64 / nr * 1e9
+                );
             }
         }};
     }
@@ -247,6 +354,39 @@ fn summary() {
     row!(4);
     row!(8);
     row!(16);
+    #[cfg(feature = "micromath")]
+    {
+        use smoothtri::FastF32;
+        let (p, n) = torus(8, 8, 1.0, 0.4).triangle(21);
+        let fast = Patch::<FastF32>::new(p.map(|x| x.as_vec3()), n.map(|x| x.as_vec3())).unwrap();
+        let zero = FastF32(0.0);
+        let inf = FastF32(f32::INFINITY);
+        let fast_rays: Vec<Ray<FastF32>> =
+            s.rays32.iter().map(|r| Ray::new(r.origin, r.dir)).collect();
+        println!("| FastF32 (micromath sqrt), f32 columns: | | | | |");
+        macro_rules! frow {
+            ($n:literal) => {{
+                let (m32, k32) = interleaved(
+                    mt32,
+                    || {
+                        fast_rays
+                            .iter()
+                            .filter(|r| fast.intersect::<$n>(r, zero, inf).is_some())
+                            .count()
+                    },
+                    200,
+                );
+                println!(
+                    "| FastF32 N = {} | {:.1} | {:.1} | | |",
+                    $n,
+                    k32 / nr * 1e9,
+                    k32 / m32
+                );
+            }};
+        }
+        frow!(0);
+        frow!(8);
+    }
 
     let mesh = torus(8, 8, 1.0, 0.4);
     let tris: Vec<([Vec3; 3], [Vec3; 3])> = (0..mesh.triangles.len())
@@ -258,10 +398,16 @@ fn summary() {
     let t = Instant::now();
     let mut built = 0usize;
     while t.elapsed() < Duration::from_millis(500) {
-        built += tris.iter().filter(|(p, n)| black_box(Patch::<f32>::new(*p, *n)).is_ok()).count();
+        built += tris
+            .iter()
+            .filter(|(p, n)| black_box(Patch::<f32>::new(*p, *n)).is_ok())
+            .count();
     }
     let rate = built as f64 / t.elapsed().as_secs_f64();
-    println!("\nPatch construction (f32, shell bounds included): {:.2} M patches/s on one core", rate / 1e6);
+    println!(
+        "\nPatch construction (f32, shell bounds included): {:.2} M patches/s on one core",
+        rate / 1e6
+    );
 
     let smooth = Scene::new(&mesh);
     let (n, err) = flat_torus_matching(7.4e-3);
@@ -269,16 +415,34 @@ fn summary() {
     let rays = camera_rays(160, 120);
     let (bs, bf) = (smooth.bvh(), flat.bvh());
     let (ts, tf) = interleaved(
-        || rays.iter().filter(|r| matches!(bs.closest_hit::<8>(r, 0.0, f32::INFINITY), Ok(Some(_)))).count(),
         || {
             rays.iter()
-                .filter(|r| matches!(bf.closest_with(r, 0.0, f32::INFINITY, |p, a, t| flat_hit(&p.vertices(), None, r, a, t)), Ok(Some(_))))
+                .filter(|r| matches!(bs.closest_hit::<8>(r, 0.0, f32::INFINITY), Ok(Some(_))))
+                .count()
+        },
+        || {
+            rays.iter()
+                .filter(|r| {
+                    matches!(
+                        bf.closest_with(r, 0.0, f32::INFINITY, |p, a, t| flat_hit(
+                            &p.vertices(),
+                            None,
+                            r,
+                            a,
+                            t
+                        )),
+                        Ok(Some(_))
+                    )
+                })
                 .count()
         },
         10,
     );
-    let mem = |sc: &Scene| sc.patches.len() * std::mem::size_of::<Patch>() + sc.bvh().memory_bytes();
-    println!("\n| scene (160×120 camera rays, closest hit) | triangles | max error to torus | Mrays/s | memory |");
+    let mem =
+        |sc: &Scene| sc.patches.len() * std::mem::size_of::<Patch>() + sc.bvh().memory_bytes();
+    println!(
+        "\n| scene (160×120 camera rays, closest hit) | triangles | max error to torus | Mrays/s | memory |"
+    );
     println!("|---|---|---|---|---|");
     println!(
         "| smooth torus 8×8, f32, N = 8 | {} | 7.3e-3 | {:.2} | {} KiB |",

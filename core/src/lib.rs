@@ -24,6 +24,8 @@ pub mod bvh;
 pub mod dual;
 pub mod edge;
 pub mod error;
+#[cfg(feature = "micromath")]
+pub mod fast;
 pub mod kernel;
 mod math;
 pub mod patch;
@@ -36,6 +38,8 @@ pub mod vec;
 
 pub use bvh::{Bvh, BvhError, BvhNode};
 pub use error::PatchError;
+#[cfg(feature = "micromath")]
+pub use fast::FastF32;
 pub use kernel::flat::{flat_hit, moller_trumbore};
 pub use kernel::{DEFAULT_SAMPLES, KernelStats};
 pub use patch::{DPatch, Patch};

@@ -14,6 +14,8 @@ mod sealed {
     impl Sealed for f32 {}
     impl Sealed for f64 {}
     impl<T: super::Real> Sealed for crate::dual::Dual<T> {}
+    #[cfg(feature = "micromath")]
+    impl Sealed for crate::fast::FastF32 {}
 }
 
 /// A number the patch formulas can be evaluated in: `f32`, `f64`, or a dual number over them.

@@ -4,7 +4,7 @@
 //!
 //! # How the height range is bounded
 //! The surface height is zero at the vertices, equals the conjugation lines' heights on the
-//! edges and is smooth inside. [`height_bounds`] samples it at [`SAMPLES`] fixed points (edge
+//! edges and is smooth inside. The patch constructor samples it at [`SAMPLES`] fixed points (edge
 //! points at `t = ¼, ½, ¾` and four interior points) and widens the sampled range by
 //! [`MARGIN_REL`] of the range plus [`MARGIN_ABS`] of the triangle's size. The margin is
 //! validated, not proven: `tests/shell.rs` samples 2000 random well-shaped patches with normals
