@@ -1,3 +1,5 @@
-fn main() {
-    println!("smoothtri demo: coming soon");
+//! The `smoothtri` command-line tool.
+
+fn main() -> std::process::ExitCode {
+    smoothtri_demo::cli::main()
 }

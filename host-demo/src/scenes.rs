@@ -160,3 +160,110 @@ pub fn cube() -> Mesh {
     }
     m
 }
+
+/// Newell's Utah teapot (32 bicubic Bézier patches, z up), each patch tessellated on a
+/// `k × k` grid with the exact surface normals of the Bézier patches. Coincident vertices of
+/// neighbouring patches are welded (their normals averaged); triangles collapsed at the poles
+/// are left out.
+pub fn teapot(k: usize) -> Mesh {
+    use crate::teapot_data::{TEAPOT_PATCHES, TEAPOT_POINTS};
+    let k = k.max(1);
+    let bern = |t: f64| {
+        let s = 1.0 - t;
+        [s * s * s, 3.0 * s * s * t, 3.0 * s * t * t, t * t * t]
+    };
+    let dbern = |t: f64| {
+        let s = 1.0 - t;
+        [
+            -3.0 * s * s,
+            3.0 * s * s - 6.0 * s * t,
+            6.0 * s * t - 3.0 * t * t,
+            3.0 * t * t,
+        ]
+    };
+    let eval = |cp: &[DVec3; 16], u: f64, v: f64| {
+        let (bu, bv, du, dv) = (bern(u), bern(v), dbern(u), dbern(v));
+        let mut p = DVec3::ZERO;
+        let mut pu = DVec3::ZERO;
+        let mut pv = DVec3::ZERO;
+        for i in 0..4 {
+            for j in 0..4 {
+                let c = cp[i * 4 + j];
+                p += c * bu[i] * bv[j];
+                pu += c * du[i] * bv[j];
+                pv += c * bu[i] * dv[j];
+            }
+        }
+        (p, pv.cross(pu))
+    };
+    let mut m = Mesh::default();
+    let mut sums: Vec<DVec3> = Vec::new();
+    let mut weld: std::collections::HashMap<[i64; 3], u32> = std::collections::HashMap::new();
+    for patch in TEAPOT_PATCHES.iter() {
+        let cp: [DVec3; 16] =
+            core::array::from_fn(|i| DVec3::from_array(TEAPOT_POINTS[patch[i] as usize]));
+        let (ku, kv) = (k, k);
+        let mut ids = vec![0u32; (ku + 1) * (kv + 1)];
+        for i in 0..=ku {
+            for j in 0..=kv {
+                let (u, v) = (i as f64 / ku as f64, j as f64 / kv as f64);
+                let (p, mut n) = eval(&cp, u, v);
+                if n.length() < 1e-9 {
+                    // A pole: take the normal just inside the patch.
+                    let e = 1e-5;
+                    let uu = if u < 0.5 { u + e } else { u - e };
+                    let vv = if v < 0.5 { v + e } else { v - e };
+                    n = eval(&cp, uu, vv).1;
+                }
+                let n = n.normalize_or_zero();
+                let key = (p * 1e7).round().to_array().map(|x| x as i64);
+                let id = *weld.entry(key).or_insert_with(|| {
+                    m.positions.push(p);
+                    sums.push(DVec3::ZERO);
+                    (m.positions.len() - 1) as u32
+                });
+                sums[id as usize] += n;
+                ids[i * (kv + 1) + j] = id;
+            }
+        }
+        for i in 0..ku {
+            for j in 0..kv {
+                let a = ids[i * (kv + 1) + j];
+                let b = ids[(i + 1) * (kv + 1) + j];
+                let c = ids[(i + 1) * (kv + 1) + j + 1];
+                let d = ids[i * (kv + 1) + j + 1];
+                for t in [[a, b, c], [a, c, d]] {
+                    if t[0] != t[1] && t[1] != t[2] && t[0] != t[2] {
+                        m.triangles.push(t);
+                    }
+                }
+            }
+        }
+    }
+    m.normals = sums.iter().map(|n| n.normalize_or_zero()).collect();
+    // Wind every triangle counter-clockwise seen from its normals' side.
+    for t in m.triangles.iter_mut() {
+        let [a, b, c] = t.map(|i| i as usize);
+        let face = (m.positions[b] - m.positions[a]).cross(m.positions[c] - m.positions[a]);
+        let avg = m.normals[a] + m.normals[b] + m.normals[c];
+        if face.dot(avg) < 0.0 {
+            t.swap(1, 2);
+        }
+    }
+    m
+}
+
+/// The built-in scene names accepted by `--scene`.
+pub const SCENE_NAMES: [&str; 4] = ["torus", "sphere", "cube", "teapot"];
+
+/// A built-in scene by name: `torus` (8×8, R = 1, r = 0.4, 128 triangles), `sphere`
+/// (icosphere level 1, radius 1), `cube` (averaged normals), `teapot` (Newell's, 4×4 per patch).
+pub fn builtin(name: &str) -> Option<Mesh> {
+    Some(match name {
+        "torus" => torus(8, 8, 1.0, 0.4),
+        "sphere" => icosphere(1, 1.0),
+        "cube" => cube(),
+        "teapot" => teapot(4),
+        _ => return None,
+    })
+}

@@ -1,0 +1,249 @@
+//! `smoothtri inspect`: mesh statistics, rejected patches, normal angles, cracks, memory.
+
+use std::collections::HashMap;
+use std::fmt::Write as _;
+
+use glam::DVec3;
+use smoothtri::{DPatch, Patch};
+
+use crate::error::Result;
+use crate::scene::{Prec, Scene};
+use crate::scenes::Mesh;
+
+/// Samples per shared edge for crack measurement.
+pub const EDGE_SAMPLES: usize = 9;
+
+/// Crack statistics over interior edges.
+#[derive(Clone, Debug, Default)]
+pub struct Cracks {
+    /// Interior edges measured (shared by exactly two accepted triangles).
+    pub edges: usize,
+    /// Edges used by one triangle only.
+    pub boundary: usize,
+    /// Edges used by more than two triangles.
+    pub non_manifold: usize,
+    /// Maximum distance between the two patches' edge curves.
+    pub max_gap: f64,
+    /// Mean over edges of the per-edge maximum distance.
+    pub mean_gap: f64,
+    /// Maximum angle between the two patches' edge normals, degrees.
+    pub max_jump_deg: f64,
+    /// Mean over edges of the per-edge maximum normal angle, degrees.
+    pub mean_jump_deg: f64,
+    /// Maximum angle between the two patches' *surface* normals (`point_normal`, from the
+    /// exact derivatives) at the same edge samples, degrees: what shading sees.
+    pub max_surface_jump_deg: f64,
+    /// Mean over edges of the per-edge maximum surface-normal angle, degrees.
+    pub mean_surface_jump_deg: f64,
+}
+
+/// Barycentrics `(w1, w2)` of the point at `t` on edge `e` (from vertex `e` to `e + 1`).
+fn edge_bary(e: usize, t: f64) -> (f64, f64) {
+    let mut w = [0.0; 3];
+    w[e % 3] = 1.0 - t;
+    w[(e + 1) % 3] = t;
+    (w[1], w[2])
+}
+
+/// An undirected edge: its two endpoints' exact bit patterns, smaller first.
+type EdgeKey = ([u64; 3], [u64; 3]);
+
+fn key(p: DVec3) -> [u64; 3] {
+    p.to_array().map(|c| (c + 0.0).to_bits())
+}
+
+/// Measures the cracks and normal jumps between f64 patches across shared edges (edges matched
+/// by exact vertex positions; the second patch's edge is walked in the matching direction).
+pub fn cracks(mesh: &Mesh) -> Cracks {
+    let patches: Vec<Option<DPatch>> = (0..mesh.triangles.len())
+        .map(|t| {
+            let (p, n) = mesh.triangle(t);
+            Patch::<f64>::new(p, n).ok()
+        })
+        .collect();
+    // Undirected edge → list of (triangle, local edge, forward?) with forward meaning the
+    // edge runs from the smaller key to the larger.
+    let mut edges: HashMap<EdgeKey, Vec<(usize, usize, bool)>> = HashMap::new();
+    for t in 0..mesh.triangles.len() {
+        let (p, _) = mesh.triangle(t);
+        for e in 0..3 {
+            let (a, b) = (key(p[e]), key(p[(e + 1) % 3]));
+            if a == b {
+                continue;
+            }
+            let fwd = a < b;
+            let k = if fwd { (a, b) } else { (b, a) };
+            edges.entry(k).or_default().push((t, e, fwd));
+        }
+    }
+    let mut c = Cracks::default();
+    let (mut sum_gap, mut sum_jump, mut sum_sjump) = (0.0, 0.0, 0.0);
+    for list in edges.values() {
+        match list.len() {
+            1 => c.boundary += 1,
+            2 => {
+                let (ta, ea, fa) = list[0];
+                let (tb, eb, fb) = list[1];
+                let (Some(pa), Some(pb)) = (&patches[ta], &patches[tb]) else {
+                    continue;
+                };
+                let (mut gap, mut jump, mut sjump) = (0.0f64, 0.0f64, 0.0f64);
+                for k in 0..EDGE_SAMPLES {
+                    let t = k as f64 / (EDGE_SAMPLES - 1) as f64;
+                    let tb_ = if fa == fb { t } else { 1.0 - t };
+                    let (xa, na) = pa.edge_point_normal(ea, t);
+                    let (xb, nb) = pb.edge_point_normal(eb, tb_);
+                    gap = gap.max((xa - xb).length());
+                    jump = jump.max(na.dot(nb).clamp(-1.0, 1.0).acos().to_degrees());
+                    let (a1, a2) = edge_bary(ea, t);
+                    let (b1, b2) = edge_bary(eb, tb_);
+                    let sa = pa.point_normal(a1, a2).1;
+                    let sb = pb.point_normal(b1, b2).1;
+                    sjump = sjump.max(sa.dot(sb).clamp(-1.0, 1.0).acos().to_degrees());
+                }
+                c.edges += 1;
+                sum_gap += gap;
+                sum_jump += jump;
+                sum_sjump += sjump;
+                c.max_surface_jump_deg = c.max_surface_jump_deg.max(sjump);
+                c.max_gap = c.max_gap.max(gap);
+                c.max_jump_deg = c.max_jump_deg.max(jump);
+            }
+            _ => c.non_manifold += 1,
+        }
+    }
+    if c.edges > 0 {
+        c.mean_gap = sum_gap / c.edges as f64;
+        c.mean_jump_deg = sum_jump / c.edges as f64;
+        c.mean_surface_jump_deg = sum_sjump / c.edges as f64;
+    }
+    c
+}
+
+/// The report of `smoothtri inspect` for precision `F`.
+pub fn inspect<F: Prec>(name: &str, mesh: &Mesh) -> Result<String> {
+    let mut s = String::new();
+    let (lo, hi) = mesh.bounds();
+    let diag = (hi - lo).length();
+    let _ = writeln!(s, "mesh: {name}");
+    let _ = writeln!(
+        s,
+        "triangles: {}   vertices: {}",
+        mesh.triangles.len(),
+        mesh.positions.len()
+    );
+    let _ = writeln!(
+        s,
+        "bounding box: min ({}, {}, {})  max ({}, {}, {})  diagonal {}",
+        lo.x, lo.y, lo.z, hi.x, hi.y, hi.z, diag
+    );
+    let scene = Scene::<F>::build(mesh);
+    let scene = match scene {
+        Ok(sc) => Some(sc),
+        Err(e) => {
+            let _ = writeln!(s, "patches ({}): none accepted: {e}", F::NAME);
+            None
+        }
+    };
+    if let Some(sc) = &scene {
+        let _ = writeln!(
+            s,
+            "patches ({}): {} accepted, {} rejected",
+            F::NAME,
+            sc.patches.len(),
+            sc.rejected.len()
+        );
+        for (why, n) in sc.rejected_summary() {
+            let _ = writeln!(s, "  rejected {n:>6} × {why}");
+        }
+        let shown: Vec<String> = sc
+            .rejected
+            .iter()
+            .take(10)
+            .map(|(t, _)| t.to_string())
+            .collect();
+        if !shown.is_empty() {
+            let more = if sc.rejected.len() > 10 { ", …" } else { "" };
+            let _ = writeln!(s, "  rejected triangle ids: {}{more}", shown.join(", "));
+        }
+    }
+    // Histogram of vertex-normal angles to face normals.
+    let bins = [0.0, 5.0, 10.0, 20.0, 30.0, 45.0, 60.0, 75.0, 90.0, 180.1];
+    let mut counts = vec![0usize; bins.len() - 1];
+    let mut degenerate = 0usize;
+    let mut max_ang = 0.0f64;
+    for t in 0..mesh.triangles.len() {
+        let (p, n) = mesh.triangle(t);
+        let Some(nf) = (p[1] - p[0]).cross(p[2] - p[0]).try_normalize() else {
+            degenerate += 1;
+            continue;
+        };
+        for v in n {
+            let Some(v) = v.try_normalize() else {
+                continue;
+            };
+            let a = nf.dot(v).clamp(-1.0, 1.0).acos().to_degrees();
+            max_ang = max_ang.max(a);
+            if let Some(i) = bins.windows(2).position(|w| a >= w[0] && a < w[1]) {
+                counts[i] += 1;
+            }
+        }
+    }
+    let total: usize = counts.iter().sum();
+    let _ = writeln!(
+        s,
+        "vertex-normal angle to face normal (degrees), {total} corners, max {max_ang:.2}:"
+    );
+    let peak = counts.iter().copied().max().unwrap_or(0).max(1);
+    for (i, &c) in counts.iter().enumerate() {
+        let hi_s = if i + 2 == bins.len() {
+            "180".to_string()
+        } else {
+            format!("{}", bins[i + 1])
+        };
+        let bar = "#".repeat((c * 40).div_ceil(peak));
+        let _ = writeln!(s, "  [{:>3}, {:>3})  {c:>7}  {bar}", bins[i], hi_s);
+    }
+    if degenerate > 0 {
+        let _ = writeln!(s, "  ({degenerate} triangles with zero area left out)");
+    }
+    let c = cracks(mesh);
+    let _ = writeln!(
+        s,
+        "shared edges: {} interior, {} boundary, {} non-manifold ({} samples per edge, f64 patches)",
+        c.edges, c.boundary, c.non_manifold, EDGE_SAMPLES
+    );
+    let _ = writeln!(
+        s,
+        "crack width:  max {:.3e} ({:.3e} of diagonal), mean {:.3e}",
+        c.max_gap,
+        c.max_gap / diag.max(f64::MIN_POSITIVE),
+        c.mean_gap
+    );
+    let _ = writeln!(
+        s,
+        "normal jump:  max {:.4}°, mean {:.4}° (edge-curve normals, edge_point_normal)",
+        c.max_jump_deg, c.mean_jump_deg
+    );
+    let _ = writeln!(
+        s,
+        "              max {:.4}°, mean {:.4}° (surface normals, point_normal on the edge)",
+        c.max_surface_jump_deg, c.mean_surface_jump_deg
+    );
+    if let Some(sc) = &scene {
+        let pbytes = std::mem::size_of_val(sc.patches.as_slice());
+        let bvh = sc.bvh();
+        let _ = writeln!(
+            s,
+            "memory ({}): patches {} bytes ({} × {}), BVH {} bytes ({} nodes + indices), total {} bytes",
+            F::NAME,
+            pbytes,
+            sc.patches.len(),
+            std::mem::size_of::<Patch<F>>(),
+            bvh.memory_bytes(),
+            bvh.node_count(),
+            pbytes + bvh.memory_bytes()
+        );
+    }
+    Ok(s)
+}

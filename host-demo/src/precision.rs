@@ -1,0 +1,362 @@
+//! Precision versus iteration budget: hit-point error against an `f64` reference at N = 40.
+
+use std::fmt::Write as _;
+
+use glam::DVec3;
+use smoothtri::Ray;
+
+use crate::error::{DemoError, Result};
+use crate::image::{Image, heat};
+use crate::scene::{Camera, Mode, Prec, Scene, tracer};
+use crate::scenes::Mesh;
+
+/// The budgets swept.
+pub const BUDGETS: [usize; 7] = [0, 1, 2, 4, 8, 16, 24];
+/// The reference budget (f64).
+pub const REFERENCE_N: usize = 40;
+
+/// One (precision, budget) row of the study. Errors are relative to the bounding-box diagonal.
+#[derive(Clone, Debug)]
+pub struct Row {
+    /// `"f32"` or `"f64"`.
+    pub precision: &'static str,
+    /// Iteration budget.
+    pub iterations: usize,
+    /// Hits compared (both this run and the reference hit).
+    pub hits: usize,
+    /// Maximum hit-point error.
+    pub max: f64,
+    /// 99.9th percentile hit-point error.
+    pub p999: f64,
+    /// Mean hit-point error.
+    pub mean: f64,
+    /// Mean returned `t_error` (relative to the diagonal; rays have unit directions).
+    pub mean_t_error: f64,
+    /// Fraction of hits whose true `|t − t_ref|` is within the returned `t_error`.
+    pub bound_holds: f64,
+    /// Rays that hit in one run and miss in the other.
+    pub disagreements: usize,
+    /// Time per primary ray, nanoseconds (one thread).
+    pub ns_per_ray: f64,
+}
+
+/// The whole study.
+pub struct Study {
+    /// Rays traced per run.
+    pub rays: usize,
+    /// Rows, f32 and f64 for each budget.
+    pub rows: Vec<Row>,
+}
+
+#[derive(Clone, Copy)]
+struct Ref {
+    t: f64,
+    p: DVec3,
+}
+
+fn rays(cam: &Camera) -> Vec<(DVec3, DVec3)> {
+    let mut v = Vec::with_capacity(cam.width as usize * cam.height as usize);
+    for y in 0..cam.height {
+        for x in 0..cam.width {
+            v.push(cam.pixel_ray(x, y));
+        }
+    }
+    v
+}
+
+/// `(t, point, t_error)` of one hit, widened to f64.
+type Traced = (f64, DVec3, f64);
+
+/// Traces all rays with budget `n` in precision `F`: per ray `Some((t, point, t_error))`, and
+/// the elapsed seconds.
+fn run<F: Prec>(
+    scene: &Scene<F>,
+    rays: &[(DVec3, DVec3)],
+    n: usize,
+) -> Result<(Vec<Option<Traced>>, f64)> {
+    let t = tracer::<F>(Mode::Smooth, n)?;
+    let bvh = scene.bvh();
+    let start = std::time::Instant::now();
+    let out = rays
+        .iter()
+        .map(|&(o, d)| {
+            let r = Ray::<F>::new(F::v(o), F::v(d));
+            t.closest(&bvh, &r, F::ZERO, F::MAX)
+                .map(|h| (h.t.to_f64(), F::d(h.point), h.t_error.to_f64()))
+        })
+        .collect();
+    Ok((out, start.elapsed().as_secs_f64()))
+}
+
+fn percentile(sorted: &[f64], q: f64) -> f64 {
+    if sorted.is_empty() {
+        return 0.0;
+    }
+    let k = ((q * sorted.len() as f64).ceil() as usize).clamp(1, sorted.len()) - 1;
+    sorted[k]
+}
+
+fn row<F: Prec>(
+    scene: &Scene<F>,
+    rays: &[(DVec3, DVec3)],
+    reference: &[Option<Ref>],
+    n: usize,
+    diag: f64,
+) -> Result<Row> {
+    let (res, secs) = run(scene, rays, n)?;
+    let mut errs = Vec::new();
+    let mut terr = 0.0;
+    let mut holds = 0usize;
+    let mut dis = 0usize;
+    for (r, q) in res.iter().zip(reference) {
+        match (r, q) {
+            (Some((t, p, te)), Some(q)) => {
+                errs.push((*p - q.p).length() / diag);
+                terr += te / diag;
+                if (t - q.t).abs() <= *te {
+                    holds += 1;
+                }
+            }
+            (None, None) => {}
+            _ => dis += 1,
+        }
+    }
+    let hits = errs.len();
+    let mean = errs.iter().sum::<f64>() / hits.max(1) as f64;
+    errs.sort_by(f64::total_cmp);
+    Ok(Row {
+        precision: F::NAME,
+        iterations: n,
+        hits,
+        max: errs.last().copied().unwrap_or(0.0),
+        p999: percentile(&errs, 0.999),
+        mean,
+        mean_t_error: terr / hits.max(1) as f64,
+        bound_holds: holds as f64 / hits.max(1) as f64,
+        disagreements: dis,
+        ns_per_ray: secs * 1e9 / rays.len().max(1) as f64,
+    })
+}
+
+/// Runs the sweep over [`BUDGETS`] in f32 and f64 on the camera rays of `cam`.
+pub fn sweep(mesh: &Mesh, cam: &Camera) -> Result<Study> {
+    let (lo, hi) = mesh.bounds();
+    let diag = (hi - lo).length().max(f64::MIN_POSITIVE);
+    let s32 = Scene::<f32>::build(mesh)?;
+    let s64 = Scene::<f64>::build(mesh)?;
+    for note in [s32.rejected_note(), s64.rejected_note()]
+        .into_iter()
+        .flatten()
+    {
+        eprintln!("{note}");
+    }
+    let rays = rays(cam);
+    let (rf, _) = run(&s64, &rays, REFERENCE_N)?;
+    let reference: Vec<Option<Ref>> = rf.iter().map(|r| r.map(|(t, p, _)| Ref { t, p })).collect();
+    let mut rows = Vec::new();
+    for &n in &BUDGETS {
+        rows.push(row(&s32, &rays, &reference, n, diag)?);
+        rows.push(row(&s64, &rays, &reference, n, diag)?);
+    }
+    Ok(Study {
+        rays: rays.len(),
+        rows,
+    })
+}
+
+/// CSV header of [`Study::csv`].
+pub const CSV_HEADER: &str = "precision,iterations,hits,max_error,p999_error,mean_error,mean_t_error,bound_holds,hit_miss_disagreements,ns_per_ray";
+
+impl Study {
+    /// Fixed-width table.
+    pub fn table(&self) -> String {
+        let mut s = String::new();
+        let _ = writeln!(
+            s,
+            "{:>4} {:>3} {:>6} {:>10} {:>10} {:>10} {:>12} {:>8} {:>9} {:>9}",
+            "prec",
+            "N",
+            "hits",
+            "max err",
+            "p99.9 err",
+            "mean err",
+            "mean t_err",
+            "bound ok",
+            "hit/miss",
+            "ns/ray"
+        );
+        for r in &self.rows {
+            let _ = writeln!(
+                s,
+                "{:>4} {:>3} {:>6} {:>10.2e} {:>10.2e} {:>10.2e} {:>12.2e} {:>7.2}% {:>9} {:>9.0}",
+                r.precision,
+                r.iterations,
+                r.hits,
+                r.max,
+                r.p999,
+                r.mean,
+                r.mean_t_error,
+                r.bound_holds * 100.0,
+                r.disagreements,
+                r.ns_per_ray
+            );
+        }
+        s.push_str(
+            "errors: hit-point distance to the f64 N=40 reference / bounding-box diagonal\n",
+        );
+        s
+    }
+
+    /// CSV with [`CSV_HEADER`].
+    pub fn csv(&self) -> String {
+        let mut s = String::from(CSV_HEADER);
+        s.push('\n');
+        for r in &self.rows {
+            let _ = writeln!(
+                s,
+                "{},{},{},{},{},{},{},{},{},{}",
+                r.precision,
+                r.iterations,
+                r.hits,
+                r.max,
+                r.p999,
+                r.mean,
+                r.mean_t_error,
+                r.bound_holds,
+                r.disagreements,
+                r.ns_per_ray
+            );
+        }
+        s
+    }
+
+    /// SVG plot of max and 99.9th-percentile error versus iterations, log scale.
+    pub fn plot(&self, path: &str, name: &str) -> Result<()> {
+        use plotters::prelude::*;
+        let floor = 1e-17;
+        let ymax = self.rows.iter().map(|r| r.max).fold(1e-3, f64::max) * 3.0;
+        let mut svg = String::new();
+        {
+            let root = SVGBackend::with_string(&mut svg, (720, 480)).into_drawing_area();
+            let err = |e: &dyn std::fmt::Display| DemoError::output(path, e.to_string());
+            root.fill(&WHITE).map_err(|e| err(&e))?;
+            let mut chart = ChartBuilder::on(&root)
+                .caption(
+                    format!("smoothtri: hit-point error vs iterations ({name})"),
+                    ("sans-serif", 18),
+                )
+                .margin(12)
+                .x_label_area_size(40)
+                .y_label_area_size(70)
+                .build_cartesian_2d(0f64..25f64, (floor..ymax).log_scale())
+                .map_err(|e| err(&e))?;
+            chart
+                .configure_mesh()
+                .x_desc("iteration budget N")
+                .y_desc("error / bounding-box diagonal")
+                .x_label_formatter(&|v| format!("{v:.0}"))
+                .y_label_formatter(&|v| format!("{v:.0e}"))
+                .draw()
+                .map_err(|e| err(&e))?;
+            let series = [
+                ("f32", false, RGBColor(220, 80, 30)),
+                ("f64", false, RGBColor(30, 90, 200)),
+                ("f32", true, RGBColor(240, 160, 120)),
+                ("f64", true, RGBColor(120, 160, 230)),
+            ];
+            for (prec, p999, color) in series {
+                let pts: Vec<(f64, f64)> = self
+                    .rows
+                    .iter()
+                    .filter(|r| r.precision == prec)
+                    .map(|r| {
+                        let v = if p999 { r.p999 } else { r.max };
+                        (r.iterations as f64, v.max(floor))
+                    })
+                    .collect();
+                let label = format!("{prec} {}", if p999 { "99.9th pct" } else { "max" });
+                let style = if p999 {
+                    ShapeStyle::from(&color).stroke_width(1)
+                } else {
+                    ShapeStyle::from(&color).stroke_width(2)
+                };
+                chart
+                    .draw_series(LineSeries::new(pts.clone(), style))
+                    .map_err(|e| err(&e))?
+                    .label(label)
+                    .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], color));
+                chart
+                    .draw_series(pts.iter().map(|&p| Circle::new(p, 3, color.filled())))
+                    .map_err(|e| err(&e))?;
+            }
+            chart
+                .configure_series_labels()
+                .background_style(WHITE.mix(0.85))
+                .border_style(BLACK)
+                .draw()
+                .map_err(|e| err(&e))?;
+            root.present().map_err(|e| err(&e))?;
+        }
+        crate::image::write_bytes(path, svg.as_bytes())
+    }
+}
+
+/// Strip of f32 renders at each budget of [`BUDGETS`] (top) with per-pixel error heat maps
+/// against the f64 N = 40 reference (bottom; log scale 1e-12 … 1e-1 of the diagonal; magenta
+/// where hit and miss disagree).
+pub fn strip(mesh: &Mesh, view: (f64, f64), w: u32, h: u32) -> Result<Image> {
+    let cam = Camera::for_mesh(mesh, view.0, view.1, w, h);
+    let diag = crate::cli::diagonal(mesh).max(f64::MIN_POSITIVE);
+    let s32 = Scene::<f32>::build(mesh)?;
+    let s64 = Scene::<f64>::build(mesh)?;
+    let reference = crate::render::render(
+        &s64,
+        &cam,
+        tracer::<f64>(Mode::Smooth, REFERENCE_N)?,
+        diag,
+        false,
+    );
+    let gap = 4u32;
+    let top = 14u32;
+    let mut img = Image::new(
+        BUDGETS.len() as u32 * (w + gap) - gap,
+        top + 2 * h + gap + 14,
+        [255, 255, 255],
+    );
+    for (k, &n) in BUDGETS.iter().enumerate() {
+        let r = crate::render::render(&s32, &cam, tracer::<f32>(Mode::Smooth, n)?, diag, false);
+        let x0 = (k as u32 * (w + gap)) as i64;
+        img.blit(&r.image, x0, top as i64);
+        let mut hm = Image::new(w, h, [0, 0, 0]);
+        for (i, (a, b)) in r.hits.iter().zip(&reference.hits).enumerate() {
+            let (x, y) = ((i as u32 % w) as i64, (i as u32 / w) as i64);
+            let c = match (a.hit, b.hit) {
+                (true, true) => {
+                    let e = (a.point - b.point).length() / diag;
+                    let l = (e.max(1e-12).log10() + 12.0) / 11.0;
+                    heat(l)
+                }
+                (false, false) => [0, 0, 0],
+                _ => [255, 0, 255],
+            };
+            hm.put(x, y, c);
+        }
+        img.blit(&hm, x0, (top + h + gap) as i64);
+        img.label(&format!("N={n}"), x0 + 3, 3, 1, [255, 255, 255]);
+    }
+    // Colour-bar legend under the heat maps.
+    let ly = (top + 2 * h + gap + 3) as i64;
+    img.label("ERR 1E-12", 2, ly, 1, [255, 255, 255]);
+    for i in 0..200 {
+        let c = heat(i as f64 / 199.0);
+        img.fill(62 + i, ly - 1, 1, 9, c);
+    }
+    img.label(
+        "1E-1 OF DIAGONAL; F32 VS F64 N=40",
+        266,
+        ly,
+        1,
+        [255, 255, 255],
+    );
+    Ok(img)
+}

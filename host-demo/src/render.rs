@@ -1,0 +1,157 @@
+//! Rendering: primary rays through the camera, Lambert + ambient shading, one directional light
+//! with shadow rays, in parallel (rayon) with an optional progress bar (indicatif).
+
+use std::io::IsTerminal;
+
+use glam::DVec3;
+use rayon::prelude::*;
+use smoothtri::{Hit, Ray};
+
+use crate::image::Image;
+use crate::scene::{Camera, Prec, Scene, Tracer};
+
+/// What one pixel saw.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct PixelHit {
+    /// Whether the primary ray hit.
+    pub hit: bool,
+    /// Hit point (f64 widened).
+    pub point: DVec3,
+    /// Mesh triangle id.
+    pub triangle: u32,
+}
+
+/// The result of [`render`].
+pub struct Rendered {
+    /// The shaded image.
+    pub image: Image,
+    /// Per pixel (row-major) primary hit.
+    pub hits: Vec<PixelHit>,
+    /// Rays traced (primary + shadow).
+    pub rays: u64,
+    /// Wall time, seconds.
+    pub seconds: f64,
+}
+
+/// Background colour at row `y` of `h`.
+fn background(y: u32, h: u32) -> [u8; 3] {
+    let s = y as f64 / h.max(1) as f64;
+    [
+        (48.0 - 24.0 * s) as u8,
+        (54.0 - 26.0 * s) as u8,
+        (66.0 - 30.0 * s) as u8,
+    ]
+}
+
+/// Direction towards the light for a camera: upper left, slightly behind the viewer.
+pub fn light_dir(cam: &Camera) -> DVec3 {
+    (cam.right * -0.55 + cam.up * 0.75 - cam.forward * 0.35).normalize()
+}
+
+fn to_u8(x: f64) -> u8 {
+    (x.clamp(0.0, 1.0).powf(1.0 / 2.2) * 255.0 + 0.5) as u8
+}
+
+/// Renders `scene` through `cam` with `tracer`; `diag` is the scene's bounding-box diagonal
+/// (for ray offsets). Shows a progress bar on stderr when `progress` and stderr is a terminal.
+pub fn render<F: Prec>(
+    scene: &Scene<F>,
+    cam: &Camera,
+    tracer: &dyn Tracer<F>,
+    diag: f64,
+    progress: bool,
+) -> Rendered {
+    let start = std::time::Instant::now();
+    let bvh = scene.bvh();
+    let light = light_dir(cam);
+    let eps = diag * if F::NAME == "f32" { 2e-4 } else { 1e-7 };
+    let (w, h) = (cam.width, cam.height);
+    let bar = if progress && std::io::stderr().is_terminal() {
+        indicatif::ProgressBar::new(h as u64)
+    } else {
+        indicatif::ProgressBar::hidden()
+    };
+    let rows: Vec<(Vec<u8>, Vec<PixelHit>, u64)> = (0..h)
+        .into_par_iter()
+        .map(|y| {
+            let mut px = Vec::with_capacity(w as usize * 3);
+            let mut hits = Vec::with_capacity(w as usize);
+            let mut rays = 0u64;
+            for x in 0..w {
+                let (o, d) = cam.pixel_ray(x, y);
+                let ray = Ray::<F>::new(F::v(o), F::v(d));
+                rays += 1;
+                let hit: Option<Hit<F>> = tracer.closest(&bvh, &ray, F::ZERO, F::MAX);
+                let Some(hit) = hit else {
+                    px.extend_from_slice(&background(y, h));
+                    hits.push(PixelHit::default());
+                    continue;
+                };
+                let p = F::d(hit.point);
+                let mut n = F::d(hit.normal);
+                if n.dot(d) > 0.0 {
+                    n = -n;
+                }
+                let lambert = n.dot(light).max(0.0);
+                let mut vis = 0.0;
+                if lambert > 0.0 {
+                    rays += 1;
+                    let so = p - d * eps;
+                    let sray = Ray::<F>::new(F::v(so), F::v(light));
+                    if !tracer.occluded(&bvh, &sray, F::from_f64(eps), F::MAX) {
+                        vis = 1.0;
+                    }
+                }
+                let albedo = if hit.front_face {
+                    [0.85, 0.50, 0.22]
+                } else {
+                    [0.25, 0.45, 0.80]
+                };
+                let ambient = 0.12;
+                let shade = ambient + (1.0 - ambient) * lambert * vis;
+                px.extend(albedo.iter().map(|a| to_u8(a * shade)));
+                hits.push(PixelHit {
+                    hit: true,
+                    point: p,
+                    triangle: scene
+                        .tri_ids
+                        .get(hit.feature as usize)
+                        .copied()
+                        .unwrap_or(u32::MAX),
+                });
+            }
+            bar.inc(1);
+            (px, hits, rays)
+        })
+        .collect();
+    bar.finish_and_clear();
+    let mut data = Vec::with_capacity(w as usize * h as usize * 3);
+    let mut hits = Vec::with_capacity(w as usize * h as usize);
+    let mut rays = 0;
+    for (p, hh, r) in rows {
+        data.extend(p);
+        hits.extend(hh);
+        rays += r;
+    }
+    Rendered {
+        image: Image {
+            width: w,
+            height: h,
+            data,
+        },
+        hits,
+        rays,
+        seconds: start.elapsed().as_secs_f64(),
+    }
+}
+
+/// Plain PBM (P1) text of a hit mask: `1` where the primary ray hit.
+pub fn mask_pbm(width: u32, height: u32, hits: &[PixelHit]) -> String {
+    let mut s = format!("P1\n{width} {height}\n");
+    for row in hits.chunks(width.max(1) as usize) {
+        let line: Vec<&str> = row.iter().map(|h| if h.hit { "1" } else { "0" }).collect();
+        s.push_str(&line.join(" "));
+        s.push('\n');
+    }
+    s
+}

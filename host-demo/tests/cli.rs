@@ -1,0 +1,701 @@
+//! End-to-end tests of the `smoothtri` binary on small meshes written into a temp dir.
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+
+use glam::DVec3;
+use smoothtri_demo::Camera;
+use smoothtri_demo::scenes::{Mesh, cube, icosphere};
+
+const W: u32 = 96;
+const H: u32 = 72;
+
+fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_smoothtri"))
+}
+
+struct Run {
+    code: i32,
+    out: String,
+    err: String,
+}
+
+fn run_in(dir: &Path, args: &[&str], stdin: Option<&str>) -> Run {
+    let mut c = bin();
+    c.current_dir(dir).args(args);
+    c.stdin(if stdin.is_some() {
+        Stdio::piped()
+    } else {
+        Stdio::null()
+    });
+    c.stdout(Stdio::piped()).stderr(Stdio::piped());
+    let mut child = c.spawn().expect("spawn smoothtri");
+    if let Some(s) = stdin {
+        child
+            .stdin
+            .take()
+            .expect("stdin")
+            .write_all(s.as_bytes())
+            .expect("write stdin");
+    }
+    let o: Output = child.wait_with_output().expect("wait");
+    Run {
+        code: o.status.code().unwrap_or(-1),
+        out: String::from_utf8_lossy(&o.stdout).into_owned(),
+        err: String::from_utf8_lossy(&o.stderr).into_owned(),
+    }
+}
+
+fn run(dir: &Path, args: &[&str]) -> Run {
+    run_in(dir, args, None)
+}
+
+fn ok(dir: &Path, args: &[&str]) -> Run {
+    let r = run(dir, args);
+    assert_eq!(r.code, 0, "{args:?} failed: {}", r.err);
+    r
+}
+
+/// Runs and expects failure with a message containing every `needle`.
+fn fails(dir: &Path, args: &[&str], needles: &[&str]) -> Run {
+    let r = run(dir, args);
+    assert_ne!(r.code, 0, "{args:?} should fail; stdout {}", r.out);
+    for n in needles {
+        assert!(r.err.contains(n), "{args:?}: stderr lacks {n:?}: {}", r.err);
+    }
+    assert!(!r.err.contains("panicked"), "{args:?} panicked: {}", r.err);
+    r
+}
+
+fn tmp() -> tempfile::TempDir {
+    tempfile::tempdir().expect("tempdir")
+}
+
+fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
+    let p = dir.join(name);
+    std::fs::write(&p, text).expect("write");
+    p
+}
+
+fn obj_text(m: &Mesh, normals: bool) -> String {
+    let mut s = String::from("# test mesh\no thing\n");
+    for p in &m.positions {
+        s += &format!("v {} {} {}\n", p.x, p.y, p.z);
+    }
+    if normals {
+        for n in &m.normals {
+            s += &format!("vn {} {} {}\n", n.x, n.y, n.z);
+        }
+    }
+    for t in &m.triangles {
+        let [a, b, c] = t.map(|i| i + 1);
+        if normals {
+            s += &format!("f {a}//{a} {b}//{b} {c}//{c}\n");
+        } else {
+            s += &format!("f {a} {b} {c}\n");
+        }
+    }
+    s
+}
+
+fn ply_text(m: &Mesh) -> String {
+    let mut s = format!(
+        "ply\nformat ascii 1.0\nelement vertex {}\nproperty float x\nproperty float y\nproperty float z\nproperty float nx\nproperty float ny\nproperty float nz\nelement face {}\nproperty list uchar int vertex_indices\nend_header\n",
+        m.positions.len(),
+        m.triangles.len()
+    );
+    for (p, n) in m.positions.iter().zip(&m.normals) {
+        s += &format!("{} {} {} {} {} {}\n", p.x, p.y, p.z, n.x, n.y, n.z);
+    }
+    for t in &m.triangles {
+        s += &format!("3 {} {} {}\n", t[0], t[1], t[2]);
+    }
+    s
+}
+
+/// glTF JSON and its binary buffer (positions, normals, u32 indices).
+fn gltf_parts(m: &Mesh, uri: Option<&str>) -> (String, Vec<u8>) {
+    let mut bin = Vec::new();
+    for p in &m.positions {
+        for c in p.to_array() {
+            bin.extend((c as f32).to_le_bytes());
+        }
+    }
+    for n in &m.normals {
+        for c in n.normalize().to_array() {
+            bin.extend((c as f32).to_le_bytes());
+        }
+    }
+    for t in &m.triangles {
+        for i in t {
+            bin.extend(i.to_le_bytes());
+        }
+    }
+    let nv = m.positions.len();
+    let (lo, hi) = m.bounds();
+    let buffer = match uri {
+        Some(u) => format!(r#"{{"uri":"{u}","byteLength":{}}}"#, bin.len()),
+        None => format!(r#"{{"byteLength":{}}}"#, bin.len()),
+    };
+    let json = format!(
+        r#"{{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":[0]}}],"nodes":[{{"mesh":0}}],
+"meshes":[{{"primitives":[{{"attributes":{{"POSITION":0,"NORMAL":1}},"indices":2}}]}}],
+"buffers":[{buffer}],
+"bufferViews":[{{"buffer":0,"byteOffset":0,"byteLength":{pv}}},{{"buffer":0,"byteOffset":{pv},"byteLength":{pv}}},{{"buffer":0,"byteOffset":{io},"byteLength":{il}}}],
+"accessors":[{{"bufferView":0,"componentType":5126,"count":{nv},"type":"VEC3","min":[{},{},{}],"max":[{},{},{}]}},
+{{"bufferView":1,"componentType":5126,"count":{nv},"type":"VEC3"}},
+{{"bufferView":2,"componentType":5125,"count":{ni},"type":"SCALAR"}}]}}"#,
+        lo.x as f32,
+        lo.y as f32,
+        lo.z as f32,
+        hi.x as f32,
+        hi.y as f32,
+        hi.z as f32,
+        pv = nv * 12,
+        io = nv * 24,
+        il = m.triangles.len() * 12,
+        ni = m.triangles.len() * 3,
+    );
+    (json, bin)
+}
+
+fn glb_bytes(m: &Mesh) -> Vec<u8> {
+    let (json, mut bin) = gltf_parts(m, None);
+    let mut j = json.into_bytes();
+    while j.len() % 4 != 0 {
+        j.push(b' ');
+    }
+    while bin.len() % 4 != 0 {
+        bin.push(0);
+    }
+    let total = 12 + 8 + j.len() + 8 + bin.len();
+    let mut out = Vec::new();
+    out.extend(b"glTF");
+    out.extend(2u32.to_le_bytes());
+    out.extend((total as u32).to_le_bytes());
+    out.extend((j.len() as u32).to_le_bytes());
+    out.extend(b"JSON");
+    out.extend(j);
+    out.extend((bin.len() as u32).to_le_bytes());
+    out.extend(b"BIN\0");
+    out.extend(bin);
+    out
+}
+
+fn read_pbm(path: &Path) -> (u32, u32, Vec<bool>) {
+    let text = std::fs::read_to_string(path).expect("mask");
+    let mut it = text.split_whitespace();
+    assert_eq!(it.next(), Some("P1"));
+    let w: u32 = it.next().and_then(|s| s.parse().ok()).expect("w");
+    let h: u32 = it.next().and_then(|s| s.parse().ok()).expect("h");
+    let bits: Vec<bool> = it.map(|s| s == "1").collect();
+    assert_eq!(bits.len(), (w * h) as usize);
+    (w, h, bits)
+}
+
+/// Pixels where the render's mask differs from the analytic sphere's silhouette by more than
+/// one pixel (no pixel within one pixel in the analytic mask has the render's value).
+fn silhouette_violations(mask: &[bool], cam: &Camera, c: DVec3, r: f64) -> usize {
+    let (w, h) = (cam.width as i64, cam.height as i64);
+    let analytic: Vec<bool> = (0..h)
+        .flat_map(|y| (0..w).map(move |x| (x, y)))
+        .map(|(x, y)| {
+            let (o, d) = cam.pixel_ray(x as u32, y as u32);
+            let oc = o - c;
+            let b = oc.dot(d);
+            let disc = b * b - (oc.length_squared() - r * r);
+            disc >= 0.0 && -b + disc.sqrt() > 0.0
+        })
+        .collect();
+    let mut bad = 0;
+    for y in 0..h {
+        for x in 0..w {
+            let i = (y * w + x) as usize;
+            if mask[i] == analytic[i] {
+                continue;
+            }
+            let mut near = false;
+            for dy in -1..=1 {
+                for dx in -1..=1 {
+                    let (xx, yy) = (x + dx, y + dy);
+                    if xx >= 0 && yy >= 0 && xx < w && yy < h {
+                        near |= analytic[(yy * w + xx) as usize] == mask[i];
+                    }
+                }
+            }
+            if !near {
+                bad += 1;
+            }
+        }
+    }
+    bad
+}
+
+fn mask_of(dir: &Path, extra: &[&str]) -> Vec<bool> {
+    let (ws, hs) = (W.to_string(), H.to_string());
+    let mut args = vec![
+        "render", "--width", &ws, "--height", &hs, "--out", "m.png", "--mask", "m.pbm",
+    ];
+    args.extend_from_slice(extra);
+    ok(dir, &args);
+    let (w, h, bits) = read_pbm(&dir.join("m.pbm"));
+    assert_eq!((w, h), (W, H));
+    bits
+}
+
+#[test]
+fn render_default_writes_png_and_reports() {
+    let d = tmp();
+    let r = ok(d.path(), &["render", "--width", "48", "--height", "36"]);
+    assert!(r.out.contains("smoothtri.png"), "{}", r.out);
+    assert!(r.out.contains("rays/s"), "{}", r.out);
+    assert!(r.out.contains("N = 8"), "{}", r.out);
+    let bytes = std::fs::read(d.path().join("smoothtri.png")).expect("png");
+    assert_eq!(&bytes[1..4], b"PNG");
+}
+
+#[test]
+fn cube_and_icosphere_silhouettes_match_the_sphere_flat_does_not() {
+    let d = tmp();
+    let cam = Camera::for_mesh(&cube(), 30.0, 35.0, W, H);
+    let r3 = 3f64.sqrt();
+    let smooth = mask_of(d.path(), &["--scene", "cube"]);
+    assert_eq!(silhouette_violations(&smooth, &cam, DVec3::ZERO, r3), 0);
+    let f64m = mask_of(d.path(), &["--scene", "cube", "--precision", "f64"]);
+    assert_eq!(silhouette_violations(&f64m, &cam, DVec3::ZERO, r3), 0);
+    let flat = mask_of(d.path(), &["--scene", "cube", "--mode", "flat"]);
+    assert!(silhouette_violations(&flat, &cam, DVec3::ZERO, r3) > 50);
+    let ico = icosphere(1, 1.0);
+    let cam = Camera::for_mesh(&ico, 30.0, 35.0, W, H);
+    let m = mask_of(d.path(), &["--scene", "sphere"]);
+    assert_eq!(silhouette_violations(&m, &cam, DVec3::ZERO, 1.0), 0);
+    let flat = mask_of(d.path(), &["--scene", "sphere", "--mode", "flat"]);
+    assert!(silhouette_violations(&flat, &cam, DVec3::ZERO, 1.0) > 0);
+    // Same cube read from files of every format.
+    let c = cube();
+    write(d.path(), "c.obj", &obj_text(&c, true));
+    write(d.path(), "c.ply", &ply_text(&c));
+    let cam = Camera::for_mesh(&c, 30.0, 35.0, W, H);
+    for f in ["c.obj", "c.ply"] {
+        let m = mask_of(d.path(), &["--mesh", f]);
+        assert_eq!(silhouette_violations(&m, &cam, DVec3::ZERO, r3), 0, "{f}");
+    }
+}
+
+#[test]
+fn compare_modes_and_views() {
+    let d = tmp();
+    let r = ok(
+        d.path(),
+        &[
+            "render",
+            "--compare",
+            "--scene",
+            "torus",
+            "--width",
+            "40",
+            "--height",
+            "30",
+            "--out",
+            "c.png",
+            "--view",
+            "-20,60",
+            "--iterations",
+            "4",
+        ],
+    );
+    assert!(r.out.contains("c.png"));
+    for mode in ["flat", "phong", "smooth"] {
+        ok(
+            d.path(),
+            &[
+                "render", "--mode", mode, "--scene", "teapot", "--width", "32", "--height", "24",
+                "--out", "t.png",
+            ],
+        );
+    }
+}
+
+#[test]
+fn meshes_of_every_format_load() {
+    let d = tmp();
+    let c = cube();
+    write(d.path(), "n.obj", &obj_text(&c, true));
+    write(d.path(), "nn.obj", &obj_text(&c, false));
+    write(d.path(), "c.ply", &ply_text(&c));
+    let (json, bin) = gltf_parts(&c, Some("c.bin"));
+    write(d.path(), "c.gltf", &json);
+    std::fs::write(d.path().join("c.bin"), bin).expect("bin");
+    std::fs::write(d.path().join("c.glb"), glb_bytes(&c)).expect("glb");
+    for f in ["n.obj", "nn.obj", "c.ply", "c.gltf", "c.glb"] {
+        let r = ok(d.path(), &["inspect", "--mesh", f]);
+        assert!(r.out.contains("triangles: 12"), "{f}: {}", r.out);
+        assert!(r.out.contains("memory"), "{f}: {}", r.out);
+        if f == "nn.obj" {
+            assert!(r.err.contains("angle-weighted"), "{}", r.err);
+        } else {
+            assert!(!r.err.contains("angle-weighted"), "{f}: {}", r.err);
+        }
+    }
+    // A quad and a pentagon are fan-triangulated; negative indices and v/vt/vn work.
+    write(
+        d.path(),
+        "poly.obj",
+        "v 0 0 0\nv 1 0 0\nv 1 1 0.1\nv 0 1 0\nv -0.5 0.5 0\nvt 0 0\nvn 0 0 1\n\
+         f 1/1/1 2/1/1 3/1/1 4/1/1\nf -5//-1 -2//-1 -1//-1\ng x\ns off\nusemtl m\n",
+    );
+    let r = ok(d.path(), &["inspect", "--mesh", "poly.obj"]);
+    assert!(r.out.contains("triangles: 3"), "{}", r.out);
+}
+
+fn parse_fields(line: &str) -> Vec<String> {
+    line.split(',').map(str::to_string).collect()
+}
+
+#[test]
+fn trace_csv_round_trip() {
+    let d = tmp();
+    let rays = "ox,oy,oz,dx,dy,dz\n0,0,5,0,0,-1\n5,0,0,-1,0,0\n0,0,5,0,0,1\n0.3,0.2,5,0,0,-2\n";
+    write(d.path(), "rays.csv", rays);
+    for prec in ["f32", "f64"] {
+        let r = ok(
+            d.path(),
+            &[
+                "trace",
+                "--scene",
+                "cube",
+                "--rays",
+                "rays.csv",
+                "--precision",
+                prec,
+            ],
+        );
+        let lines: Vec<&str> = r.out.lines().collect();
+        assert_eq!(lines[0], "ray,hit,t,x,y,z,nx,ny,nz,triangle,w1,w2,t_error");
+        assert_eq!(lines.len(), 5);
+        let rows: Vec<Vec<String>> = lines[1..].iter().map(|l| parse_fields(l)).collect();
+        for (i, row) in rows.iter().enumerate() {
+            assert_eq!(row.len(), 13, "{row:?}");
+            assert_eq!(row[0], i.to_string());
+        }
+        assert_eq!(rows[2][1], "0");
+        assert!(rows[2][2..].iter().all(|s| s.is_empty()));
+        for row in [&rows[0], &rows[1], &rows[3]] {
+            assert_eq!(row[1], "1");
+            let v: Vec<f64> = row[2..]
+                .iter()
+                .map(|s| s.parse().expect("number"))
+                .collect();
+            let p = DVec3::new(v[1], v[2], v[3]);
+            // Every cube patch is the sphere of radius √3.
+            assert!((p.length() - 3f64.sqrt()).abs() < 1e-5, "{row:?}");
+            let n = DVec3::new(v[4], v[5], v[6]);
+            assert!((n.length() - 1.0).abs() < 1e-5);
+            assert!(v[7] >= 0.0 && v[7] < 12.0 && v[7].fract() == 0.0);
+            assert!(v[10] >= 0.0);
+            if prec == "f32" {
+                // Printed floats read back exactly (shortest round trip).
+                for s in &row[2..] {
+                    let x: f32 = s.parse().expect("f32");
+                    assert_eq!(&x.to_string(), s);
+                }
+            }
+        }
+        let t0: f64 = rows[0][2].parse().expect("t");
+        assert!((t0 - (5.0 - 3f64.sqrt())).abs() < 1e-5);
+        let t3: f64 = rows[3][2].parse().expect("t");
+        let z3: f64 = rows[3][5].parse().expect("z");
+        assert!((5.0 - 2.0 * t3 - z3).abs() < 1e-5, "t in units of dir");
+    }
+    // stdin
+    let r = run_in(
+        d.path(),
+        &["trace", "--scene", "sphere", "--rays", "-"],
+        Some(rays),
+    );
+    assert_eq!(r.code, 0, "{}", r.err);
+    assert_eq!(r.out.lines().count(), 5);
+}
+
+#[test]
+fn eval_of_vertices_is_exact() {
+    let d = tmp();
+    // Vertices exactly representable in f32 and f64.
+    write(
+        d.path(),
+        "t.obj",
+        "v 0.5 0.25 1.125\nv 2.75 0.5 1\nv 1 2.5 1.5\nvn 0 0 1\nvn 0.1 0 1\nvn 0 0.1 1\n\
+         f 1//1 2//2 3//3\n",
+    );
+    let pts = "triangle,w1,w2\n0,0,0\n0,1,0\n0,0,1\n0,0.25,0.25\n";
+    write(d.path(), "p.csv", pts);
+    for prec in ["f32", "f64"] {
+        let r = ok(
+            d.path(),
+            &[
+                "eval",
+                "--mesh",
+                "t.obj",
+                "--points",
+                "p.csv",
+                "--precision",
+                prec,
+            ],
+        );
+        let lines: Vec<&str> = r.out.lines().collect();
+        assert_eq!(lines[0], "triangle,w1,w2,x,y,z,nx,ny,nz");
+        let xyz = |l: &str| -> Vec<f64> {
+            parse_fields(l)[3..6]
+                .iter()
+                .map(|s| s.parse().expect("n"))
+                .collect()
+        };
+        assert_eq!(xyz(lines[1]), vec![0.5, 0.25, 1.125]);
+        assert_eq!(xyz(lines[2]), vec![2.75, 0.5, 1.0]);
+        assert_eq!(xyz(lines[3]), vec![1.0, 2.5, 1.5]);
+        let inner = xyz(lines[4]);
+        assert!(inner.iter().all(|v| v.is_finite()));
+    }
+    fails(
+        d.path(),
+        &["eval", "--mesh", "t.obj", "--points", "-"],
+        &["<stdin>"],
+    );
+    write(d.path(), "bad.csv", "triangle,w1,w2\n7,0,0\n");
+    fails(
+        d.path(),
+        &["eval", "--mesh", "t.obj", "--points", "bad.csv"],
+        &["bad.csv:2", "out of range"],
+    );
+    write(d.path(), "bad2.csv", "triangle,w1,w2\n0,zz,0\n");
+    fails(
+        d.path(),
+        &["eval", "--mesh", "t.obj", "--points", "bad2.csv"],
+        &["bad2.csv:2", "malformed number"],
+    );
+}
+
+#[test]
+fn inspect_reports() {
+    let d = tmp();
+    let r = ok(d.path(), &["inspect", "--scene", "torus"]);
+    for needle in [
+        "triangles: 128",
+        "bounding box",
+        "128 accepted, 0 rejected",
+        "vertex-normal angle",
+        "crack width",
+        "normal jump",
+        "192 interior",
+        "memory",
+    ] {
+        assert!(r.out.contains(needle), "{needle}: {}", r.out);
+    }
+    // A degenerate triangle and a back-facing normal are rejected, counted and reported;
+    // the render still completes.
+    write(
+        d.path(),
+        "deg.obj",
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 2 0 0\nv 3 0 0\nv 5 0 0\nvn 0 0 1\nvn 0 0 -1\n\
+         f 1//1 2//1 3//1\nf 4//1 5//1 6//1\nf 2//2 4//1 3//1\n",
+    );
+    let r = ok(d.path(), &["inspect", "--mesh", "deg.obj"]);
+    assert!(r.out.contains("1 accepted, 2 rejected"), "{}", r.out);
+    assert!(r.out.contains("degenerate"), "{}", r.out);
+    let r = ok(
+        d.path(),
+        &[
+            "render", "--mesh", "deg.obj", "--width", "16", "--height", "12",
+        ],
+    );
+    assert!(r.err.contains("skipped 2 of 3"), "{}", r.err);
+}
+
+#[test]
+fn precision_sweep_outputs() {
+    let d = tmp();
+    let r = ok(
+        d.path(),
+        &[
+            "precision",
+            "--scene",
+            "sphere",
+            "--width",
+            "16",
+            "--height",
+            "12",
+            "--csv",
+            "p.csv",
+            "--plot",
+            "p.svg",
+            "--strip",
+            "s.png",
+        ],
+    );
+    assert!(r.out.contains("p99.9"), "{}", r.out);
+    let csv = std::fs::read_to_string(d.path().join("p.csv")).expect("csv");
+    let lines: Vec<&str> = csv.lines().collect();
+    assert_eq!(lines[0], smoothtri_demo::precision::CSV_HEADER);
+    assert_eq!(lines.len(), 1 + 14);
+    for l in &lines[1..] {
+        let f = parse_fields(l);
+        assert_eq!(f.len(), 10);
+        assert!(f[0] == "f32" || f[0] == "f64");
+        let max: f64 = f[3].parse().expect("max");
+        assert!(max.is_finite() && max >= 0.0);
+    }
+    let svg = std::fs::read_to_string(d.path().join("p.svg")).expect("svg");
+    assert!(svg.contains("<svg"));
+    let png = std::fs::read(d.path().join("s.png")).expect("png");
+    assert_eq!(&png[1..4], b"PNG");
+    // CSV to stdout.
+    let r = ok(
+        d.path(),
+        &[
+            "precision",
+            "--scene",
+            "cube",
+            "--width",
+            "8",
+            "--height",
+            "6",
+            "--csv",
+            "-",
+        ],
+    );
+    assert!(r.out.contains(smoothtri_demo::precision::CSV_HEADER));
+}
+
+#[test]
+fn bad_input_is_one_readable_error() {
+    let d = tmp();
+    let p = d.path();
+    fails(p, &["inspect", "--mesh", "missing.obj"], &["missing.obj"]);
+    write(p, "num.obj", "v 0 0 0\nv 1 x 0\nv 0 1 0\nf 1 2 3\n");
+    fails(
+        p,
+        &["render", "--mesh", "num.obj"],
+        &["num.obj:2", "malformed number 'x'"],
+    );
+    write(p, "face.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2\n");
+    fails(
+        p,
+        &["render", "--mesh", "face.obj"],
+        &["face.obj:4", "face"],
+    );
+    write(p, "face2.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 q\n");
+    fails(
+        p,
+        &["render", "--mesh", "face2.obj"],
+        &["face2.obj:4", "'q'"],
+    );
+    write(p, "idx.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n");
+    fails(
+        p,
+        &["render", "--mesh", "idx.obj"],
+        &["idx.obj:4", "out of range"],
+    );
+    write(
+        p,
+        "nidx.obj",
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//1 2//2 3//1\n",
+    );
+    fails(
+        p,
+        &["render", "--mesh", "nidx.obj"],
+        &["nidx.obj:5", "out of range"],
+    );
+    write(p, "nan.obj", "v 0 0 0\nv 1 0 0\nv 0 NaN 0\nf 1 2 3\n");
+    fails(
+        p,
+        &["render", "--mesh", "nan.obj"],
+        &["nan.obj:3", "non-finite"],
+    );
+    write(
+        p,
+        "inf.obj",
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 inf 1\nf 1//1 2//1 3//1\n",
+    );
+    fails(
+        p,
+        &["render", "--mesh", "inf.obj"],
+        &["inf.obj:4", "non-finite"],
+    );
+    write(p, "empty.obj", "# nothing\nv 0 0 0\n");
+    fails(p, &["render", "--mesh", "empty.obj"], &["no triangles"]);
+    write(p, "alldeg.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n");
+    fails(
+        p,
+        &["render", "--mesh", "alldeg.obj"],
+        &["no usable triangles"],
+    );
+    write(p, "x.stl", "solid x\n");
+    fails(p, &["render", "--mesh", "x.stl"], &["unknown mesh format"]);
+    write(
+        p,
+        "bad.ply",
+        "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nend_header\nzz\n",
+    );
+    fails(p, &["render", "--mesh", "bad.ply"], &["bad.ply"]);
+    write(
+        p,
+        "range.ply",
+        "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 5\n",
+    );
+    fails(
+        p,
+        &["render", "--mesh", "range.ply"],
+        &["range.ply", "out of range"],
+    );
+    write(p, "bad.gltf", "{ not json");
+    fails(p, &["render", "--mesh", "bad.gltf"], &["bad.gltf", "glTF"]);
+    let (json, _) = gltf_parts(&cube(), Some("nowhere.bin"));
+    write(p, "nobin.gltf", &json);
+    fails(p, &["render", "--mesh", "nobin.gltf"], &["nowhere.bin"]);
+    fails(p, &["render", "--iterations", "41"], &["--iterations 41"]);
+    fails(p, &["render", "--view", "10"], &["AZ,EL"]);
+    fails(p, &["trace", "--rays", "r.csv"], &["--mesh"]);
+    fails(
+        p,
+        &["render", "--scene", "torus", "--mesh", "x.obj"],
+        &["cannot be used"],
+    );
+    fails(p, &["render", "--scene", "blob"], &["blob"]);
+    write(p, "hdr.csv", "a,b,c\n");
+    fails(
+        p,
+        &["trace", "--scene", "cube", "--rays", "hdr.csv"],
+        &["hdr.csv:1", "header"],
+    );
+    write(p, "r.csv", "ox,oy,oz,dx,dy,dz\n0,0,5,0,0,-1\n0,0,5,0,0\n");
+    fails(
+        p,
+        &["trace", "--scene", "cube", "--rays", "r.csv"],
+        &["r.csv:3", "fields"],
+    );
+    write(p, "r2.csv", "ox,oy,oz,dx,dy,dz\n0,0,5,0,0,nan\n");
+    fails(
+        p,
+        &["trace", "--scene", "cube", "--rays", "r2.csv"],
+        &["r2.csv:2", "non-finite"],
+    );
+    fails(
+        p,
+        &["trace", "--scene", "cube", "--rays", "none.csv"],
+        &["none.csv"],
+    );
+    fails(
+        p,
+        &[
+            "render",
+            "--out",
+            "/nonexistent-dir/x.png",
+            "--width",
+            "8",
+            "--height",
+            "6",
+        ],
+        &["/nonexistent-dir/x.png"],
+    );
+}
