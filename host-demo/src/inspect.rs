@@ -156,6 +156,12 @@ pub fn inspect<F: Prec>(name: &str, mesh: &Mesh) -> Result<String> {
         for (why, n) in sc.rejected_summary() {
             let _ = writeln!(s, "  rejected {n:>6} × {why}");
         }
+        let _ = writeln!(
+            s,
+            "  remedied (normals clamped toward the face normal, Patch::new_or_tilted): {}{}",
+            sc.remedied.len(),
+            if sc.remedied.is_empty() { String::new() } else { format!(" = {}", sc.remedied_summary()) }
+        );
         let shown: Vec<String> = sc
             .rejected
             .iter()

@@ -54,8 +54,12 @@ pub struct Scene<F: Float> {
     pub tri_ids: Vec<u32>,
     /// Patch index of each mesh triangle (`None` when rejected).
     pub patch_of_tri: Vec<Option<u32>>,
-    /// Rejected triangles and why.
+    /// Rejected triangles and why (only non-finite, degenerate or overflowing input: steep or
+    /// back-facing normals are repaired by the core's documented remedy instead).
     pub rejected: Vec<(u32, PatchError)>,
+    /// Triangles whose normals were clamped by [`Patch::new_or_tilted`], with the clamp angle
+    /// in degrees.
+    pub remedied: Vec<(u32, f64)>,
     nodes: Vec<BvhNode<F>>,
     order: Vec<u32>,
 }
@@ -67,10 +71,14 @@ impl<F: Prec> Scene<F> {
         let mut tri_ids = Vec::with_capacity(mesh.triangles.len());
         let mut patch_of_tri = vec![None; mesh.triangles.len()];
         let mut rejected = Vec::new();
+        let mut remedied = Vec::new();
         for (t, slot) in patch_of_tri.iter_mut().enumerate() {
             let (p, n) = mesh.triangle(t);
-            match Patch::<F>::new(p.map(F::v), n.map(F::v)) {
+            match Patch::<F>::new_or_tilted(p.map(F::v), n.map(F::v)) {
                 Ok(patch) => {
+                    if let Some(deg) = patch.normal_clamp() {
+                        remedied.push((t as u32, deg));
+                    }
                     *slot = Some(patches.len() as u32);
                     patches.push(patch);
                     tri_ids.push(t as u32);
@@ -103,6 +111,7 @@ impl<F: Prec> Scene<F> {
             tri_ids,
             patch_of_tri,
             rejected,
+            remedied,
             nodes,
             order,
         })
@@ -124,21 +133,47 @@ impl<F: Prec> Scene<F> {
 
     /// The stderr note about skipped triangles, if any were.
     pub fn rejected_note(&self) -> Option<String> {
-        if self.rejected.is_empty() {
-            return None;
+        let mut lines = Vec::new();
+        if !self.remedied.is_empty() {
+            lines.push(format!(
+                "note: {} of {} triangles have normals outside the method's domain; they were \
+                 clamped toward the face normal ({}): {}",
+                self.remedied.len(),
+                self.patch_of_tri.len(),
+                F::NAME,
+                self.remedied_summary()
+            ));
         }
-        let parts: Vec<String> = self
-            .rejected_summary()
-            .iter()
-            .map(|(k, v)| format!("{v} × {k}"))
-            .collect();
-        Some(format!(
-            "note: skipped {} of {} triangles that the core rejects ({}): {}",
-            self.rejected.len(),
-            self.patch_of_tri.len(),
-            F::NAME,
-            parts.join("; ")
-        ))
+        if !self.rejected.is_empty() {
+            let parts: Vec<String> = self
+                .rejected_summary()
+                .iter()
+                .map(|(k, v)| format!("{v} × {k}"))
+                .collect();
+            lines.push(format!(
+                "note: skipped {} of {} triangles that the core rejects ({}): {}",
+                self.rejected.len(),
+                self.patch_of_tri.len(),
+                F::NAME,
+                parts.join("; ")
+            ));
+        }
+        if lines.is_empty() { None } else { Some(lines.join("\n")) }
+    }
+
+    /// Remedied patches by clamp angle, e.g. `3 × 60°, 1 × 0° (flat)`.
+    pub fn remedied_summary(&self) -> String {
+        let mut m: BTreeMap<i64, usize> = BTreeMap::new();
+        for (_, deg) in &self.remedied {
+            *m.entry(-(*deg as i64)).or_insert(0) += 1;
+        }
+        m.iter()
+            .map(|(d, n)| {
+                let flat = if *d == 0 { " (flat)" } else { "" };
+                format!("{n} × {}°{flat}", -d)
+            })
+            .collect::<Vec<_>>()
+            .join(", ")
     }
 }
 
@@ -211,10 +246,14 @@ macro_rules! smooth_dispatch {
     };
 }
 
-/// The smooth kernel with an iteration budget of `n` (0..=[`MAX_ITERATIONS`]), monomorphised.
+/// Iteration budgets the demo is compiled for (each is a separate monomorphised kernel; the
+/// core takes any `N` at compile time).
+pub const SUPPORTED_ITERATIONS: &str = "0..=16, 20, 24, 32, 40";
+
+/// The smooth kernel with an iteration budget of `n` (see [`SUPPORTED_ITERATIONS`]),
+/// monomorphised.
 pub fn smooth_tracer<F: Float>(n: usize) -> Option<&'static dyn Tracer<F>> {
-    smooth_dispatch!(n, 0 1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16 17 18 19 20
-        21 22 23 24 25 26 27 28 29 30 31 32 33 34 35 36 37 38 39 40)
+    smooth_dispatch!(n, 0 1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16 20 24 32 40)
 }
 
 /// The tracer of `mode` (the budget matters for [`Mode::Smooth`] only).
@@ -222,7 +261,7 @@ pub fn tracer<F: Float>(mode: Mode, n: usize) -> Result<&'static dyn Tracer<F>> 
     match mode {
         Mode::Smooth => smooth_tracer(n).ok_or_else(|| {
             DemoError::Usage(format!(
-                "--iterations {n} is not supported (use 0..={MAX_ITERATIONS})"
+                "--iterations {n} is not supported (use one of {SUPPORTED_ITERATIONS})"
             ))
         }),
         Mode::Flat => Ok(&Flat { phong: false }),

@@ -492,8 +492,8 @@ fn inspect_reports() {
     ] {
         assert!(r.out.contains(needle), "{needle}: {}", r.out);
     }
-    // A degenerate triangle and a back-facing normal are rejected, counted and reported;
-    // the render still completes.
+    // A degenerate triangle is rejected, a back-facing normal is repaired by the core's remedy
+    // (clamped toward the face normal); both are counted and reported; the render completes.
     write(
         d.path(),
         "deg.obj",
@@ -501,15 +501,17 @@ fn inspect_reports() {
          f 1//1 2//1 3//1\nf 4//1 5//1 6//1\nf 2//2 4//1 3//1\n",
     );
     let r = ok(d.path(), &["inspect", "--mesh", "deg.obj"]);
-    assert!(r.out.contains("1 accepted, 2 rejected"), "{}", r.out);
+    assert!(r.out.contains("2 accepted, 1 rejected"), "{}", r.out);
     assert!(r.out.contains("degenerate"), "{}", r.out);
+    assert!(r.out.contains("new_or_tilted): 1 = 1 ×"), "{}", r.out);
     let r = ok(
         d.path(),
         &[
             "render", "--mesh", "deg.obj", "--width", "16", "--height", "12",
         ],
     );
-    assert!(r.err.contains("skipped 2 of 3"), "{}", r.err);
+    assert!(r.err.contains("skipped 1 of 3"), "{}", r.err);
+    assert!(r.err.contains("1 of 3 triangles have normals outside"), "{}", r.err);
 }
 
 #[test]
