@@ -136,9 +136,20 @@ impl<F: Float> Patch<F> {
         let normal = self.local_dir_to_world(nl);
         let t = t0 + tau;
         let [_, w1, w2] = bary;
+        // Rounding allowance: the sign of f is only known to about `16 ε L` (L: the patch's
+        // size plus its distance from the world origin), which moves the root by that over the
+        // bracket's slope |f'|.
+        let slope = if fin.b > fin.a {
+            (fin.fb - fin.fa).abs() / (fin.b - fin.a)
+        } else {
+            (bracket.fb - bracket.fa).abs() / (bracket.b - bracket.a)
+        };
+        let scale = crate::shell::longest_edge(self) * F::from_f64(4.0) + self.origin.length();
+        let rounding = F::from_f64(16.0) * F::EPSILON * scale / slope;
+        let rounding = if rounding.is_fin() { rounding } else { F::ZERO };
         let hit = Hit {
             t,
-            t_error: fin.b - fin.a,
+            t_error: (fin.b - fin.a) + rounding,
             point: F::to_glam(o + d * t),
             normal: F::to_glam(normal),
             w1,
