@@ -301,6 +301,24 @@ fn cmd_render(a: RenderArgs) -> Result<()> {
             crate::render::mask_pbm(a.width, a.height, &p.mask).as_bytes(),
         )?;
     }
+    // Cracks between neighbouring patches: primary rays that hit the flat mesh well inside its
+    // silhouette (the pixel and its four neighbours hit) but miss the smooth surface.
+    let crack = if modes.first() == Some(&Mode::Smooth) {
+        let flat_mask = if a.compare {
+            None
+        } else {
+            Some(match a.precision {
+                Precision::F32 => render_panel::<f32>(&mesh, &cam, Mode::Flat, 0, false)?.mask,
+                Precision::F64 => render_panel::<f64>(&mesh, &cam, Mode::Flat, 0, false)?.mask,
+            })
+        };
+        let flat = flat_mask
+            .as_deref()
+            .or(panels.get(1).map(|p| p.mask.as_slice()));
+        flat.map(|f| crate::render::crack_misses(a.width, a.height, &panels[0].mask, f))
+    } else {
+        None
+    };
     let rays: u64 = panels.iter().map(|p| p.rays).sum();
     let secs: f64 = panels.iter().map(|p| p.seconds).sum();
     let mode_s = if a.compare {
@@ -317,6 +335,12 @@ fn cmd_render(a: RenderArgs) -> Result<()> {
         secs,
         rays as f64 / secs.max(1e-9)
     );
+    let msg = match crack {
+        Some((missed, inside)) => format!(
+            "{msg}\ncracks: {missed} of {inside} primary rays inside the flat mesh's silhouette missed the smooth surface"
+        ),
+        None => msg,
+    };
     if a.out == "-" {
         eprintln!("{msg}");
     } else {

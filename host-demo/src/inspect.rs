@@ -160,7 +160,11 @@ pub fn inspect<F: Prec>(name: &str, mesh: &Mesh) -> Result<String> {
             s,
             "  remedied (normals clamped toward the face normal, Patch::new_or_tilted): {}{}",
             sc.remedied.len(),
-            if sc.remedied.is_empty() { String::new() } else { format!(" = {}", sc.remedied_summary()) }
+            if sc.remedied.is_empty() {
+                String::new()
+            } else {
+                format!(" = {}", sc.remedied_summary())
+            }
         );
         let shown: Vec<String> = sc
             .rejected

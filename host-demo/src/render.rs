@@ -145,6 +145,34 @@ pub fn render<F: Prec>(
     }
 }
 
+/// Counts pixels whose primary ray hit the flat mesh with all four neighbours also hitting it
+/// (inside its silhouette), and among them those the smooth surface missed: rays slipping
+/// through cracks between neighbouring patches. Returns `(missed, inside)`.
+pub fn crack_misses(
+    width: u32,
+    height: u32,
+    smooth: &[PixelHit],
+    flat: &[PixelHit],
+) -> (usize, usize) {
+    let (w, h) = (width as usize, height as usize);
+    let hit = |m: &[PixelHit], x: usize, y: usize| m.get(y * w + x).is_some_and(|p| p.hit);
+    let (mut missed, mut inside) = (0, 0);
+    for y in 1..h.saturating_sub(1) {
+        for x in 1..w.saturating_sub(1) {
+            let interior = hit(flat, x, y)
+                && hit(flat, x - 1, y)
+                && hit(flat, x + 1, y)
+                && hit(flat, x, y - 1)
+                && hit(flat, x, y + 1);
+            if interior {
+                inside += 1;
+                missed += usize::from(!hit(smooth, x, y));
+            }
+        }
+    }
+    (missed, inside)
+}
+
 /// Plain PBM (P1) text of a hit mask: `1` where the primary ray hit.
 pub fn mask_pbm(width: u32, height: u32, hits: &[PixelHit]) -> String {
     let mut s = format!("P1\n{width} {height}\n");

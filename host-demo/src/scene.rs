@@ -158,7 +158,11 @@ impl<F: Prec> Scene<F> {
                 parts.join("; ")
             ));
         }
-        if lines.is_empty() { None } else { Some(lines.join("\n")) }
+        if lines.is_empty() {
+            None
+        } else {
+            Some(lines.join("\n"))
+        }
     }
 
     /// Remedied patches by clamp angle, e.g. `3 × 60°, 1 × 0° (flat)`.

@@ -511,7 +511,11 @@ fn inspect_reports() {
         ],
     );
     assert!(r.err.contains("skipped 1 of 3"), "{}", r.err);
-    assert!(r.err.contains("1 of 3 triangles have normals outside"), "{}", r.err);
+    assert!(
+        r.err.contains("1 of 3 triangles have normals outside"),
+        "{}",
+        r.err
+    );
 }
 
 #[test]
