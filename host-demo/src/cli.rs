@@ -336,8 +336,8 @@ fn cmd_render(a: RenderArgs) -> Result<()> {
         rays as f64 / secs.max(1e-9)
     );
     let msg = match crack {
-        Some((missed, inside)) => format!(
-            "{msg}\ncracks: {missed} of {inside} primary rays inside the flat mesh's silhouette missed the smooth surface"
+        Some((missed, holes, inside)) => format!(
+            "{msg}\ncracks: {missed} of {inside} primary rays inside the flat mesh's silhouette missed the smooth surface ({holes} isolated holes)"
         ),
         None => msg,
     };

@@ -147,16 +147,19 @@ pub fn render<F: Prec>(
 
 /// Counts pixels whose primary ray hit the flat mesh with all four neighbours also hitting it
 /// (inside its silhouette), and among them those the smooth surface missed: rays slipping
-/// through cracks between neighbouring patches. Returns `(missed, inside)`.
+/// through cracks between neighbouring patches, or legitimately outside the smooth silhouette
+/// where the flat mesh sticks out (e.g. chords across a torus's hole). Also counts isolated
+/// holes: misses whose four neighbours all hit the smooth surface. Returns
+/// `(missed, isolated_holes, inside)`.
 pub fn crack_misses(
     width: u32,
     height: u32,
     smooth: &[PixelHit],
     flat: &[PixelHit],
-) -> (usize, usize) {
+) -> (usize, usize, usize) {
     let (w, h) = (width as usize, height as usize);
     let hit = |m: &[PixelHit], x: usize, y: usize| m.get(y * w + x).is_some_and(|p| p.hit);
-    let (mut missed, mut inside) = (0, 0);
+    let (mut missed, mut holes, mut inside) = (0, 0, 0);
     for y in 1..h.saturating_sub(1) {
         for x in 1..w.saturating_sub(1) {
             let interior = hit(flat, x, y)
@@ -166,11 +169,18 @@ pub fn crack_misses(
                 && hit(flat, x, y + 1);
             if interior {
                 inside += 1;
-                missed += usize::from(!hit(smooth, x, y));
+                if !hit(smooth, x, y) {
+                    missed += 1;
+                    let ring = hit(smooth, x - 1, y)
+                        && hit(smooth, x + 1, y)
+                        && hit(smooth, x, y - 1)
+                        && hit(smooth, x, y + 1);
+                    holes += usize::from(ring);
+                }
             }
         }
     }
-    (missed, inside)
+    (missed, holes, inside)
 }
 
 /// Plain PBM (P1) text of a hit mask: `1` where the primary ray hit.
