@@ -180,3 +180,40 @@ pub fn bary_grid(m: usize) -> Vec<(f64, f64)> {
     }
     out
 }
+
+/// Number of property-test cases: `SMOOTHTRI_CASES` from the environment when set to a positive
+/// integer, `default` otherwise (for quick CI runs in debug mode).
+pub fn env_cases(default: u32) -> u32 {
+    std::env::var("SMOOTHTRI_CASES")
+        .ok()
+        .and_then(|s| s.trim().parse::<u32>().ok())
+        .filter(|&n| n > 0)
+        .unwrap_or(default)
+}
+
+/// A random skinny triangle: longest side `size` along a random direction, the third vertex at
+/// height `size / aspect` over it (aspect drawn log-uniformly in `[amin, amax]`) above a point
+/// drawn uniformly along the side (so both needles and caps occur). Counter-clockwise about the
+/// returned face normal, centred near `offset`.
+pub fn skinny(
+    rng: &mut Rng,
+    size: f64,
+    offset: DVec3,
+    amin: f64,
+    amax: f64,
+) -> ([DVec3; 3], DVec3) {
+    let nf = rng.unit();
+    let u = nf.any_orthonormal_vector();
+    let v = nf.cross(u);
+    let rot = rng.range(0.0, std::f64::consts::TAU);
+    let (eu, ev) = (
+        u * rot.cos() + v * rot.sin(),
+        -u * rot.sin() + v * rot.cos(),
+    );
+    let aspect = (rng.range(amin.ln(), amax.ln())).exp();
+    let x = rng.f();
+    let a = offset - eu * (0.5 * size);
+    let b = offset + eu * (0.5 * size);
+    let c = a + eu * (x * size) + ev * (size / aspect);
+    ([a, b, c], nf)
+}
