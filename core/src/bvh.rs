@@ -393,8 +393,12 @@ impl<'a, F: Float> Bvh<'a, F> {
                     .get(first..first + node.count as usize)
                     .unwrap_or(&[]);
                 for &id in ids {
+                    // Each patch is tested over the caller's whole range, then compared with the
+                    // best so far: the kernel's first sign change depends on its interval, so
+                    // shortening it to the best `t` could skip a closer crossing pair.
                     if let Some(p) = self.patches.get(id as usize)
-                        && let Some(mut h) = test(p, id, t_min, tmax)
+                        && let Some(mut h) = test(p, id, t_min, t_max)
+                        && (best.is_none() || h.t < tmax)
                     {
                         h.feature = id;
                         tmax = h.t;

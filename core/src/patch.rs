@@ -106,8 +106,19 @@ impl<F: Float> Patch<F> {
         if c_len <= degenerate_ratio::<F>() * lmax2 || c_len <= F::ZERO {
             return Err(PatchError::DegenerateTriangle);
         }
+        // Squared areas near the subnormal range lose their digits: too small for this
+        // precision (f32: edges below ~1e-15).
+        if c.length2() < F::MIN_POSITIVE / F::EPSILON {
+            return Err(PatchError::OutOfRange);
+        }
         let nf = c * (F::ONE / c_len);
         let ex = match e.try_normalize() {
+            Some(v) => v,
+            None => return Err(PatchError::DegenerateTriangle),
+        };
+        // Re-orthogonalise: on skinny triangles the cross product's direction carries an error
+        // of ε·|e||f|/|e×f| that would otherwise tilt the frame.
+        let nf = match (nf - ex * nf.dot(ex)).try_normalize() {
             Some(v) => v,
             None => return Err(PatchError::DegenerateTriangle),
         };

@@ -27,9 +27,11 @@ pub(crate) fn project_bary<F: Float>(w1: F, w2: F) -> [F; 3] {
     };
     let w0r = F::ONE - w1 - w2;
     let (a, b, c) = (clean(w0r), clean(w1), clean(w2));
-    let s = a + b + c;
-    if s > F::ZERO && s.is_fin() {
-        let inv = F::ONE / s;
+    // Divide by the largest first, so subnormal sums cannot overflow `1 / sum`.
+    let m = a.max(b).max(c);
+    if m > F::ZERO && m.is_fin() {
+        let (a, b, c) = (a / m, b / m, c / m);
+        let inv = F::ONE / (a + b + c);
         [a * inv, b * inv, c * inv]
     } else {
         let third = F::from_f64(1.0 / 3.0);
@@ -213,11 +215,21 @@ impl<F: Float> Patch<F> {
     /// world coordinates, in length units per unit of barycentric coordinate.
     ///
     /// # Accuracy
-    /// Exact derivatives of the computed surface up to rounding (dual numbers).
+    /// Exact derivatives of the computed surface up to rounding (dual numbers). Where they
+    /// overflow (f32 coordinates near 1e9 within ~1e-30 of a vertex) the flat triangle's edge
+    /// vectors are returned instead.
     /// # Panics
-    /// Never.
+    /// Never; always finite.
     pub fn derivatives(&self, w1: F, w2: F) -> (F::Vec3, F::Vec3) {
         let [_, du1, du2] = point_derivs_local(self, project_bary(w1, w2));
+        let (du1, du2) = if du1.all_finite() && du2.all_finite() {
+            (du1, du2)
+        } else {
+            // Overflow of the dual parts (extreme f32 magnitudes within ~1e-30 of a vertex):
+            // the flat triangle's edge vectors, finite.
+            let [p0, p1, p2] = self.p;
+            (p1 - p0, p2 - p0)
+        };
         (
             F::to_glam(self.local_dir_to_world(du1)),
             F::to_glam(self.local_dir_to_world(du2)),

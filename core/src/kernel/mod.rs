@@ -134,7 +134,8 @@ impl<F: Float> Patch<F> {
         let [_, du1, du2] = point_derivs_local(self, bary);
         let nl = normal_local(self, bary, du1, du2);
         let normal = self.local_dir_to_world(nl);
-        let t = t0 + tau;
+        // Re-basing can round the hit an ulp outside the caller's range: clamp it.
+        let t = (t0 + tau).max(t_min).min(t_max);
         let [_, w1, w2] = bary;
         // Rounding allowance: the sign of f is only known to about `16 ε L` (L: the patch's
         // size plus its distance from the world origin), which moves the root by that over the
