@@ -1,0 +1,7 @@
+//! Fuzz target: the demo's obj loader (see `loader_common.rs`).
+#![no_main]
+
+#[path = "loader_common.rs"]
+mod loader_common;
+
+libfuzzer_sys::fuzz_target!(|data: &[u8]| loader_common::run("obj", data));
