@@ -1162,7 +1162,7 @@ fn bug_hit_before_t_min_by_rounding() {
 /// off by about 40–55°. In f32, the same mechanism on a fuzzed input gave an edge normal of
 /// length 1.0107 (second part).
 #[test]
-#[ignore = "KNOWN LIMITATION: edge and surface normal at a vertex wrong when the generator is tangent to the opposite sphere (double root); not fixed yet"]
+// Regression test (fixed): double root at s = 0 now detected in `nearest_root`.
 fn bug_vertex_normal_wrong_at_double_root() {
     let p = [
         DVec3::new(0.0, 0.0, 1.0),

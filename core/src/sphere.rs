@@ -32,7 +32,8 @@ pub fn curvature<T: Real>(a: V3<T>, m: V3<T>, b: V3<T>) -> T {
 /// Uses the cancellation-free form `s = c / (−b − sign(b)·√max(b² − a·c, 0))` of
 /// `a s² + 2 b s + c = 0`, valid for `a = 0` (the plane). When the line misses the sphere the
 /// discriminant is clamped (the result is then `c / −b`, finite, outside the paper's domain); when the line is
-/// parallel to a plane (`q = 0`), the result is `0`.
+/// parallel to a plane (`q = 0`), the result is `0`; so is it when the line is tangent to the
+/// sphere at a point of it (a double root at 0, where `c` and `b` are both rounding noise).
 ///
 /// # Accuracy
 /// The root is computed with relative error of a few ulps of the inputs' scale (no
@@ -52,6 +53,18 @@ pub fn nearest_root<T: Real>(base: V3<T>, g: V3<T>, a: V3<T>, m: V3<T>, kappa: T
     } else {
         -qb - sq
     };
+    // A line through a point of the sphere and tangent to it there has a double root at s = 0;
+    // then `c` and `b` are both rounding noise and `c / q` is noise over noise. Detect it
+    // (both below 16 ε of their natural scale) and return the root 0.
+    let tol = T::cst(<T::F as crate::real::Float>::EPSILON) * T::lit(16.0);
+    let (w2, g2) = (w.length2(), g.length2());
+    let k2 = kappa * kappa;
+    let c_scale = T::lit(2.0) * (k2 * w2 * w2 + T::lit(4.0) * w2);
+    let b_scale = T::lit(2.0) * (k2 * w2 * g2 + g2);
+    let noise = |v: T, scale: T| (v * v).re() <= (tol * tol * scale).re();
+    if noise(qc, c_scale) && noise(qb, b_scale) {
+        return T::zero();
+    }
     if q.re() != <T::F as crate::real::Float>::ZERO {
         let s = qc / q;
         if s.all_finite() { s } else { T::zero() }
