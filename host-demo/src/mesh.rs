@@ -38,7 +38,7 @@ pub fn load(path: &str) -> Result<LoadedMesh> {
             parse_obj(&text, path)?
         }
         "ply" => load_ply(path)?,
-        "gltf" | "glb" => load_gltf(path)?,
+        "gltf" | "glb" => load_gltf_guarded(path)?,
         _ => {
             return Err(DemoError::format(
                 path,
@@ -380,6 +380,23 @@ fn base64_decode(s: &str) -> Option<Vec<u8>> {
         }
     }
     Some(out)
+}
+
+/// [`load_gltf`] with a guard: the `gltf` crate panics on some malformed binary headers (found by
+/// the `gltf` fuzz target, e.g. a GLB header announcing a chunk longer than the file); that
+/// panic becomes a readable error instead of a crash.
+fn load_gltf_guarded(path: &str) -> Result<LoadedMesh> {
+    let hook = std::panic::take_hook();
+    std::panic::set_hook(Box::new(|_| {}));
+    let out = std::panic::catch_unwind(|| load_gltf(path));
+    std::panic::set_hook(hook);
+    match out {
+        Ok(r) => r,
+        Err(_) => Err(DemoError::Format {
+            path: path.to_string(),
+            msg: "malformed glTF/GLB (the gltf parser rejected its structure)".into(),
+        }),
+    }
 }
 
 fn load_gltf(path: &str) -> Result<LoadedMesh> {

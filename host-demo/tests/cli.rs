@@ -705,3 +705,19 @@ fn bad_input_is_one_readable_error() {
         &["/nonexistent-dir/x.png"],
     );
 }
+
+/// Regression (found by the `gltf` fuzz target): a GLB header announcing more data than the
+/// file holds made the `gltf` crate panic; it is now one readable error.
+#[test]
+fn truncated_glb_is_an_error_not_a_panic() {
+    let d = tmp();
+    let bytes: &[u8] = &[
+        0x67, 0x6c, 0x54, 0x46, 0x01, 0x00, 0x00, 0x45, 0x00, 0x00, 0x00, 0x00, 0x0a,
+    ];
+    std::fs::write(d.path().join("bad.glb"), bytes).unwrap();
+    fails(
+        d.path(),
+        &["inspect", "--mesh", "bad.glb"],
+        &["bad.glb", "malformed glTF"],
+    );
+}
