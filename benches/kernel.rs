@@ -122,36 +122,17 @@ fn bench_kernel(c: &mut Criterion) {
                 .count()
         })
     });
-    g.bench_function("smooth_f32_N0", |b| {
-        b.iter(|| smooth32!(s, 0)(black_box(&s.rays32)))
-    });
-    g.bench_function("smooth_f32_N2", |b| {
-        b.iter(|| smooth32!(s, 2)(black_box(&s.rays32)))
-    });
-    g.bench_function("smooth_f32_N4", |b| {
-        b.iter(|| smooth32!(s, 4)(black_box(&s.rays32)))
-    });
-    g.bench_function("smooth_f32_N8", |b| {
-        b.iter(|| smooth32!(s, 8)(black_box(&s.rays32)))
-    });
-    g.bench_function("smooth_f32_N16", |b| {
-        b.iter(|| smooth32!(s, 16)(black_box(&s.rays32)))
-    });
-    g.bench_function("smooth_f64_N0", |b| {
-        b.iter(|| smooth64!(s, 0)(black_box(&s.rays64)))
-    });
-    g.bench_function("smooth_f64_N2", |b| {
-        b.iter(|| smooth64!(s, 2)(black_box(&s.rays64)))
-    });
-    g.bench_function("smooth_f64_N4", |b| {
-        b.iter(|| smooth64!(s, 4)(black_box(&s.rays64)))
-    });
-    g.bench_function("smooth_f64_N8", |b| {
-        b.iter(|| smooth64!(s, 8)(black_box(&s.rays64)))
-    });
-    g.bench_function("smooth_f64_N16", |b| {
-        b.iter(|| smooth64!(s, 16)(black_box(&s.rays64)))
-    });
+    macro_rules! smooth_benches {
+        ($($n:literal),*) => {$(
+            g.bench_function(concat!("smooth_f32_N", $n), |b| {
+                b.iter(|| smooth32!(s, $n)(black_box(&s.rays32)))
+            });
+            g.bench_function(concat!("smooth_f64_N", $n), |b| {
+                b.iter(|| smooth64!(s, $n)(black_box(&s.rays64)))
+            });
+        )*};
+    }
+    smooth_benches!(0, 2, 4, 8, 16);
     g.finish();
 
     let mesh = torus(8, 8, 1.0, 0.4);

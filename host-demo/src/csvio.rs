@@ -68,16 +68,7 @@ fn rows<'a>(text: &'a str, path: &str, header: &[&str]) -> Result<Vec<(usize, Ve
 }
 
 fn num<F: Prec>(tok: &str, path: &str, line: usize) -> Result<F> {
-    let v: f64 = tok
-        .parse()
-        .map_err(|_| DemoError::parse(path, line, format!("malformed number '{tok}'")))?;
-    if !v.is_finite() {
-        return Err(DemoError::parse(
-            path,
-            line,
-            format!("non-finite value '{tok}'"),
-        ));
-    }
+    let v = crate::mesh::parse_f64(tok, path, line)?;
     // Parse in the target precision directly so printed values read back exactly.
     let f = if F::NAME == "f32" {
         F::from_f64(tok.parse::<f32>().map(f64::from).unwrap_or(v))

@@ -117,7 +117,8 @@ pub fn angle_weighted_normals(
         .collect()
 }
 
-fn parse_f64(tok: &str, path: &str, line: usize) -> Result<f64> {
+/// Parses a finite number, or reports `path:line` with what is wrong.
+pub(crate) fn parse_f64(tok: &str, path: &str, line: usize) -> Result<f64> {
     let v: f64 = tok
         .parse()
         .map_err(|_| DemoError::parse(path, line, format!("malformed number '{tok}'")))?;
