@@ -24,12 +24,20 @@ impl Rng {
     }
 }
 
-fn patches32(m: &Mesh) -> Vec<Patch> {
+/// The triangles and vertex normals of `m`, rounded to f32.
+fn triangles32(m: &Mesh) -> Vec<([Vec3; 3], [Vec3; 3])> {
     (0..m.triangles.len())
         .map(|t| {
             let (p, n) = m.triangle(t);
-            Patch::new(p.map(|x| x.as_vec3()), n.map(|x| x.as_vec3())).unwrap()
+            (p.map(|x| x.as_vec3()), n.map(|x| x.as_vec3()))
         })
+        .collect()
+}
+
+fn patches32(m: &Mesh) -> Vec<Patch> {
+    triangles32(m)
+        .into_iter()
+        .map(|(p, n)| Patch::new(p, n).unwrap())
         .collect()
 }
 
@@ -136,12 +144,7 @@ fn bench_kernel(c: &mut Criterion) {
     g.finish();
 
     let mesh = torus(8, 8, 1.0, 0.4);
-    let tris: Vec<([Vec3; 3], [Vec3; 3])> = (0..mesh.triangles.len())
-        .map(|t| {
-            let (p, n) = mesh.triangle(t);
-            (p.map(|x| x.as_vec3()), n.map(|x| x.as_vec3()))
-        })
-        .collect();
+    let tris = triangles32(&mesh);
     let mut g = c.benchmark_group("patch_construction_128_patches");
     g.bench_function("f32", |b| {
         b.iter(|| {
@@ -370,12 +373,7 @@ fn summary() {
     }
 
     let mesh = torus(8, 8, 1.0, 0.4);
-    let tris: Vec<([Vec3; 3], [Vec3; 3])> = (0..mesh.triangles.len())
-        .map(|t| {
-            let (p, n) = mesh.triangle(t);
-            (p.map(|x| x.as_vec3()), n.map(|x| x.as_vec3()))
-        })
-        .collect();
+    let tris = triangles32(&mesh);
     let t = Instant::now();
     let mut built = 0usize;
     while t.elapsed() < Duration::from_millis(500) {
