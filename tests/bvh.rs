@@ -39,7 +39,7 @@ fn closest_and_any_hit_equal_brute_force() {
             (Some(g), Some((t, id))) => {
                 hits += 1;
                 assert!((g.t - t).abs() <= 1e-6 * t.abs().max(1.0), "{} vs {t}", g.t);
-                if g.feature != id {
+                if g.patch != id {
                     // Two patches at the same t (shared edge): both answers are right.
                     assert!((g.t - t).abs() <= 1e-6);
                 }

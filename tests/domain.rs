@@ -1,4 +1,4 @@
-//! Domain study (DESIGN.md §7): where the construction degrades as the vertex normals tilt away
+//! Domain study (docs/METHOD.md §7): where the construction degrades as the vertex normals tilt away
 //! from the face normal, for well-shaped and for skinny triangles. Not a check: it prints a
 //! table, so it is ignored by default (CI does not run it). Run it in release:
 //!

@@ -155,7 +155,7 @@ fn precision_versus_iterations_is_certified() {
             let got = f(&ps, &DRay::new(o, d));
             match (got, want) {
                 (Some(g), Some(w)) => {
-                    if g.feature != w.feature && (g.t - w.t).abs() > 1e-9 {
+                    if g.patch != w.patch && (g.t - w.t).abs() > 1e-9 {
                         continue;
                     }
                     let err = (g.t - w.t).abs();

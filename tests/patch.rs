@@ -1,4 +1,4 @@
-//! Properties of the patch construction (DESIGN.md §6), f64 and f32, over random inputs.
+//! Properties of the patch construction (docs/METHOD.md §6), f64 and f32, over random inputs.
 
 mod common;
 use common::*;

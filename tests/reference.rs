@@ -1,4 +1,4 @@
-//! The core against the independent f64 reference implementation in `../shared/reference`.
+//! The core against the independent f64 reference implementation in `tests/data/`.
 
 mod common;
 use common::*;

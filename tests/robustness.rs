@@ -2,7 +2,7 @@
 //! ([`DPatch`]): extreme magnitudes (1e-20 … 1e20), NaN, ±inf, zero vectors, collinear and
 //! near-collinear vertices, normals near 90° and back-facing, degenerate rays and ray ranges.
 //!
-//! What is checked (DESIGN.md §7, §8):
+//! What is checked (docs/METHOD.md §7, §8):
 //! - construction returns a typed error or a patch, never panics;
 //! - for every accepted patch, `point`, `point_normal`, `height`, `derivatives`,
 //!   `edge_point_normal`, `bounds` and `height_range` are finite (normals unit length) at any
@@ -420,7 +420,7 @@ fn check_evaluations<F: Float>(
     patch: &Patch<F>,
     extra: &[(f64, f64)],
 ) -> Result<(), TestCaseError> {
-    let (lo, hi) = patch.bounds();
+    let (lo, hi) = (patch.bounds().min(), patch.bounds().max());
     let (lo, hi) = (to_d::<F>(lo), to_d::<F>(hi));
     prop_assert!(
         lo.is_finite() && hi.is_finite() && lo.cmple(hi).all(),
@@ -529,7 +529,7 @@ fn check_hit<F: Float>(
     // can fall outside the range by an ulp of `t0` (reported as a minor finding, reproducer
     // `bug_hit_before_t_min_by_rounding`): the slack is a few ulps of the ray's reach to the
     // far side of the box.
-    let (lo, hi) = patch.bounds();
+    let (lo, hi) = (patch.bounds().min(), patch.bounds().max());
     let (lo, hi) = (to_d::<F>(lo), to_d::<F>(hi));
     let o = to_d::<F>(ray.origin);
     let d = to_d::<F>(ray.dir);
@@ -625,7 +625,7 @@ fn check_input<F: Float>(
         }
     };
     check_evaluations(&patch, extra)?;
-    let (lo, hi) = patch.bounds();
+    let (lo, hi) = (patch.bounds().min(), patch.bounds().max());
     let (lo, hi) = (to_d::<F>(lo), to_d::<F>(hi));
     let nf = to_d::<F>(patch.face_normal());
     for r in rays {
@@ -723,7 +723,7 @@ proptest! {
         prop_assert!(patch.is_ok(), "in-domain patch rejected: {patch:?}");
         if let Ok(patch) = patch {
             let (lo, hi) = patch.height_range();
-            let (bmin, bmax) = patch.bounds();
+            let (bmin, bmax) = (patch.bounds().min(), patch.bounds().max());
             for (w1, w2) in bary_grid(20) {
                 let h = patch.height(w1, w2);
                 prop_assert!(h >= lo && h <= hi, "height {h} outside [{lo}, {hi}] at ({w1}, {w2})");
@@ -786,7 +786,7 @@ fn check_bvh<F: Float>(ps: &[Patch<F>], rays: &[RayParam]) -> Result<(), TestCas
     for (i, r) in rays.iter().enumerate() {
         // Aim at one of the patches (round robin).
         let patch = &ps[i % ps.len()];
-        let (lo, hi) = patch.bounds();
+        let (lo, hi) = (patch.bounds().min(), patch.bounds().max());
         let (lo, hi) = (to_d::<F>(lo), to_d::<F>(hi));
         let target = to_d::<F>(patch.point(F::from_f64(r.aim.0), F::from_f64(r.aim.1)));
         let (o, d, t0, t1) = r.build(lo, hi, to_d::<F>(patch.face_normal()), target);
@@ -815,8 +815,8 @@ fn check_bvh<F: Float>(ps: &[Patch<F>], rays: &[RayParam]) -> Result<(), TestCas
             "closest_hit hit/miss vs brute force"
         );
         if let Some(g) = got {
-            prop_assert!((g.feature as usize) < ps.len());
-            let gp = &ps[g.feature as usize];
+            prop_assert!((g.patch as usize) < ps.len());
+            let gp = &ps[g.patch as usize];
             check_hit(gp, &ray, t0, t1, &g)?;
             let best = brute
                 .iter()
@@ -858,7 +858,7 @@ fn check_bvh<F: Float>(ps: &[Patch<F>], rays: &[RayParam]) -> Result<(), TestCas
                     prop_assert!(
                         explained,
                         "bvh t {tg} (patch {}) > brute force t {tb} (patch {k}), not explained by t_max dependence",
-                        g.feature
+                        g.patch
                     );
                 }
             }
@@ -943,7 +943,7 @@ fn generator_coverage() {
         *outcome[0].entry(key(r64.err())).or_default() += 1;
         *outcome[1].entry(key(r32.err())).or_default() += 1;
         if let Ok(patch) = r64 {
-            let (lo, hi) = patch.bounds();
+            let (lo, hi) = (patch.bounds().min(), patch.bounds().max());
             for r in &rps {
                 let target = patch.point(r.aim.0, r.aim.1);
                 let (o, d, a, b) = r.build(lo, hi, patch.face_normal(), target);
@@ -952,7 +952,7 @@ fn generator_coverage() {
             }
         }
         if let Ok(patch) = r32 {
-            let (lo, hi) = patch.bounds();
+            let (lo, hi) = (patch.bounds().min(), patch.bounds().max());
             for r in &rps {
                 let target = patch.point(r.aim.0 as f32, r.aim.1 as f32).as_dvec3();
                 let (o, d, a, b) = r.build(
@@ -1306,7 +1306,7 @@ fn bug_bvh_misses_closer_hit() {
     };
     // The property aims ray i at patch i mod len (this is ray 1).
     let target_patch = &ps[1 % ps.len()];
-    let (lo, hi) = target_patch.bounds();
+    let (lo, hi) = (target_patch.bounds().min(), target_patch.bounds().max());
     let target = target_patch.point(r.aim.0, r.aim.1);
     let (o, d, t0, t1) = r.build(lo, hi, target_patch.face_normal(), target);
     let ray = smoothtri::DRay::new(o, d);
@@ -1319,7 +1319,7 @@ fn bug_bvh_misses_closer_hit() {
         .enumerate()
         .filter_map(|(k, p)| p.intersect::<6>(&ray, t0, t1).map(|h| (k, h.t)))
         .min_by(|a, b| a.1.total_cmp(&b.1));
-    let got = got.map(|h| (h.feature as usize, h.t));
+    let got = got.map(|h| (h.patch as usize, h.t));
     // Diagnosis: the closer patch's answer as a function of t_max.
     if let (Some((g, tg)), Some((k, tb))) = (got, brute) {
         for tm in [

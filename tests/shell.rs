@@ -15,7 +15,7 @@ fn height_range_and_box_contain_dense_samples() {
             let (p, n) = random_patch(&mut rng, deg);
             let patch = DPatch::new(p, n).unwrap();
             let (lo, hi) = patch.height_range();
-            let (bmin, bmax) = patch.bounds();
+            let (bmin, bmax) = (patch.bounds().min(), patch.bounds().max());
             for &(w1, w2) in &grid {
                 let h = patch.height(w1, w2);
                 assert!(

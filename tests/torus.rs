@@ -1,4 +1,4 @@
-//! Torus fidelity (DESIGN.md §6): maximum distance of the smooth surface to the true torus.
+//! Torus fidelity (docs/METHOD.md §6): maximum distance of the smooth surface to the true torus.
 
 mod common;
 use common::*;
@@ -23,7 +23,7 @@ fn max_error(n: usize, m: usize) -> f64 {
 fn torus_matches_design_table() {
     for (n, want) in [(8, 7.4e-3), (16, 6.3e-4)] {
         let got = max_error(n, 8);
-        eprintln!("torus {n}x{n}: max distance {got:.3e} (DESIGN.md: {want:.1e})");
+        eprintln!("torus {n}x{n}: max distance {got:.3e} (docs/METHOD.md: {want:.1e})");
         assert_close!(got, want, 0.1 * want, "torus {n}x{n}");
     }
 }

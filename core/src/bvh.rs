@@ -12,7 +12,7 @@
 
 use heapless::Vec as HVec;
 
-use crate::kernel::clip::aabb_interval;
+use crate::aabb::Aabb;
 use crate::patch::Patch;
 use crate::ray::{Hit, Ray};
 use crate::real::Float;
@@ -42,8 +42,12 @@ pub enum BvhError {
     /// The traversal stack would overflow (only possible with storage not made by
     /// [`Bvh::build`]).
     StackOverflow,
-    /// The traversal visited more nodes than the tree has (storage not made by [`Bvh::build`]).
+    /// The traversal visited more nodes than the tree has, or a node or index points outside
+    /// the storage (storage not made by [`Bvh::build`]).
     CorruptTree,
+    /// An invariant of the builder failed. Not expected for any input: it would be a bug in
+    /// this crate (reported as an error rather than a panic or a silently wrong tree).
+    Internal,
 }
 
 impl core::fmt::Display for BvhError {
@@ -58,9 +62,10 @@ impl core::fmt::Display for BvhError {
             }
             BvhError::TooManyPatches => f.write_str("more patches than u32 can index"),
             BvhError::StackOverflow => f.write_str("BVH traversal stack overflow"),
-            BvhError::CorruptTree => {
-                f.write_str("BVH storage is corrupt (a node is reached twice)")
-            }
+            BvhError::CorruptTree => f.write_str(
+                "BVH storage is corrupt (a node is reached twice or points outside the storage)",
+            ),
+            BvhError::Internal => f.write_str("internal error of the BVH builder (a bug)"),
         }
     }
 }
@@ -71,17 +76,16 @@ impl core::error::Error for BvhError {}
 /// `first + 1`) or a leaf of `count` patches (`order[first..first + count]`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct BvhNode<F: Float> {
-    lo: V3<F>,
-    hi: V3<F>,
+    bounds: Aabb<F>,
     first: u32,
     count: u32,
 }
 
 impl<F: Float> Default for BvhNode<F> {
+    /// An empty leaf (no ray enters its empty box).
     fn default() -> Self {
         BvhNode {
-            lo: V3::zero(),
-            hi: V3::zero(),
+            bounds: Aabb::EMPTY,
             first: 0,
             count: 0,
         }
@@ -105,14 +109,6 @@ struct Task {
 }
 
 #[inline(always)]
-fn vmin<F: Float>(a: V3<F>, b: V3<F>) -> V3<F> {
-    V3::new(a.x.min(b.x), a.y.min(b.y), a.z.min(b.z))
-}
-#[inline(always)]
-fn vmax<F: Float>(a: V3<F>, b: V3<F>) -> V3<F> {
-    V3::new(a.x.max(b.x), a.y.max(b.y), a.z.max(b.z))
-}
-#[inline(always)]
 fn axis<F: Float>(v: V3<F>, k: usize) -> F {
     match k {
         0 => v.x,
@@ -120,19 +116,15 @@ fn axis<F: Float>(v: V3<F>, k: usize) -> F {
         _ => v.z,
     }
 }
+
+/// The box of patch `i` (an index taken from `order`, which the builder fills with `0..n` and
+/// only permutes: out of range would be a builder bug, reported as [`BvhError::Internal`]).
 #[inline(always)]
-fn half_area<F: Float>(lo: V3<F>, hi: V3<F>) -> F {
-    let e = hi - lo;
-    if e.x < F::ZERO {
-        return F::ZERO;
-    }
-    e.x * e.y + e.y * e.z + e.z * e.x
-}
-fn empty_box<F: Float>() -> (V3<F>, V3<F>) {
-    (
-        V3::new(F::MAX, F::MAX, F::MAX),
-        V3::new(-F::MAX, -F::MAX, -F::MAX),
-    )
+fn patch_box<F: Float>(patches: &[Patch<F>], i: u32) -> Result<Aabb<F>, BvhError> {
+    patches
+        .get(i as usize)
+        .map(|p| p.bbox)
+        .ok_or(BvhError::Internal)
 }
 
 impl<'a, F: Float> Bvh<'a, F> {
@@ -170,27 +162,17 @@ impl<'a, F: Float> Bvh<'a, F> {
         for (i, o) in order.iter_mut().enumerate().take(n) {
             *o = i as u32;
         }
-        let centroid = |i: u32| -> V3<F> {
-            patches.get(i as usize).map_or(V3::zero(), |p| {
-                let [lo, hi] = p.bbox;
-                (lo + hi) * F::from_f64(0.5)
-            })
-        };
-        let pbox = |i: u32| -> (V3<F>, V3<F>) {
-            patches.get(i as usize).map_or(empty_box(), |p| {
-                let [lo, hi] = p.bbox;
-                (lo, hi)
-            })
-        };
         let mut used = 1usize;
         let mut stack: HVec<Task, MAX_DEPTH> = HVec::new();
         // Depth-first: the stack holds at most one pending sibling per level.
-        let _ = stack.push(Task {
-            node: 0,
-            start: 0,
-            end: n,
-            depth: 0,
-        });
+        stack
+            .push(Task {
+                node: 0,
+                start: 0,
+                end: n,
+                depth: 0,
+            })
+            .map_err(|_| BvhError::Internal)?;
         while let Some(task) = stack.pop() {
             let Task {
                 node,
@@ -198,43 +180,32 @@ impl<'a, F: Float> Bvh<'a, F> {
                 end,
                 depth,
             } = task;
-            let Some(range) = order.get_mut(start..end) else {
-                break;
-            };
-            let (mut lo, mut hi) = empty_box::<F>();
-            let (mut clo, mut chi) = empty_box::<F>();
+            // Tasks cover `start < end ≤ n` by construction (splits are strictly inside).
+            let range = order.get_mut(start..end).ok_or(BvhError::Internal)?;
+            let mut bounds = Aabb::EMPTY;
+            let mut centroids = Aabb::EMPTY;
             for &i in range.iter() {
-                let (a, b) = pbox(i);
-                lo = vmin(lo, a);
-                hi = vmax(hi, b);
-                let c = centroid(i);
-                clo = vmin(clo, c);
-                chi = vmax(chi, c);
+                let b = patch_box(patches, i)?;
+                bounds = bounds.union(&b);
+                centroids = centroids.grow(b.center());
             }
             let count = end - start;
-            let make_leaf = count <= 1 || depth + 1 >= MAX_DEPTH;
-            let split = if make_leaf {
+            let split = if count <= 1 || depth + 1 >= MAX_DEPTH {
                 None
             } else {
-                sah_split(range, lo, hi, clo, chi, &centroid, &pbox)
-            };
-            let split = match split {
-                Some(m) => Some(m),
-                None if !make_leaf && count > MAX_LEAF => {
-                    Some(median_split(range, clo, chi, &centroid))
+                match sah_split(patches, range, &bounds, &centroids)? {
+                    Some(m) => Some(m),
+                    None if count > MAX_LEAF => Some(midpoint_split(patches, range, &centroids)?),
+                    None => None,
                 }
-                None => None,
             };
-            let Some(slot) = nodes.get_mut(node) else {
-                break;
-            };
+            let slot = nodes.get_mut(node).ok_or(BvhError::Internal)?;
             match split {
                 Some(mid) if mid > 0 && mid < count => {
                     let left = used;
                     used += 2;
                     *slot = BvhNode {
-                        lo,
-                        hi,
+                        bounds,
                         first: left as u32,
                         count: 0,
                     };
@@ -257,8 +228,7 @@ impl<'a, F: Float> Bvh<'a, F> {
                 }
                 _ => {
                     *slot = BvhNode {
-                        lo,
-                        hi,
+                        bounds,
                         first: start as u32,
                         count: count as u32,
                     };
@@ -269,8 +239,9 @@ impl<'a, F: Float> Bvh<'a, F> {
         let order: &'a [u32] = order;
         Ok(Bvh {
             patches,
-            nodes: nodes.get(..used).unwrap_or(nodes),
-            order: order.get(..n).unwrap_or(order),
+            // A binary tree over n leaves-worth of patches has at most 2n − 1 nodes ≤ len.
+            nodes: nodes.get(..used).ok_or(BvhError::Internal)?,
+            order: order.get(..n).ok_or(BvhError::Internal)?,
         })
     }
 
@@ -301,7 +272,7 @@ impl<'a, F: Float> Bvh<'a, F> {
     }
 
     /// Closest hit of `ray` in `[t_min, t_max]` using the smooth kernel with `N` iterations;
-    /// `hit.feature` is the patch's index in the slice given to [`Bvh::build`].
+    /// `hit.patch` is the patch's index in the slice given to [`Bvh::build`].
     ///
     /// # Accuracy
     /// As [`Patch::intersect`]; the result equals a brute-force loop over all patches.
@@ -337,7 +308,7 @@ impl<'a, F: Float> Bvh<'a, F> {
 
     /// Closest hit with a caller-supplied per-patch test `test(patch, t_min, t_max)` (for
     /// example the flat or Phong baselines of [`crate::kernel::flat`] on the patch's vertices,
-    /// which lie inside the patch's box). The returned hit's `feature` is set to the patch index.
+    /// which lie inside the patch's box). The returned hit's `patch` is set to the patch index.
     ///
     /// # Panics
     /// Never (unless `test` panics).
@@ -367,7 +338,10 @@ impl<'a, F: Float> Bvh<'a, F> {
         let mut best: Option<Hit<F>> = None;
         let mut tmax = t_max;
         let mut stack: HVec<u32, MAX_DEPTH> = HVec::new();
-        let enter = |node: &BvhNode<F>, tmax: F| aabb_interval(o, d, node.lo, node.hi, t_min, tmax);
+        // Every node index and leaf range comes from the storage: for storage made by `build`
+        // they are always valid; anything else is `CorruptTree`, never a skipped subtree.
+        let node_at = |i: u32| self.nodes.get(i as usize).ok_or(BvhError::CorruptTree);
+        let enter = |node: &BvhNode<F>, tmax: F| node.bounds.ray_interval(o, d, t_min, tmax);
         let Some(root) = self.nodes.first() else {
             return Ok(None);
         };
@@ -383,24 +357,22 @@ impl<'a, F: Float> Bvh<'a, F> {
                 return Err(BvhError::CorruptTree);
             }
             budget -= 1;
-            let Some(node) = self.nodes.get(current as usize) else {
-                break;
-            };
+            let node = node_at(current)?;
             if node.count > 0 {
                 let first = node.first as usize;
                 let ids = self
                     .order
-                    .get(first..first + node.count as usize)
-                    .unwrap_or(&[]);
+                    .get(first..first.saturating_add(node.count as usize))
+                    .ok_or(BvhError::CorruptTree)?;
                 for &id in ids {
+                    let p = self.patches.get(id as usize).ok_or(BvhError::CorruptTree)?;
                     // Each patch is tested over the caller's whole range, then compared with the
                     // best so far: the kernel's first sign change depends on its interval, so
                     // shortening it to the best `t` could skip a closer crossing pair.
-                    if let Some(p) = self.patches.get(id as usize)
-                        && let Some(mut h) = test(p, id, t_min, t_max)
+                    if let Some(mut h) = test(p, id, t_min, t_max)
                         && (best.is_none() || h.t < tmax)
                     {
-                        h.feature = id;
+                        h.patch = id;
                         tmax = h.t;
                         best = Some(h);
                         if any {
@@ -410,9 +382,9 @@ impl<'a, F: Float> Bvh<'a, F> {
                 }
             } else {
                 let l = node.first;
-                let r = node.first + 1;
-                let tl = self.nodes.get(l as usize).and_then(|n| enter(n, tmax));
-                let tr = self.nodes.get(r as usize).and_then(|n| enter(n, tmax));
+                let r = node.first.checked_add(1).ok_or(BvhError::CorruptTree)?;
+                let tl = enter(node_at(l)?, tmax);
+                let tr = enter(node_at(r)?, tmax);
                 match (tl, tr) {
                     (Some((a, _)), Some((b, _))) => {
                         let (near, far) = if a <= b { (l, r) } else { (r, l) };
@@ -433,25 +405,20 @@ impl<'a, F: Float> Bvh<'a, F> {
                     (None, None) => {}
                 }
             }
-            // Pop the next node still worth visiting.
+            // Pop the next node still worth visiting (the best hit may have moved closer since
+            // it was pushed).
             let mut next = None;
             while let Some(c) = stack.pop() {
-                if self
-                    .nodes
-                    .get(c as usize)
-                    .and_then(|n| enter(n, tmax))
-                    .is_some()
-                {
+                if enter(node_at(c)?, tmax).is_some() {
                     next = Some(c);
                     break;
                 }
             }
             match next {
                 Some(c) => current = c,
-                None => break,
+                None => return Ok(best),
             }
         }
-        Ok(best)
     }
 }
 
@@ -467,85 +434,79 @@ fn bin_of<F: Float>(c: F, cmin: F, scale: F) -> usize {
 }
 
 /// Binned SAH split of `range` (reordered in place); returns the split position, or `None` when
-/// a leaf is cheaper.
+/// a leaf is cheaper or no binning separates the centroids.
 fn sah_split<F: Float>(
+    patches: &[Patch<F>],
     range: &mut [u32],
-    lo: V3<F>,
-    hi: V3<F>,
-    clo: V3<F>,
-    chi: V3<F>,
-    centroid: &impl Fn(u32) -> V3<F>,
-    pbox: &impl Fn(u32) -> (V3<F>, V3<F>),
-) -> Option<usize> {
+    bounds: &Aabb<F>,
+    centroids: &Aabb<F>,
+) -> Result<Option<usize>, BvhError> {
     let count = range.len();
     // (cost, axis, first bin of the right side, cmin, scale)
     let mut best: Option<(F, usize, usize, F, F)> = None;
     for k in 0..3 {
-        let (cmin, cmax) = (axis(clo, k), axis(chi, k));
+        let (cmin, cmax) = (axis(centroids.lo, k), axis(centroids.hi, k));
         let ext = cmax - cmin;
         if !(ext > F::ZERO) {
             continue;
         }
         let scale = F::from_f64(BINS as f64) / ext;
-        let mut bins = [(0usize, empty_box::<F>()); BINS];
+        let mut bins = [(0usize, Aabb::<F>::EMPTY); BINS];
         for &i in range.iter() {
-            let b = bin_of(axis(centroid(i), k), cmin, scale);
-            if let Some((c, (blo, bhi))) = bins.get_mut(b) {
-                let (a, z) = pbox(i);
-                *c += 1;
-                *blo = vmin(*blo, a);
-                *bhi = vmax(*bhi, z);
-            }
+            let b = patch_box(patches, i)?;
+            let (c, bb) = bins
+                .get_mut(bin_of(axis(b.center(), k), cmin, scale))
+                .ok_or(BvhError::Internal)?;
+            *c += 1;
+            *bb = bb.union(&b);
         }
         // Prefix sweep from the left: count and area of bins [0, s].
         let mut left = [(0usize, F::ZERO); BINS];
-        let (mut n, (mut bl, mut bh)) = (0usize, empty_box::<F>());
-        for (slot, (c, (a, z))) in left.iter_mut().zip(bins.iter()) {
+        let (mut n, mut acc) = (0usize, Aabb::<F>::EMPTY);
+        for (slot, (c, b)) in left.iter_mut().zip(bins.iter()) {
             n += c;
-            bl = vmin(bl, *a);
-            bh = vmax(bh, *z);
-            *slot = (n, half_area(bl, bh));
+            acc = acc.union(b);
+            *slot = (n, acc.half_area());
         }
         // Suffix sweep from the right; a split puts bins [s, BINS) on the right.
-        let (mut n, (mut bl, mut bh)) = (0usize, empty_box::<F>());
+        let (mut n, mut acc) = (0usize, Aabb::<F>::EMPTY);
         for s in (1..BINS).rev() {
-            if let Some((c, (a, z))) = bins.get(s) {
-                n += c;
-                bl = vmin(bl, *a);
-                bh = vmax(bh, *z);
-            }
-            if let Some(&(nl, al)) = left.get(s - 1)
-                && nl > 0
-                && n > 0
-            {
-                let cost = al * F::from_f64(nl as f64) + half_area(bl, bh) * F::from_f64(n as f64);
+            let (c, b) = bins.get(s).ok_or(BvhError::Internal)?;
+            n += c;
+            acc = acc.union(b);
+            let &(nl, al) = left.get(s - 1).ok_or(BvhError::Internal)?;
+            if nl > 0 && n > 0 {
+                let cost = al * F::from_f64(nl as f64) + acc.half_area() * F::from_f64(n as f64);
                 if best.is_none_or(|(c, ..)| cost < c) {
                     best = Some((cost, k, s, cmin, scale));
                 }
             }
         }
     }
-    let (cost, k, s, cmin, scale) = best?;
+    let Some((cost, k, s, cmin, scale)) = best else {
+        return Ok(None);
+    };
     // Leaf cost: every patch tested against every ray reaching the node (traversal cost ≈ one
     // box test per child is small beside a patch test).
-    let leaf = half_area(lo, hi) * F::from_f64(count as f64);
+    let leaf = bounds.half_area() * F::from_f64(count as f64);
     if count <= MAX_LEAF && !(cost < leaf) {
-        return None;
+        return Ok(None);
     }
-    Some(partition(range, |i| {
-        bin_of(axis(centroid(i), k), cmin, scale) < s
-    }))
+    partition(range, |i| {
+        Ok(bin_of(axis(patch_box(patches, i)?.center(), k), cmin, scale) < s)
+    })
+    .map(Some)
 }
 
-/// Median split along the widest centroid axis (when SAH finds no split of a large range,
-/// e.g. all centroids equal): the range is split in halves by position.
-fn median_split<F: Float>(
+/// Midpoint split: partitions `range` at the middle of the widest axis of the centroids' box
+/// (when SAH finds no split of a large range). When every centroid falls on one side (e.g. all
+/// equal), the range is cut in halves by position instead.
+fn midpoint_split<F: Float>(
+    patches: &[Patch<F>],
     range: &mut [u32],
-    clo: V3<F>,
-    chi: V3<F>,
-    centroid: &impl Fn(u32) -> V3<F>,
-) -> usize {
-    let e = chi - clo;
+    centroids: &Aabb<F>,
+) -> Result<usize, BvhError> {
+    let e = centroids.hi - centroids.lo;
     let k = if e.x >= e.y && e.x >= e.z {
         0
     } else if e.y >= e.z {
@@ -553,28 +514,33 @@ fn median_split<F: Float>(
     } else {
         2
     };
-    let mid = clo + e * F::from_f64(0.5);
-    let m = partition(range, |i| axis(centroid(i), k) < axis(mid, k));
-    if m == 0 || m == range.len() {
+    let mid = axis(centroids.center(), k);
+    let m = partition(range, |i| Ok(axis(patch_box(patches, i)?.center(), k) < mid))?;
+    Ok(if m == 0 || m == range.len() {
         range.len() / 2
     } else {
         m
-    }
+    })
 }
 
 /// In-place partition; returns the number of elements satisfying `pred` (moved to the front).
-fn partition(range: &mut [u32], pred: impl Fn(u32) -> bool) -> usize {
+fn partition(
+    range: &mut [u32],
+    pred: impl Fn(u32) -> Result<bool, BvhError>,
+) -> Result<usize, BvhError> {
     let mut m = 0usize;
     for j in 0..range.len() {
-        if let Some((head, tail)) = range.split_at_mut_checked(j)
-            && let Some(x) = tail.first_mut()
-            && pred(*x)
-        {
+        // j < len: the split and `tail`'s first element always exist.
+        let (head, tail) = range.split_at_mut_checked(j).ok_or(BvhError::Internal)?;
+        let x = tail.first_mut().ok_or(BvhError::Internal)?;
+        if pred(*x)? {
+            // m ≤ j: for m < j swap with the first element not satisfying `pred`; for m = j
+            // the element is already in place.
             if let Some(y) = head.get_mut(m) {
                 core::mem::swap(x, y);
             }
             m += 1;
         }
     }
-    m
+    Ok(m)
 }

@@ -1,4 +1,4 @@
-//! Edge conjugation lines (DESIGN.md §4, the paper's eqs. (1)–(3)).
+//! Edge conjugation lines (docs/METHOD.md §4, the paper's eqs. (1)–(3)).
 //!
 //! Edge `i` runs from `Pi` to `Pi+1`. Its generator line at parameter `t` starts at
 //! `p(t) = lerp(Pi, Pi+1, t)` with direction `g(t) = lerp(di, di+1, t)`. It meets the sphere `S¹i`

@@ -27,7 +27,7 @@ pub enum PatchError {
     },
     /// The normals diverge so much that the shell's cross-section triangle flips (or
     /// the surface leaves the region where it is defined): outside the method's domain
-    /// (DESIGN.md §7).
+    /// (docs/METHOD.md §7).
     InvalidShell,
     /// The coordinates are finite but so large (or so spread) that the construction overflows
     /// this precision; scale the mesh or use `f64`.

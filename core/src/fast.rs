@@ -85,6 +85,7 @@ impl Float for FastF32 {
     const EPSILON: FastF32 = FastF32(f32::EPSILON);
     const MIN_POSITIVE: FastF32 = FastF32(f32::MIN_POSITIVE);
     const MAX: FastF32 = FastF32(f32::MAX);
+    const MIN: FastF32 = FastF32(f32::MIN);
     #[inline(always)]
     fn from_f64(x: f64) -> FastF32 {
         FastF32(x as f32)

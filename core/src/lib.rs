@@ -10,10 +10,10 @@
 //! |---|---|---|---|
 //! | [`Patch::point`] at vertices and on edges | ≤ 1e-12 of the size | ≤ 1e-5 of the scale | the input vertices; [`Patch::edge_point_normal`] |
 //! | [`Patch::point`] of a sphere's patch | ≤ 1e-12 of the radius | ≤ 2e-6 | the analytic sphere |
-//! | [`Patch::point`], general | ≤ 2e-14 of the coordinates' magnitude | ≤ 1e-6 of the scale vs `f64` | independent f64 implementation (`shared/reference`) |
+//! | [`Patch::point`], general | ≤ 2e-14 of the coordinates' magnitude | ≤ 1e-6 of the scale vs `f64` | independent f64 implementation (`tests/data/` of the repository) |
 //! | [`Patch::point_normal`] normal | ≤ 1e-10 (spheres) | ≤ 2e-5 | radial normals; f64 |
 //! | [`Patch::derivatives`] | exact (dual numbers) | exact | central differences ≤ 1e-6 of the size |
-//! | [`Patch::edge_point_normal`] | ≤ 1.5e-13 of the size, normals ≤ 1e-8 | | `shared/reference` |
+//! | [`Patch::edge_point_normal`] | ≤ 1.5e-13 of the size, normals ≤ 1e-8 | | `tests/data/` |
 //! | [`Patch::intersect`] `t` | within `t_error` (+ rounding slack); N = 8 reaches rounding on spheres and the torus | on the sphere to ≤ 5e-7 | analytic spheres; the kernel at N = 40 |
 //!
 //! `FastF32` (feature `micromath`) trades accuracy for a square root without FPU support: its
@@ -44,6 +44,7 @@
 // `!(a > b)` is deliberate throughout: it is true for NaN, which must take the safe branch.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+pub mod aabb;
 pub mod bvh;
 pub mod dual;
 pub mod edge;
@@ -60,6 +61,7 @@ pub mod sphere;
 pub mod surface;
 pub mod vec;
 
+pub use aabb::Aabb;
 pub use bvh::{Bvh, BvhError, BvhNode};
 pub use error::PatchError;
 #[cfg(feature = "micromath")]

@@ -5,6 +5,7 @@
 //! plane is its `z` coordinate. All evaluation happens in that frame; results are mapped back to
 //! world coordinates.
 
+use crate::aabb::Aabb;
 use crate::edge::{EdgeView, edge_point};
 use crate::error::PatchError;
 use crate::real::{Float, Real};
@@ -22,7 +23,7 @@ pub const DEGENERATE_RATIO_F32: f32 = 3.452_669_8e-4;
 
 /// A vertex normal is accepted when the cosine of its angle to the face normal is at least
 /// this (the angle is then below 89.94°). The method itself degrades well before that
-/// (DESIGN.md §7); construction may still fail with [`PatchError::InvalidShell`].
+/// (docs/METHOD.md §7); construction may still fail with [`PatchError::InvalidShell`].
 pub const MIN_NORMAL_COS: f64 = 1.0e-3;
 
 /// `√ε` of the precision: the relative area below which a triangle is degenerate.
@@ -31,7 +32,7 @@ pub(crate) fn degenerate_ratio<F: Float>() -> F {
     F::EPSILON.sqrt()
 }
 
-/// A smooth triangular patch (the construction of Gusyatin & Sorokin, DESIGN.md §2–§5) in
+/// A smooth triangular patch (the construction of Gusyatin & Sorokin, docs/METHOD.md §2–§5) in
 /// precision `F` (`f32`, the default, or `f64`; see [`DPatch`]).
 ///
 /// Built from a triangle `P0 P1 P2`, counter-clockwise seen from the side its normals point to,
@@ -56,7 +57,7 @@ pub struct Patch<F: Float = f32> {
     /// Conservative height range of the surface over the triangle.
     pub(crate) sigma: [F; 2],
     /// World bounding box of the shell (min, max), cached for the kernel and the BVH.
-    pub(crate) bbox: [V3<F>; 2],
+    pub(crate) bbox: Aabb<F>,
     /// Index + 1 into [`NORMAL_CLAMP_DEG`] of the clamp applied by [`Patch::new_or_tilted`]
     /// (0: the normals were used as given).
     pub(crate) remedy: u8,
@@ -172,7 +173,7 @@ impl<F: Float> Patch<F> {
             d: dl,
             k: [[F::ZERO; 2]; 3],
             sigma: [F::ZERO; 2],
-            bbox: [V3::zero(); 2],
+            bbox: Aabb::EMPTY,
             remedy: 0,
         };
         for j in 0..3 {
@@ -187,8 +188,7 @@ impl<F: Float> Patch<F> {
         if !shell::is_valid(&patch) {
             return Err(PatchError::InvalidShell);
         }
-        let (lo, hi) = shell::aabb(&patch);
-        patch.bbox = [lo, hi];
+        patch.bbox = shell::aabb(&patch);
         if !patch.all_finite() {
             return Err(PatchError::OutOfRange);
         }
@@ -299,7 +299,7 @@ impl<F: Float> Patch<F> {
             .all(|v| v.all_finite())
             && self.k.iter().flatten().all(|k| k.is_fin())
             && self.sigma.iter().all(|s| s.is_fin())
-            && self.bbox.iter().all(|v| v.all_finite())
+            && self.bbox.is_finite()
     }
 
     /// World coordinates of a local-frame point.
@@ -372,15 +372,14 @@ impl<F: Float> Patch<F> {
         (lo, hi)
     }
 
-    /// Axis-aligned bounding box `(min, max)` of the patch's shell in world coordinates: the box
+    /// Axis-aligned bounding box of the patch's shell in world coordinates: the box
     /// of its six corners `Pi + σmin·di`, `Pi + σmax·di`. Every surface point lies inside.
     ///
     /// # Accuracy
     /// Conservative up to a few ulps of the box's size.
     /// # Panics
     /// Never.
-    pub fn bounds(&self) -> (F::Vec3, F::Vec3) {
-        let [lo, hi] = self.bbox;
-        (F::to_glam(lo), F::to_glam(hi))
+    pub fn bounds(&self) -> Aabb<F> {
+        self.bbox
     }
 }

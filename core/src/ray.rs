@@ -1,4 +1,5 @@
-//! Rays and hits (parry style: `Ray { origin, dir }`, hits with `t`, normal and feature id).
+//! Rays and hits (parry style: `Ray { origin, dir }`, hits with `t`, normal and the hit patch's
+//! index).
 
 use crate::real::Float;
 
@@ -60,8 +61,9 @@ pub struct Hit<F: Float = f32> {
     pub w2: F,
     /// `true` when the ray arrives from the side the normals point to.
     pub front_face: bool,
-    /// Feature id: the patch's index in the scene (0 for a lone patch).
-    pub feature: u32,
+    /// Index of the hit patch in the slice given to [`crate::Bvh::build`] (0 for a query on
+    /// a lone patch).
+    pub patch: u32,
 }
 
 /// A [`Hit`] in `f64`.

@@ -105,6 +105,8 @@ pub trait Float: Real<F = Self> + Copy + Default + PartialEq {
     const MIN_POSITIVE: Self;
     /// Largest finite number.
     const MAX: Self;
+    /// The most negative finite value (`−MAX`).
+    const MIN: Self;
     /// Rounds an `f64` to this precision.
     fn from_f64(x: f64) -> Self;
     /// Widens to `f64` (exact).
@@ -153,6 +155,7 @@ macro_rules! impl_float {
             const EPSILON: $f = <$f>::EPSILON;
             const MIN_POSITIVE: $f = <$f>::MIN_POSITIVE;
             const MAX: $f = <$f>::MAX;
+            const MIN: $f = <$f>::MIN;
             #[inline(always)]
             fn from_f64(x: f64) -> $f {
                 x as $f

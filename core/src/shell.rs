@@ -1,5 +1,5 @@
 //! The shell: the prism-like region `{ P(X) + σ·D(X) : X in the triangle, σmin ≤ σ ≤ σmax }` that
-//! contains the patch (DESIGN.md §2). Its cross-section at height `σ` is the triangle
+//! contains the patch (docs/METHOD.md §2). Its cross-section at height `σ` is the triangle
 //! `Ai(σ) = Pi + σ·di`; its side walls are the ruled surfaces `Xi = 0`.
 //!
 //! # How the height range is bounded
@@ -11,12 +11,13 @@
 //! up to 50° from the face on a 861-point grid and checks that every point lies inside. The
 //! largest excursion beyond the sampled range seen there is 0.18 of the range (so the margin
 //! has a safety factor of about 2.8). Beyond about 55° the surface itself can become wild (the
-//! nearest sphere roots switch branches, DESIGN.md §7) and may leave the shell: that is outside
+//! nearest sphere roots switch branches, docs/METHOD.md §7) and may leave the shell: that is outside
 //! the method's domain and is measured in the reliability study (`tests/domain.rs`). Even below
 //! 50° the construction has rare isolated spikes where a sphere root switches branch (2 in
 //! 7.8·10⁵ random patches with normals ≤ 50°, `tests/robustness.rs`); no sampling bound can
 //! contain those, and rays may miss the spike.
 
+use crate::aabb::Aabb;
 use crate::patch::Patch;
 use crate::real::Float;
 use crate::surface::height;
@@ -97,19 +98,17 @@ pub(crate) fn is_valid<F: Float>(patch: &Patch<F>) -> bool {
 }
 
 /// Axis-aligned box of the six shell corners, world coordinates.
-pub(crate) fn aabb<F: Float>(patch: &Patch<F>) -> (V3<F>, V3<F>) {
+pub(crate) fn aabb<F: Float>(patch: &Patch<F>) -> Aabb<F> {
     let [lo_s, hi_s] = patch.sigma;
-    let mut lo = V3::new(F::MAX, F::MAX, F::MAX);
-    let mut hi = V3::new(-F::MAX, -F::MAX, -F::MAX);
+    let mut b = Aabb::EMPTY;
     for (p, d) in patch.p.iter().zip(patch.d.iter()) {
         for s in [lo_s, hi_s] {
-            let w = patch.local_to_world(*p + *d * s);
-            lo = V3::new(lo.x.min(w.x), lo.y.min(w.y), lo.z.min(w.z));
-            hi = V3::new(hi.x.max(w.x), hi.y.max(w.y), hi.z.max(w.z));
+            b = b.grow(patch.local_to_world(*p + *d * s));
         }
     }
     // Widen by a few ulps of the box so rounding of the frame cannot exclude a surface point.
+    let (lo, hi) = (b.lo, b.hi);
     let pad = |a: F, b: F| (a.abs().max(b.abs())) * F::from_f64(8.0) * F::EPSILON;
     let e = V3::new(pad(lo.x, hi.x), pad(lo.y, hi.y), pad(lo.z, hi.z));
-    (lo - e, hi + e)
+    Aabb::from_corners(lo - e, hi + e)
 }

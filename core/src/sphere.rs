@@ -1,4 +1,4 @@
-//! Generalized spheres (DESIGN.md §3): the sphere through a point `A`, centred on the line
+//! Generalized spheres (docs/METHOD.md §3): the sphere through a point `A`, centred on the line
 //! `A + λ·m` (`m` unit) and passing through a second point `B`, written by its signed curvature
 //! so that the flat limit (a plane) needs no division by zero.
 //!

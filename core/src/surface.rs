@@ -1,4 +1,4 @@
-//! The surface point and normal (DESIGN.md §5, the paper's eqs. (4)–(5), with the ½ that makes
+//! The surface point and normal (docs/METHOD.md §5, the paper's eqs. (4)–(5), with the ½ that makes
 //! the weights sum to one).
 //!
 //! For barycentrics `X`, `P = Σ Xi Pi` and `D = Σ Xi di`. For each vertex `i`, the edge opposite

@@ -174,7 +174,7 @@ fn run<F: Float>(inp: &Input) {
         return;
     };
     let utol = unit_tol(&patch);
-    let (lo, hi) = patch.bounds();
+    let (lo, hi) = (patch.bounds().min(), patch.bounds().max());
     assert!(to_d::<F>(lo).is_finite() && to_d::<F>(hi).is_finite());
     let (s0, s1) = patch.height_range();
     assert!(s0.is_fin() && s1.is_fin() && s0 <= s1);

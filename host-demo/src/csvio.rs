@@ -113,7 +113,7 @@ pub fn trace<F: Prec>(mesh: &Mesh, rays_path: &str, iterations: usize) -> Result
             Some(h) => {
                 let tri = scene
                     .tri_ids
-                    .get(h.feature as usize)
+                    .get(h.patch as usize)
                     .copied()
                     .unwrap_or(u32::MAX);
                 let _ = writeln!(

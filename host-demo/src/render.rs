@@ -115,7 +115,7 @@ pub fn render<F: Prec>(
                     point: p,
                     triangle: scene
                         .tri_ids
-                        .get(hit.feature as usize)
+                        .get(hit.patch as usize)
                         .copied()
                         .unwrap_or(u32::MAX),
                 });

@@ -31,7 +31,7 @@ fn f32_paths() -> u32 {
     if let Ok(patch) = Patch::<f32>::new(p, n) {
         let (x, nn) = patch.point_normal(black_box(0.2), black_box(0.3));
         let (c, cn) = patch.edge_point_normal(black_box(4), black_box(0.3));
-        let (lo, hi) = patch.bounds();
+        let (lo, hi) = (patch.bounds().min(), patch.bounds().max());
         let h = patch.height(black_box(0.1), black_box(0.1));
         let (d1, d2) = patch.derivatives(black_box(0.4), black_box(0.4));
         let s = x + nn + c + cn + lo + hi + d1 + d2 + Vec3::splat(h);
@@ -49,7 +49,7 @@ fn f32_paths() -> u32 {
         let mut order = [0u32; 8];
         if let Ok(bvh) = Bvh::build(black_box(&patches), &mut nodes, &mut order) {
             if let Ok(Some(h)) = bvh.closest_hit::<8>(&ray, t0, t1) {
-                acc += h.feature;
+                acc += h.patch;
             }
             if let Ok(true) = bvh.any_hit::<4>(&ray, t0, t1) {
                 acc += 1;

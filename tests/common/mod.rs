@@ -34,29 +34,44 @@ macro_rules! assert_vec_close {
     }};
 }
 
-/// Directory of the read-only shared reference data (`../shared/reference` beside the repo).
+/// Directory of the vendored reference data (`tests/data/`, see its README).
 pub fn reference_dir() -> std::path::PathBuf {
-    std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/reference")
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data")
 }
 
-/// Parses a CSV of floats with a header; returns (header, rows).
+/// Parses a CSV of floats with a header; returns (header, rows). Every field must parse as an
+/// `f64` (`nan` is written explicitly where the reference has no value); anything else, or a
+/// row whose width differs from the header's, fails the test with the file and line.
 pub fn read_csv(name: &str) -> (Vec<String>, Vec<Vec<f64>>) {
     let path = reference_dir().join(name);
     let text = std::fs::read_to_string(&path)
         .unwrap_or_else(|e| panic!("cannot read {}: {e}", path.display()));
-    let mut lines = text.lines();
+    let mut lines = text.lines().enumerate();
     let header: Vec<String> = lines
         .next()
-        .unwrap_or("")
-        .split(',')
-        .map(str::to_owned)
-        .collect();
+        .map(|(_, l)| l.split(',').map(str::to_owned).collect())
+        .unwrap_or_else(|| panic!("{}: empty file", path.display()));
     let rows = lines
-        .filter(|l| !l.trim().is_empty())
-        .map(|l| {
-            l.split(',')
-                .map(|x| x.trim().parse::<f64>().unwrap_or(f64::NAN))
-                .collect()
+        .filter(|(_, l)| !l.trim().is_empty())
+        .map(|(i, l)| {
+            let row: Vec<f64> = l
+                .split(',')
+                .map(|x| {
+                    x.trim().parse::<f64>().unwrap_or_else(|e| {
+                        panic!("{}:{}: bad number {x:?}: {e}", path.display(), i + 1)
+                    })
+                })
+                .collect();
+            assert_eq!(
+                row.len(),
+                header.len(),
+                "{}:{}: {} fields, header has {}",
+                path.display(),
+                i + 1,
+                row.len(),
+                header.len()
+            );
+            row
         })
         .collect();
     (header, rows)

@@ -1,4 +1,4 @@
-//! Clipping a ray to a patch's shell (DESIGN.md §8 step 1): the slab `σmin ≤ σ ≤ σmax` and the
+//! Clipping a ray to a patch's shell (docs/METHOD.md §8 step 1): the slab `σmin ≤ σ ≤ σmax` and the
 //! three side walls `Xi = 0`, each wall a quadratic in the ray parameter.
 
 use crate::patch::Patch;
@@ -21,43 +21,6 @@ impl<F: Float> LocalRay<F> {
     #[inline(always)]
     pub fn at(&self, tau: F) -> V3<F> {
         self.o + self.r * tau
-    }
-}
-
-/// Ray–box slab test, world coordinates; returns the parameter interval inside the box.
-#[inline(always)]
-pub(crate) fn aabb_interval<F: Float>(
-    o: V3<F>,
-    d: V3<F>,
-    lo: V3<F>,
-    hi: V3<F>,
-    t_min: F,
-    t_max: F,
-) -> Option<(F, F)> {
-    let mut a = t_min;
-    let mut b = t_max;
-    for (((oc, dc), l), h) in [o.x, o.y, o.z]
-        .into_iter()
-        .zip([d.x, d.y, d.z])
-        .zip([lo.x, lo.y, lo.z])
-        .zip([hi.x, hi.y, hi.z])
-    {
-        if dc == F::ZERO {
-            if oc < l || oc > h {
-                return None;
-            }
-        } else {
-            let inv = F::ONE / dc;
-            let t1 = (l - oc) * inv;
-            let t2 = (h - oc) * inv;
-            a = a.max(t1.min(t2));
-            b = b.min(t1.max(t2));
-        }
-    }
-    if a <= b && a.is_fin() && b.is_fin() {
-        Some((a, b))
-    } else {
-        None
     }
 }
 

@@ -85,6 +85,6 @@ pub fn flat_hit<F: Float>(
         w1,
         w2,
         front_face: face.dot(d) < F::ZERO,
-        feature: 0,
+        patch: 0,
     })
 }

@@ -1,8 +1,8 @@
-//! The bounded-work ray kernel (DESIGN.md §8).
+//! The bounded-work ray kernel (docs/METHOD.md §8).
 //!
 //! Along a ray `x(t)`, the patch is the zero set of `f(t) = σ(t) − σS(X(t))`: the height of the
 //! ray point over the triangle's plane minus the surface's height at the ray point's
-//! barycentrics (both exact consequences of the construction, DESIGN.md §2). The kernel
+//! barycentrics (both exact consequences of the construction, docs/METHOD.md §2). The kernel
 //!
 //! 1. clips the ray to the patch's box, then to its shell (slab and three side walls, exact
 //!    quadratics): `[ta, tb]`;
@@ -25,7 +25,7 @@ use crate::ray::{Hit, Ray};
 use crate::real::Float;
 use crate::surface::{height, normal_local, point_derivs_local, project_bary};
 use crate::vec::V3;
-use clip::{LocalRay, aabb_interval, bary_numerators, shell_interval};
+use clip::{LocalRay, bary_numerators, shell_interval};
 use itp::{Bracket, refine};
 
 /// Default number `K` of interior bracketing samples used by [`Patch::intersect`].
@@ -94,8 +94,7 @@ impl<F: Float> Patch<F> {
         if t_min.is_nan() || t_max.is_nan() || t_max < t_min {
             return None;
         }
-        let [lo, hi] = self.bbox;
-        let (ta, tb) = aabb_interval(o, d, lo, hi, t_min, t_max)?;
+        let (ta, tb) = self.bbox.ray_interval(o, d, t_min, t_max)?;
         // Local ray re-based at the middle of the box interval.
         let t0 = F::from_f64(0.5) * (ta + tb);
         let lray = LocalRay {
@@ -156,7 +155,7 @@ impl<F: Float> Patch<F> {
             w1,
             w2,
             front_face: normal.dot(d) < F::ZERO,
-            feature: 0,
+            patch: 0,
         };
         if t.is_fin() && hit.t_error.is_fin() && normal.all_finite() {
             Some(hit)

@@ -1,0 +1,153 @@
+//! Axis-aligned bounding boxes: the one box type of the crate, shared by patches (the box of
+//! their shell), BVH nodes, and the kernel's first clip.
+
+use crate::real::Float;
+use crate::vec::V3;
+
+/// An axis-aligned box `[min, max]` in world coordinates.
+///
+/// The empty box ([`Aabb::EMPTY`]) has `min > max` on every axis; it is the identity of
+/// [`Aabb::union`] and no ray enters it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Aabb<F: Float = f32> {
+    pub(crate) lo: V3<F>,
+    pub(crate) hi: V3<F>,
+}
+
+impl<F: Float> Default for Aabb<F> {
+    /// The empty box.
+    fn default() -> Self {
+        Self::EMPTY
+    }
+}
+
+impl<F: Float> Aabb<F> {
+    /// The empty box: `min = +MAX`, `max = −MAX` on every axis.
+    pub const EMPTY: Self = Aabb {
+        lo: V3::new(F::MAX, F::MAX, F::MAX),
+        hi: V3::new(F::MIN, F::MIN, F::MIN),
+    };
+
+    /// The box with corners `min` and `max` (not reordered: a box with `min > max` on some axis
+    /// is empty).
+    ///
+    /// # Panics
+    /// Never.
+    pub fn new(min: F::Vec3, max: F::Vec3) -> Self {
+        Aabb {
+            lo: F::from_glam(min),
+            hi: F::from_glam(max),
+        }
+    }
+
+    #[inline(always)]
+    pub(crate) fn from_corners(lo: V3<F>, hi: V3<F>) -> Self {
+        Aabb { lo, hi }
+    }
+
+    /// The minimum corner.
+    ///
+    /// # Panics
+    /// Never.
+    pub fn min(&self) -> F::Vec3 {
+        F::to_glam(self.lo)
+    }
+
+    /// The maximum corner.
+    ///
+    /// # Panics
+    /// Never.
+    pub fn max(&self) -> F::Vec3 {
+        F::to_glam(self.hi)
+    }
+
+    /// The smallest box containing both.
+    ///
+    /// # Accuracy
+    /// Exact (component-wise minimum and maximum).
+    /// # Panics
+    /// Never.
+    #[inline(always)]
+    pub fn union(&self, o: &Self) -> Self {
+        Aabb {
+            lo: vmin(self.lo, o.lo),
+            hi: vmax(self.hi, o.hi),
+        }
+    }
+
+    /// The smallest box containing `self` and the point `p`.
+    #[inline(always)]
+    pub(crate) fn grow(&self, p: V3<F>) -> Self {
+        Aabb {
+            lo: vmin(self.lo, p),
+            hi: vmax(self.hi, p),
+        }
+    }
+
+    /// The box's center `(min + max) / 2`.
+    #[inline(always)]
+    pub(crate) fn center(&self) -> V3<F> {
+        (self.lo + self.hi) * F::from_f64(0.5)
+    }
+
+    /// Half the surface area, `xy + yz + zx` of the extents (0 for the empty box): the SAH's
+    /// measure of how likely a random ray is to enter the box.
+    #[inline(always)]
+    pub(crate) fn half_area(&self) -> F {
+        let e = self.hi - self.lo;
+        if !(e.x >= F::ZERO && e.y >= F::ZERO && e.z >= F::ZERO) {
+            return F::ZERO;
+        }
+        e.x * e.y + e.y * e.z + e.z * e.x
+    }
+
+    /// The interval of `t` in `[t_min, t_max]` for which `o + t·d` is inside the box (slab
+    /// test), or `None` when the ray misses it or the interval is not finite.
+    ///
+    /// A zero direction component keeps the whole range when the origin lies between the
+    /// slabs of that axis, and rejects it otherwise.
+    #[inline(always)]
+    pub(crate) fn ray_interval(&self, o: V3<F>, d: V3<F>, t_min: F, t_max: F) -> Option<(F, F)> {
+        let mut a = t_min;
+        let mut b = t_max;
+        for (((oc, dc), l), h) in [o.x, o.y, o.z]
+            .into_iter()
+            .zip([d.x, d.y, d.z])
+            .zip([self.lo.x, self.lo.y, self.lo.z])
+            .zip([self.hi.x, self.hi.y, self.hi.z])
+        {
+            if dc == F::ZERO {
+                if oc < l || oc > h {
+                    return None;
+                }
+            } else {
+                let inv = F::ONE / dc;
+                let t1 = (l - oc) * inv;
+                let t2 = (h - oc) * inv;
+                a = a.max(t1.min(t2));
+                b = b.min(t1.max(t2));
+            }
+        }
+        if a <= b && a.is_fin() && b.is_fin() {
+            Some((a, b))
+        } else {
+            None
+        }
+    }
+
+    /// `true` when both corners are finite.
+    #[inline(always)]
+    pub(crate) fn is_finite(&self) -> bool {
+        self.lo.all_finite() && self.hi.all_finite()
+    }
+}
+
+#[inline(always)]
+fn vmin<F: Float>(a: V3<F>, b: V3<F>) -> V3<F> {
+    V3::new(a.x.min(b.x), a.y.min(b.y), a.z.min(b.z))
+}
+
+#[inline(always)]
+fn vmax<F: Float>(a: V3<F>, b: V3<F>) -> V3<F> {
+    V3::new(a.x.max(b.x), a.y.max(b.y), a.z.max(b.z))
+}
