@@ -8,89 +8,11 @@ use std::hint::black_box;
 use std::time::{Duration, Instant};
 
 use criterion::{Criterion, criterion_group};
-use glam::{DVec3, Vec3};
-use smoothtri::{Bvh, BvhNode, DPatch, DRay, Patch, Ray, flat_hit, moller_trumbore};
-use smoothtri_demo::scenes::{Mesh, torus, torus_distance};
 
-/// Deterministic SplitMix64.
-struct Rng(u64);
-impl Rng {
-    fn f(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
-
-/// The triangles and vertex normals of `m`, rounded to f32.
-fn triangles32(m: &Mesh) -> Vec<([Vec3; 3], [Vec3; 3])> {
-    (0..m.triangles.len())
-        .map(|t| {
-            let (p, n) = m.triangle(t);
-            (p.map(|x| x.as_vec3()), n.map(|x| x.as_vec3()))
-        })
-        .collect()
-}
-
-fn patches32(m: &Mesh) -> Vec<Patch> {
-    triangles32(m)
-        .into_iter()
-        .map(|(p, n)| Patch::new(p, n).unwrap())
-        .collect()
-}
-
-/// Rays aimed at random points of patch `k`'s triangle from random directions above it:
-/// every ray hits the patch's box, most hit the patch (the per-test cost of a real traversal).
-fn rays_at_patch(p: &DPatch, n: usize) -> Vec<DRay> {
-    let mut rng = Rng(7);
-    let v = p.vertices();
-    let nf = p.face_normal();
-    (0..n)
-        .map(|_| {
-            let (a, b) = (rng.f(), rng.f());
-            let (a, b) = if a + b > 1.0 {
-                (1.0 - a, 1.0 - b)
-            } else {
-                (a, b)
-            };
-            let target = v[0] * (1.0 - a - b) + v[1] * a + v[2] * b;
-            let dir =
-                (nf + DVec3::new(rng.f() - 0.5, rng.f() - 0.5, rng.f() - 0.5) * 1.2).normalize();
-            DRay::new(target + dir * 2.0, -dir)
-        })
-        .collect()
-}
-
-struct Setup {
-    p64: DPatch,
-    p32: Patch,
-    tri32: [Vec3; 3],
-    tri64: [DVec3; 3],
-    rays64: Vec<DRay>,
-    rays32: Vec<Ray>,
-}
-
-fn setup() -> Setup {
-    let mesh = torus(8, 8, 1.0, 0.4);
-    let (p, n) = mesh.triangle(21);
-    let p64 = DPatch::new(p, n).unwrap();
-    let p32 = Patch::new(p.map(|x| x.as_vec3()), n.map(|x| x.as_vec3())).unwrap();
-    let rays64 = rays_at_patch(&p64, 1024);
-    let rays32 = rays64
-        .iter()
-        .map(|r| Ray::new(r.origin.as_vec3(), r.dir.as_vec3()))
-        .collect();
-    Setup {
-        p64,
-        p32,
-        tri32: p.map(|x| x.as_vec3()),
-        tri64: p,
-        rays64,
-        rays32,
-    }
-}
+mod common;
+use common::*;
+use smoothtri::{DRay, Patch, Ray, flat_hit, moller_trumbore};
+use smoothtri_demo::scenes::torus;
 
 macro_rules! smooth32 {
     ($s:expr, $n:literal) => {
@@ -156,69 +78,6 @@ fn bench_kernel(c: &mut Criterion) {
     g.finish();
 }
 
-/// Smallest flat torus grid whose maximum distance to the true torus is at most `target`.
-fn flat_torus_matching(target: f64) -> (usize, f64) {
-    for n in 8..200 {
-        let m = torus(n, n, 1.0, 0.4);
-        let mut worst = 0.0f64;
-        for t in 0..m.triangles.len() {
-            let (p, _) = m.triangle(t);
-            for i in 0..=8 {
-                for j in 0..=(8 - i) {
-                    let (a, b) = (i as f64 / 8.0, j as f64 / 8.0);
-                    let x = p[0] * (1.0 - a - b) + p[1] * a + p[2] * b;
-                    worst = worst.max(torus_distance(x, 1.0, 0.4));
-                }
-            }
-        }
-        if worst <= target {
-            return (n, worst);
-        }
-    }
-    (200, f64::NAN)
-}
-
-struct Scene {
-    patches: Vec<Patch>,
-    nodes: Vec<BvhNode<f32>>,
-    order: Vec<u32>,
-}
-impl Scene {
-    fn new(m: &Mesh) -> Self {
-        let patches = patches32(m);
-        let mut nodes = vec![BvhNode::default(); Bvh::<f32>::nodes_needed(patches.len())];
-        let mut order = vec![0u32; patches.len()];
-        let used = Bvh::build(&patches, &mut nodes, &mut order)
-            .unwrap()
-            .node_count();
-        nodes.truncate(used);
-        Scene {
-            patches,
-            nodes,
-            order,
-        }
-    }
-    fn bvh(&self) -> Bvh<'_, f32> {
-        Bvh::from_parts(&self.patches, &self.nodes, &self.order)
-    }
-}
-
-fn camera_rays(w: usize, h: usize) -> Vec<Ray> {
-    let eye = Vec3::new(0.0, -3.2, 2.2);
-    let fwd = (-eye).normalize();
-    let right = fwd.cross(Vec3::Z).normalize();
-    let up = right.cross(fwd);
-    let mut rays = Vec::with_capacity(w * h);
-    for y in 0..h {
-        for x in 0..w {
-            let u = (x as f32 + 0.5) / w as f32 * 2.0 - 1.0;
-            let v = 1.0 - (y as f32 + 0.5) / h as f32 * 2.0;
-            rays.push(Ray::new(eye, fwd + right * u * 0.55 + up * v * 0.42));
-        }
-    }
-    rays
-}
-
 fn bench_scene(c: &mut Criterion) {
     let smooth = Scene::new(&torus(8, 8, 1.0, 0.4));
     let (n, _) = flat_torus_matching(7.4e-3);
@@ -276,17 +135,6 @@ fn interleaved(
         ta.as_secs_f64() / rounds as f64,
         tb.as_secs_f64() / rounds as f64,
     )
-}
-
-fn cpu_name() -> String {
-    std::fs::read_to_string("/proc/cpuinfo")
-        .ok()
-        .and_then(|s| {
-            s.lines()
-                .find(|l| l.starts_with("model name"))
-                .map(|l| l.split(':').nth(1).unwrap_or("").trim().to_owned())
-        })
-        .unwrap_or_else(|| "unknown CPU".into())
 }
 
 /// Prints the README's tables: ratios measured side by side, plus absolute numbers.

@@ -13,6 +13,7 @@
 use heapless::Vec as HVec;
 
 use crate::aabb::Aabb;
+use crate::kernel::{Crossing, DEFAULT_SAMPLES, KernelStats};
 use crate::patch::Patch;
 use crate::ray::{Hit, Ray};
 use crate::real::Float;
@@ -284,7 +285,18 @@ impl<'a, F: Float> Bvh<'a, F> {
         t_min: F,
         t_max: F,
     ) -> Result<Option<Hit<F>>, BvhError> {
-        self.closest_with(ray, t_min, t_max, |p, a, b| p.intersect::<N>(ray, a, b))
+        // Candidates are compared by their crossings; the normal is evaluated once, for the
+        // closest (it is finite for every accepted patch, so this equals testing each patch
+        // with `Patch::intersect`).
+        let mut stats = KernelStats::default();
+        let best = self.traverse(ray, t_min, t_max, false, &mut |p, a, b| {
+            p.crossing::<DEFAULT_SAMPLES, N>(ray, a, b, &mut stats)
+        })?;
+        Ok(best.and_then(|(id, c)| {
+            let mut h = self.patches.get(id as usize)?.finish(ray, &c)?;
+            h.patch = id;
+            Some(h)
+        }))
     }
 
     /// Whether anything is hit in `[t_min, t_max]` (shadow rays): stops at the first hit.
@@ -297,13 +309,11 @@ impl<'a, F: Float> Bvh<'a, F> {
         t_min: F,
         t_max: F,
     ) -> Result<bool, BvhError> {
-        let mut found = false;
-        self.traverse(ray, t_min, t_max, true, &mut |p, _, a, b| {
-            let h = p.intersect::<N>(ray, a, b);
-            found |= h.is_some();
-            h
+        let mut stats = KernelStats::default();
+        let first = self.traverse(ray, t_min, t_max, true, &mut |p, a, b| {
+            p.crossing::<DEFAULT_SAMPLES, N>(ray, a, b, &mut stats)
         })?;
-        Ok(found)
+        Ok(first.is_some())
     }
 
     /// Closest hit with a caller-supplied per-patch test `test(patch, t_min, t_max)` (for
@@ -319,23 +329,30 @@ impl<'a, F: Float> Bvh<'a, F> {
         t_max: F,
         mut test: impl FnMut(&Patch<F>, F, F) -> Option<Hit<F>>,
     ) -> Result<Option<Hit<F>>, BvhError> {
-        self.traverse(ray, t_min, t_max, false, &mut |p, _, a, b| test(p, a, b))
+        let best = self.traverse(ray, t_min, t_max, false, &mut test)?;
+        Ok(best.map(|(id, mut h)| {
+            h.patch = id;
+            h
+        }))
     }
 
-    fn traverse(
+    /// Visits the patches whose boxes the ray enters, nearest box first, testing each with
+    /// `test` over the caller's range; returns the candidate with the smallest `t` and its
+    /// patch index (with `any`, the first candidate found).
+    fn traverse<C: Candidate<F>>(
         &self,
         ray: &Ray<F>,
         t_min: F,
         t_max: F,
         any: bool,
-        test: &mut impl FnMut(&Patch<F>, u32, F, F) -> Option<Hit<F>>,
-    ) -> Result<Option<Hit<F>>, BvhError> {
+        test: &mut impl FnMut(&Patch<F>, F, F) -> Option<C>,
+    ) -> Result<Option<(u32, C)>, BvhError> {
         let o = F::from_glam(ray.origin);
         let d = F::from_glam(ray.dir);
         if !o.all_finite() || !d.all_finite() || t_min.is_nan() || t_max.is_nan() {
             return Ok(None);
         }
-        let mut best: Option<Hit<F>> = None;
+        let mut best: Option<(u32, C)> = None;
         let mut tmax = t_max;
         let mut stack: HVec<u32, MAX_DEPTH> = HVec::new();
         // Every node index and leaf range comes from the storage: for storage made by `build`
@@ -369,12 +386,11 @@ impl<'a, F: Float> Bvh<'a, F> {
                     // Each patch is tested over the caller's whole range, then compared with the
                     // best so far: the kernel's first sign change depends on its interval, so
                     // shortening it to the best `t` could skip a closer crossing pair.
-                    if let Some(mut h) = test(p, id, t_min, t_max)
-                        && (best.is_none() || h.t < tmax)
+                    if let Some(h) = test(p, t_min, t_max)
+                        && (best.is_none() || h.t() < tmax)
                     {
-                        h.patch = id;
-                        tmax = h.t;
-                        best = Some(h);
+                        tmax = h.t();
+                        best = Some((id, h));
                         if any {
                             return Ok(best);
                         }
@@ -419,6 +435,25 @@ impl<'a, F: Float> Bvh<'a, F> {
                 None => return Ok(best),
             }
         }
+    }
+}
+
+/// What the traversal compares: anything with a ray parameter.
+trait Candidate<F> {
+    fn t(&self) -> F;
+}
+
+impl<F: Float> Candidate<F> for Hit<F> {
+    #[inline(always)]
+    fn t(&self) -> F {
+        self.t
+    }
+}
+
+impl<F: Float> Candidate<F> for Crossing<F> {
+    #[inline(always)]
+    fn t(&self) -> F {
+        self.t
     }
 }
 
@@ -515,7 +550,10 @@ fn midpoint_split<F: Float>(
         2
     };
     let mid = axis(centroids.center(), k);
-    let m = partition(range, |i| Ok(axis(patch_box(patches, i)?.center(), k) < mid))?;
+    let m = partition(
+        range,
+        |i| Ok(axis(patch_box(patches, i)?.center(), k) < mid),
+    )?;
     Ok(if m == 0 || m == range.len() {
         range.len() / 2
     } else {

@@ -18,12 +18,13 @@
 
 pub mod clip;
 pub mod flat;
+pub(crate) mod height;
 pub mod itp;
 
 use crate::patch::Patch;
 use crate::ray::{Hit, Ray};
 use crate::real::Float;
-use crate::surface::{height, normal_local, point_derivs_local, project_bary};
+use crate::surface::{normal_local, point_derivs_local, project_bary};
 use crate::vec::V3;
 use clip::{LocalRay, bary_numerators, shell_interval};
 use itp::{Bracket, refine};
@@ -32,12 +33,19 @@ use itp::{Bracket, refine};
 pub const DEFAULT_SAMPLES: usize = 4;
 
 /// Statistics of one kernel call, for tests and studies.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct KernelStats {
     /// Number of height evaluations `σS` performed (at most `K + 2 + N`).
     pub height_evals: u32,
     /// Number of full point-and-normal evaluations (0 or 1).
     pub normal_evals: u32,
+    /// Width `tb − ta` of the shell interval that was sampled (in units of the ray parameter
+    /// `t`, converted to `f64`); 0 when the ray missed the box or the shell. The bisection
+    /// guarantee of [`Patch::intersect`] is stated in terms of it.
+    pub shell_width: f64,
+    /// The rounding allowance included in the returned [`Hit::t_error`] (converted to `f64`):
+    /// `t_error` is the final bracket's width plus this. 0 when there is no hit.
+    pub rounding: f64,
 }
 
 impl<F: Float> Patch<F> {
@@ -86,6 +94,23 @@ impl<F: Float> Patch<F> {
         t_max: F,
         stats: &mut KernelStats,
     ) -> Option<Hit<F>> {
+        let c = self.crossing::<K, N>(ray, t_min, t_max, stats)?;
+        stats.normal_evals += 1;
+        let hit = self.finish(ray, &c)?;
+        stats.rounding = c.rounding.to_f64();
+        Some(hit)
+    }
+
+    /// The search part of the kernel (clip, bracket, refine) without the normal: where the ray
+    /// crosses the patch, or `None`. At most `K + 2 + N` height evaluations.
+    #[inline(always)]
+    pub(crate) fn crossing<const K: usize, const N: usize>(
+        &self,
+        ray: &Ray<F>,
+        t_min: F,
+        t_max: F,
+        stats: &mut KernelStats,
+    ) -> Option<Crossing<F>> {
         let o = F::from_glam(ray.origin);
         let d = F::from_glam(ray.dir);
         if !o.all_finite() || !d.all_finite() || d.length2() == F::ZERO {
@@ -117,25 +142,20 @@ impl<F: Float> Patch<F> {
             return None;
         }
         let (a, b) = shell_interval(self, &lray, a, b)?;
+        stats.shell_width = (b - a).to_f64();
 
         let mut f = |tau: F| -> F {
             stats.height_evals += 1;
             let x = lray.at(tau);
-            let h = height(self, bary_at(self, x));
+            let h = height::height(self, bary_at(self, x));
             x.z - h
         };
         let bracket = first_sign_change::<F, K>(a, b, &mut f)?;
         let fin = refine::<F, N>(bracket, &mut f);
         let tau = fin.estimate();
-        let xl = lray.at(tau);
-        let bary = bary_at(self, xl);
-        stats.normal_evals += 1;
-        let [_, du1, du2] = point_derivs_local(self, bary);
-        let nl = normal_local(self, bary, du1, du2);
-        let normal = self.local_dir_to_world(nl);
+        let bary = bary_at(self, lray.at(tau));
         // Re-basing can round the hit an ulp outside the caller's range: clamp it.
         let t = (t0 + tau).max(t_min).min(t_max);
-        let [_, w1, w2] = bary;
         // Rounding allowance: the sign of f is only known to about `16 ε L` (L: the patch's
         // size plus its distance from the world origin), which moves the root by that over the
         // bracket's slope |f'|.
@@ -147,22 +167,57 @@ impl<F: Float> Patch<F> {
         let scale = crate::shell::longest_edge(self) * F::from_f64(4.0) + self.origin.length();
         let rounding = F::from_f64(16.0) * F::EPSILON * scale / slope;
         let rounding = if rounding.is_fin() { rounding } else { F::ZERO };
-        let hit = Hit {
-            t,
-            t_error: (fin.b - fin.a) + rounding,
-            point: F::to_glam(o + d * t),
+        let t_error = (fin.b - fin.a) + rounding;
+        if t.is_fin() && t_error.is_fin() {
+            Some(Crossing {
+                t,
+                t_error,
+                rounding,
+                bary,
+            })
+        } else {
+            None
+        }
+    }
+
+    /// Completes a [`Crossing`] of this patch into a [`Hit`]: the exact surface normal (one
+    /// point-and-derivatives evaluation) and the world hit point. `None` if the normal is not
+    /// finite (never for an accepted patch).
+    #[inline(always)]
+    pub(crate) fn finish(&self, ray: &Ray<F>, c: &Crossing<F>) -> Option<Hit<F>> {
+        let o = F::from_glam(ray.origin);
+        let d = F::from_glam(ray.dir);
+        let [_, du1, du2] = point_derivs_local(self, c.bary);
+        let normal = self.local_dir_to_world(normal_local(self, c.bary, du1, du2));
+        let [_, w1, w2] = c.bary;
+        if !normal.all_finite() {
+            return None;
+        }
+        Some(Hit {
+            t: c.t,
+            t_error: c.t_error,
+            point: F::to_glam(o + d * c.t),
             normal: F::to_glam(normal),
             w1,
             w2,
             front_face: normal.dot(d) < F::ZERO,
             patch: 0,
-        };
-        if t.is_fin() && hit.t_error.is_fin() && normal.all_finite() {
-            Some(hit)
-        } else {
-            None
-        }
+        })
     }
+}
+
+/// Where a ray crosses a patch, before the normal is evaluated (the BVH keeps the closest
+/// crossing and evaluates one normal per ray).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Crossing<F> {
+    /// Ray parameter (world units of the ray's `dir`), clamped to the query range.
+    pub t: F,
+    /// As [`Hit::t_error`].
+    pub t_error: F,
+    /// The rounding allowance included in `t_error`.
+    pub rounding: F,
+    /// Barycentrics of the crossing (projected onto the triangle).
+    pub bary: [F; 3],
 }
 
 /// Barycentrics (projected onto the triangle) of the local point `x` in the cross-section at

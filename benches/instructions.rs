@@ -1,0 +1,170 @@
+//! Instruction counts (callgrind): the deterministic companion of `benches/kernel.rs`, whose
+//! wall-clock timings depend on a shared, noisy machine.
+//!
+//! `cargo bench --bench instructions` runs each workload of [`CASES`] in a child process under
+//! `valgrind --tool=callgrind`, once with `REPS` repetitions and once with none, and prints the
+//! difference per unit of work (setup cancels out). Needs `valgrind` on the `PATH`; without it
+//! the benchmark says so and exits successfully. One workload by hand:
+//! `target/release/deps/instructions-* --case smooth_f32_N8 --reps 3`.
+
+use std::hint::black_box;
+use std::process::Command;
+
+use smoothtri::{Patch, flat_hit, moller_trumbore};
+use smoothtri_demo::scenes::torus;
+
+mod common;
+use common::*;
+
+/// `(name, unit of work, units per repetition)`. Per-test cases use the 1024 rays of
+/// `kernel.rs` aimed at one torus patch; scene cases the 160×120 camera rays.
+const CASES: &[(&str, &str, usize)] = &[
+    ("moller_trumbore_f32", "patch test", 1024),
+    ("smooth_f32_N0", "patch test", 1024),
+    ("smooth_f32_N4", "patch test", 1024),
+    ("smooth_f32_N8", "patch test", 1024),
+    ("smooth_f64_N8", "patch test", 1024),
+    ("scene_smooth_8x8_f32_N8", "camera ray", 160 * 120),
+    ("scene_flat_equal_error_f32", "camera ray", 160 * 120),
+    ("construct_f32", "patch", 128),
+];
+
+macro_rules! per_patch {
+    ($s:expr, $reps:expr, $patch:expr, $rays:expr, $n:literal, $inf:expr) => {{
+        let mut hits = 0usize;
+        for _ in 0..$reps {
+            for r in $rays.iter() {
+                hits += $patch.intersect::<$n>(black_box(r), 0.0, $inf).is_some() as usize;
+            }
+        }
+        hits
+    }};
+}
+
+/// Runs one workload `reps` times; returns something derived from the results so nothing is
+/// optimised away.
+fn run_case(name: &str, reps: usize) -> usize {
+    let s = setup();
+    match name {
+        "moller_trumbore_f32" => {
+            let mut hits = 0;
+            for _ in 0..reps {
+                for r in &s.rays32 {
+                    let h = moller_trumbore(&s.tri32, black_box(r), 0.0, f32::INFINITY);
+                    hits += h.is_some() as usize;
+                }
+            }
+            hits
+        }
+        "smooth_f32_N0" => per_patch!(s, reps, s.p32, s.rays32, 0, f32::INFINITY),
+        "smooth_f32_N4" => per_patch!(s, reps, s.p32, s.rays32, 4, f32::INFINITY),
+        "smooth_f32_N8" => per_patch!(s, reps, s.p32, s.rays32, 8, f32::INFINITY),
+        "smooth_f64_N8" => per_patch!(s, reps, s.p64, s.rays64, 8, f64::INFINITY),
+        "scene_smooth_8x8_f32_N8" => {
+            let scene = Scene::new(&torus(8, 8, 1.0, 0.4));
+            let bvh = scene.bvh();
+            let rays = camera_rays(160, 120);
+            let mut hits = 0;
+            for _ in 0..reps {
+                for r in &rays {
+                    let h = bvh.closest_hit::<8>(black_box(r), 0.0, f32::INFINITY);
+                    hits += matches!(h, Ok(Some(_))) as usize;
+                }
+            }
+            hits
+        }
+        "scene_flat_equal_error_f32" => {
+            let (n, _) = flat_torus_matching(7.4e-3);
+            let scene = Scene::new(&torus(n, n, 1.0, 0.4));
+            let bvh = scene.bvh();
+            let rays = camera_rays(160, 120);
+            let mut hits = 0;
+            for _ in 0..reps {
+                for r in &rays {
+                    let h = bvh.closest_with(black_box(r), 0.0, f32::INFINITY, |p, a, b| {
+                        flat_hit(&p.vertices(), None, r, a, b)
+                    });
+                    hits += matches!(h, Ok(Some(_))) as usize;
+                }
+            }
+            hits
+        }
+        "construct_f32" => {
+            let tris = triangles32(&torus(8, 8, 1.0, 0.4));
+            let mut ok = 0;
+            for _ in 0..reps {
+                for (p, n) in &tris {
+                    ok += Patch::<f32>::new(black_box(*p), black_box(*n)).is_ok() as usize;
+                }
+            }
+            ok
+        }
+        _ => {
+            eprintln!("unknown case {name}");
+            std::process::exit(2);
+        }
+    }
+}
+
+/// Instructions executed by `exe --case name --reps reps` under callgrind.
+fn count(exe: &str, name: &str, reps: usize) -> Option<u64> {
+    let out = Command::new("valgrind")
+        .args([
+            "--tool=callgrind",
+            "--callgrind-out-file=/dev/null",
+            exe,
+            "--case",
+            name,
+            "--reps",
+            &reps.to_string(),
+        ])
+        .output()
+        .ok()?;
+    let text = String::from_utf8_lossy(&out.stderr);
+    let line = text.lines().find(|l| l.contains("Collected :"))?;
+    line.rsplit(':').next()?.trim().parse().ok()
+}
+
+fn main() {
+    let args: Vec<String> = std::env::args().collect();
+    let arg = |key: &str| {
+        args.iter()
+            .position(|a| a == key)
+            .and_then(|i| args.get(i + 1))
+    };
+    if let Some(name) = arg("--case") {
+        let reps = arg("--reps").and_then(|r| r.parse().ok()).unwrap_or(1);
+        println!("{}", black_box(run_case(name, reps)));
+        return;
+    }
+    let exe = args.first().cloned().unwrap_or_default();
+    if Command::new("valgrind").arg("--version").output().is_err() {
+        println!("valgrind not found: instruction counts skipped (install valgrind to run them)");
+        return;
+    }
+    println!(
+        "\n## Instruction counts (callgrind; {}, release build)\n",
+        cpu_name()
+    );
+    println!("| workload | unit | instructions per unit | × Möller–Trumbore |");
+    println!("|---|---|---|---|");
+    let mut mt = None;
+    for &(name, unit, units) in CASES {
+        let reps = if unit == "camera ray" { 1 } else { 4 };
+        let per = match (count(&exe, name, reps), count(&exe, name, 0)) {
+            (Some(a), Some(b)) => a.saturating_sub(b) as f64 / (reps * units) as f64,
+            _ => {
+                println!("| {name} | {unit} | (callgrind failed) | |");
+                continue;
+            }
+        };
+        if name == "moller_trumbore_f32" {
+            mt = Some(per);
+        }
+        let ratio = match (unit, mt) {
+            ("patch test", Some(m)) if m > 0.0 => format!("{:.0}", per / m),
+            _ => String::new(),
+        };
+        println!("| {name} | {unit} | {per:.0} | {ratio} |");
+    }
+}
