@@ -162,4 +162,3 @@ pub fn cpu_name() -> String {
         })
         .unwrap_or_else(|| "unknown CPU".into())
 }
-

@@ -1,17 +1,26 @@
-//! Library side of the `smoothtri` demo: built-in scenes, mesh loading, scene building,
-//! rendering and precision studies over the `smoothtri` core.
+//! Library side of the `smoothtri` demo over the `smoothtri` core.
+//!
+//! - [`mesh`]: the [`Mesh`] type, normal generation and the file loaders (OBJ, PLY, glTF/GLB);
+//!   [`scenes`]: the built-in scenes.
+//! - [`tracer`]: patches and BVH of a mesh in a [`Precision`] ([`Scene`]), and the smooth, flat
+//!   and Phong ray queries; [`camera`]: the camera; [`renderer`]: shading an image.
+//! - [`commands`]: one module per subcommand, each with a plain options struct and `run`;
+//!   [`cli`]: argument parsing (clap) and dispatch to them.
+//! - [`image`] (PNG, labels), [`csvio`] (CSV in and out), [`error`] ([`DemoError`]).
 
+pub mod camera;
 pub mod cli;
+pub mod commands;
 pub mod csvio;
 pub mod error;
 pub mod image;
-pub mod inspect;
 pub mod mesh;
-pub mod precision;
-pub mod render;
-pub mod scene;
+pub mod renderer;
 pub mod scenes;
 pub mod teapot_data;
+pub mod tracer;
 
+pub use camera::Camera;
 pub use error::{DemoError, Result};
-pub use scene::{Camera, Mode, Prec, Scene};
+pub use mesh::Mesh;
+pub use tracer::{Mode, Prec, Precision, Scene};

@@ -1,36 +1,12 @@
-//! Built-in test meshes with analytic vertex normals: torus, icosphere, cube with averaged
-//! normals (exactly a sphere for the method), and their exact surfaces for measuring fidelity.
+//! Built-in scenes (`--scene`): torus, icosphere, cube with averaged normals (exactly a sphere
+//! for the method) and Newell's teapot ([`crate::teapot_data`]), with analytic vertex normals,
+//! and the torus's exact surface for measuring fidelity.
 
 use glam::DVec3;
 
-/// An indexed triangle mesh with per-vertex normals, in `f64`.
-#[derive(Clone, Debug, Default)]
-pub struct Mesh {
-    /// Vertex positions.
-    pub positions: Vec<DVec3>,
-    /// Vertex normals (one per position, any positive length).
-    pub normals: Vec<DVec3>,
-    /// Triangles as indices into `positions`/`normals`, counter-clockwise seen from outside.
-    pub triangles: Vec<[u32; 3]>,
-}
-
-impl Mesh {
-    /// The three corners and normals of triangle `t`.
-    pub fn triangle(&self, t: usize) -> ([DVec3; 3], [DVec3; 3]) {
-        let [a, b, c] = self.triangles[t].map(|i| i as usize);
-        (
-            [self.positions[a], self.positions[b], self.positions[c]],
-            [self.normals[a], self.normals[b], self.normals[c]],
-        )
-    }
-    /// Axis-aligned bounds (min, max) of the vertices.
-    pub fn bounds(&self) -> (DVec3, DVec3) {
-        self.positions.iter().fold(
-            (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
-            |(lo, hi), p| (lo.min(*p), hi.max(*p)),
-        )
-    }
-}
+/// Re-export of [`crate::mesh::Mesh`], the type every scene returns, so that
+/// `smoothtri_demo::scenes::Mesh` (used by the workspace's tests and benches) still resolves.
+pub use crate::mesh::Mesh;
 
 /// Torus of major radius `big_r` and minor radius `r` around the z axis, on a `nu × nv` grid
 /// split into two triangles per quad, with analytic normals.

@@ -6,6 +6,7 @@ use std::process::{Command, Output, Stdio};
 
 use glam::DVec3;
 use smoothtri_demo::Camera;
+use smoothtri_demo::commands::precision::CSV_HEADER;
 use smoothtri_demo::scenes::{Mesh, cube, icosphere};
 
 const W: u32 = 96;
@@ -542,7 +543,7 @@ fn precision_sweep_outputs() {
     assert!(r.out.contains("p99.9"), "{}", r.out);
     let csv = std::fs::read_to_string(d.path().join("p.csv")).expect("csv");
     let lines: Vec<&str> = csv.lines().collect();
-    assert_eq!(lines[0], smoothtri_demo::precision::CSV_HEADER);
+    assert_eq!(lines[0], CSV_HEADER);
     assert_eq!(lines.len(), 1 + 14);
     for l in &lines[1..] {
         let f = parse_fields(l);
@@ -570,7 +571,7 @@ fn precision_sweep_outputs() {
             "-",
         ],
     );
-    assert!(r.out.contains(smoothtri_demo::precision::CSV_HEADER));
+    assert!(r.out.contains(CSV_HEADER));
 }
 
 #[test]
@@ -720,4 +721,76 @@ fn truncated_glb_is_an_error_not_a_panic() {
         &["inspect", "--mesh", "bad.glb"],
         &["bad.glb", "malformed glTF"],
     );
+}
+
+/// A GLB container that breaks the glTF 2.0 rules is one readable error naming the file and
+/// what is wrong, found before the `gltf` crate sees the bytes.
+#[test]
+fn malformed_glb_containers_are_readable_errors() {
+    let d = tmp();
+    let good = glb_bytes(&cube());
+    let json_len = u32::from_le_bytes(good[12..16].try_into().expect("4 bytes")) as usize;
+    let bin_at = 12 + 8 + json_len;
+    let bin_len = good.len() - bin_at - 8;
+    let set = |b: &mut Vec<u8>, at: usize, v: u32| b[at..at + 4].copy_from_slice(&v.to_le_bytes());
+
+    let mut wrong_magic = good.clone();
+    wrong_magic[..4].copy_from_slice(b"glTX");
+    let mut wrong_version = good.clone();
+    set(&mut wrong_version, 4, 1);
+    let mut past_end = good.clone();
+    set(&mut past_end, bin_at, 4000);
+    let mut unaligned = good.clone();
+    set(&mut unaligned, 12, json_len as u32 + 1);
+    let mut trailing = good.clone();
+    trailing.extend([0; 4]);
+
+    let cases: Vec<(&str, Vec<u8>, String)> = vec![
+        (
+            "header.glb",
+            good[..7].to_vec(),
+            "the file has 7 bytes, fewer than the 12-byte GLB header".into(),
+        ),
+        (
+            "magic.glb",
+            wrong_magic,
+            r#"the file starts with "glTX", not the GLB magic "glTF""#.into(),
+        ),
+        (
+            "version.glb",
+            wrong_version,
+            "GLB version 1 is not supported (expected 2)".into(),
+        ),
+        (
+            "past.glb",
+            past_end,
+            format!("GLB chunk 1 (BIN) declares 4000 bytes but only {bin_len} remain"),
+        ),
+        (
+            "align.glb",
+            unaligned,
+            format!(
+                "GLB chunk 0 (JSON) declares {} bytes, not a multiple of 4",
+                json_len + 1
+            ),
+        ),
+        (
+            "length.glb",
+            trailing,
+            format!(
+                "the GLB header declares a length of {} bytes but the file has {}",
+                good.len(),
+                good.len() + 4
+            ),
+        ),
+    ];
+    for (name, bytes, msg) in cases {
+        std::fs::write(d.path().join(name), bytes).expect("write glb");
+        let r = fails(
+            d.path(),
+            &["inspect", "--mesh", name],
+            &[&format!("error: {name}: malformed glTF binary: {msg}")],
+        );
+        assert_eq!(r.err.lines().count(), 1, "{name}: one line: {}", r.err);
+    }
 }

@@ -1,5 +1,6 @@
-//! Rendering: primary rays through the camera, Lambert + ambient shading, one directional light
-//! with shadow rays, in parallel (rayon) with an optional progress bar (indicatif).
+//! The renderer behind `render` and the `precision` strip: primary rays through the camera,
+//! Lambert + ambient shading, one directional light with shadow rays, in parallel (rayon) with
+//! an optional progress bar (indicatif).
 
 use std::io::IsTerminal;
 
@@ -7,8 +8,9 @@ use glam::DVec3;
 use rayon::prelude::*;
 use smoothtri::{Hit, Ray};
 
+use crate::camera::Camera;
 use crate::image::Image;
-use crate::scene::{Camera, Prec, Scene, Tracer};
+use crate::tracer::{Prec, Precision, Scene, Tracer};
 
 /// What one pixel saw.
 #[derive(Clone, Copy, Debug, Default)]
@@ -64,7 +66,11 @@ pub fn render<F: Prec>(
     let start = std::time::Instant::now();
     let bvh = scene.bvh();
     let light = light_dir(cam);
-    let eps = diag * if F::NAME == "f32" { 2e-4 } else { 1e-7 };
+    let eps = diag
+        * match F::PRECISION {
+            Precision::F32 => 2e-4,
+            Precision::F64 => 1e-7,
+        };
     let (w, h) = (cam.width, cam.height);
     let bar = if progress && std::io::stderr().is_terminal() {
         indicatif::ProgressBar::new(h as u64)

@@ -1,14 +1,65 @@
-//! Precision versus iteration budget: hit-point error against an `f64` reference at N = 40.
+//! `smoothtri precision`: precision versus iteration budget, the hit-point error of f32 and
+//! f64 runs at each budget of [`BUDGETS`] against an `f64` reference at N = 40.
 
 use std::fmt::Write as _;
 
 use glam::DVec3;
 use smoothtri::Ray;
 
+use super::MeshSource;
+use crate::camera::Camera;
 use crate::error::{DemoError, Result};
 use crate::image::{Image, heat};
-use crate::scene::{Camera, Mode, Prec, Scene, tracer};
-use crate::scenes::Mesh;
+use crate::mesh::Mesh;
+use crate::tracer::{Mode, Prec, Precision, Scene, tracer};
+
+/// Options of `precision`.
+#[derive(Clone, Debug)]
+pub struct PrecisionOptions {
+    /// The mesh (the torus scene when unset).
+    pub source: MeshSource,
+    /// Write the table as CSV (`-` for stdout).
+    pub csv: Option<String>,
+    /// Plot error vs iterations (SVG).
+    pub plot: Option<String>,
+    /// Render a strip of images at each budget with error heat maps (PNG).
+    pub strip: Option<String>,
+    /// Ray grid width, 1..=4096.
+    pub width: u32,
+    /// Ray grid height, 1..=4096.
+    pub height: u32,
+    /// Camera azimuth and elevation in degrees.
+    pub view: (f64, f64),
+}
+
+/// Runs the study on [`PrecisionOptions::source`] (the torus when unset): the table on stdout,
+/// and the CSV, plot and strip where asked.
+pub fn run(a: PrecisionOptions) -> Result<()> {
+    if a.width == 0 || a.height == 0 || a.width > 4096 || a.height > 4096 {
+        return Err(DemoError::Usage(
+            "--width and --height must be in 1..=4096".into(),
+        ));
+    }
+    let (name, mesh) = a.source.load(true)?;
+    let cam = Camera::for_mesh(&mesh, a.view.0, a.view.1, a.width, a.height);
+    let study = sweep(&mesh, &cam)?;
+    println!(
+        "precision study: {name}, {} rays ({}x{}), reference f64 N = 40",
+        study.rays, a.width, a.height
+    );
+    print!("{}", study.table());
+    if let Some(csv) = &a.csv {
+        crate::image::write_bytes(csv, study.csv().as_bytes())?;
+    }
+    if let Some(plot) = &a.plot {
+        study.plot(plot, &name)?;
+    }
+    if let Some(out) = &a.strip {
+        let img = strip(&mesh, a.view, a.width, a.height)?;
+        img.write_png(out)?;
+    }
+    Ok(())
+}
 
 /// The budgets swept.
 pub const BUDGETS: [usize; 7] = [0, 1, 2, 4, 8, 16, 24];
@@ -18,8 +69,8 @@ pub const REFERENCE_N: usize = 40;
 /// One (precision, budget) row of the study. Errors are relative to the bounding-box diagonal.
 #[derive(Clone, Debug)]
 pub struct Row {
-    /// `"f32"` or `"f64"`.
-    pub precision: &'static str,
+    /// Precision of the run.
+    pub precision: Precision,
     /// Iteration budget.
     pub iterations: usize,
     /// Hits compared (both this run and the reference hit).
@@ -69,7 +120,7 @@ type Traced = (f64, DVec3, f64);
 
 /// Traces all rays with budget `n` in precision `F`: per ray `Some((t, point, t_error))`, and
 /// the elapsed seconds.
-fn run<F: Prec>(
+fn trace_all<F: Prec>(
     scene: &Scene<F>,
     rays: &[(DVec3, DVec3)],
     n: usize,
@@ -103,7 +154,7 @@ fn row<F: Prec>(
     n: usize,
     diag: f64,
 ) -> Result<Row> {
-    let (res, secs) = run(scene, rays, n)?;
+    let (res, secs) = trace_all(scene, rays, n)?;
     let mut errs = Vec::new();
     let mut terr = 0.0;
     let mut holds = 0usize;
@@ -125,7 +176,7 @@ fn row<F: Prec>(
     let mean = errs.iter().sum::<f64>() / hits.max(1) as f64;
     errs.sort_by(f64::total_cmp);
     Ok(Row {
-        precision: F::NAME,
+        precision: F::PRECISION,
         iterations: n,
         hits,
         max: errs.last().copied().unwrap_or(0.0),
@@ -151,7 +202,7 @@ pub fn sweep(mesh: &Mesh, cam: &Camera) -> Result<Study> {
         eprintln!("{note}");
     }
     let rays = rays(cam);
-    let (rf, _) = run(&s64, &rays, REFERENCE_N)?;
+    let (rf, _) = trace_all(&s64, &rays, REFERENCE_N)?;
     let reference: Vec<Option<Ref>> = rf.iter().map(|r| r.map(|(t, p, _)| Ref { t, p })).collect();
     let mut rows = Vec::new();
     for &n in &BUDGETS {
@@ -259,10 +310,10 @@ impl Study {
                 .draw()
                 .map_err(|e| err(&e))?;
             let series = [
-                ("f32", false, RGBColor(220, 80, 30)),
-                ("f64", false, RGBColor(30, 90, 200)),
-                ("f32", true, RGBColor(240, 160, 120)),
-                ("f64", true, RGBColor(120, 160, 230)),
+                (Precision::F32, false, RGBColor(220, 80, 30)),
+                (Precision::F64, false, RGBColor(30, 90, 200)),
+                (Precision::F32, true, RGBColor(240, 160, 120)),
+                (Precision::F64, true, RGBColor(120, 160, 230)),
             ];
             for (prec, p999, color) in series {
                 let pts: Vec<(f64, f64)> = self
@@ -306,10 +357,10 @@ impl Study {
 /// where hit and miss disagree).
 pub fn strip(mesh: &Mesh, view: (f64, f64), w: u32, h: u32) -> Result<Image> {
     let cam = Camera::for_mesh(mesh, view.0, view.1, w, h);
-    let diag = crate::cli::diagonal(mesh).max(f64::MIN_POSITIVE);
+    let diag = mesh.diagonal().max(f64::MIN_POSITIVE);
     let s32 = Scene::<f32>::build(mesh)?;
     let s64 = Scene::<f64>::build(mesh)?;
-    let reference = crate::render::render(
+    let reference = crate::renderer::render(
         &s64,
         &cam,
         tracer::<f64>(Mode::Smooth, REFERENCE_N)?,
@@ -324,7 +375,7 @@ pub fn strip(mesh: &Mesh, view: (f64, f64), w: u32, h: u32) -> Result<Image> {
         [255, 255, 255],
     );
     for (k, &n) in BUDGETS.iter().enumerate() {
-        let r = crate::render::render(&s32, &cam, tracer::<f32>(Mode::Smooth, n)?, diag, false);
+        let r = crate::renderer::render(&s32, &cam, tracer::<f32>(Mode::Smooth, n)?, diag, false);
         let x0 = (k as u32 * (w + gap)) as i64;
         img.blit(&r.image, x0, top as i64);
         let mut hm = Image::new(w, h, [0, 0, 0]);

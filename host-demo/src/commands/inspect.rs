@@ -6,9 +6,30 @@ use std::fmt::Write as _;
 use glam::DVec3;
 use smoothtri::{DPatch, Patch};
 
+use super::MeshSource;
 use crate::error::Result;
-use crate::scene::{Prec, Scene};
-use crate::scenes::Mesh;
+use crate::mesh::Mesh;
+use crate::tracer::{Prec, Precision, Scene};
+
+/// Options of `inspect`.
+#[derive(Clone, Debug)]
+pub struct InspectOptions {
+    /// The mesh (required).
+    pub source: MeshSource,
+    /// Precision of the patches whose rejections are reported.
+    pub precision: Precision,
+}
+
+/// Loads the mesh and prints the report of [`inspect`] on stdout.
+pub fn run(a: InspectOptions) -> Result<()> {
+    let (name, mesh) = a.source.load(false)?;
+    let text = match a.precision {
+        Precision::F32 => inspect::<f32>(&name, &mesh)?,
+        Precision::F64 => inspect::<f64>(&name, &mesh)?,
+    };
+    print!("{text}");
+    Ok(())
+}
 
 /// Samples per shared edge for crack measurement.
 pub const EDGE_SAMPLES: usize = 9;
@@ -141,7 +162,7 @@ pub fn inspect<F: Prec>(name: &str, mesh: &Mesh) -> Result<String> {
     let scene = match scene {
         Ok(sc) => Some(sc),
         Err(e) => {
-            let _ = writeln!(s, "patches ({}): none accepted: {e}", F::NAME);
+            let _ = writeln!(s, "patches ({}): none accepted: {e}", F::PRECISION);
             None
         }
     };
@@ -149,7 +170,7 @@ pub fn inspect<F: Prec>(name: &str, mesh: &Mesh) -> Result<String> {
         let _ = writeln!(
             s,
             "patches ({}): {} accepted, {} rejected",
-            F::NAME,
+            F::PRECISION,
             sc.patches.len(),
             sc.rejected.len()
         );
@@ -246,7 +267,7 @@ pub fn inspect<F: Prec>(name: &str, mesh: &Mesh) -> Result<String> {
         let _ = writeln!(
             s,
             "memory ({}): patches {} bytes ({} × {}), BVH {} bytes ({} nodes + indices), total {} bytes",
-            F::NAME,
+            F::PRECISION,
             pbytes,
             sc.patches.len(),
             std::mem::size_of::<Patch<F>>(),

@@ -1,0 +1,55 @@
+//! The subcommands of `smoothtri`, one module each. Every module has a plain options struct
+//! (filled in by [`crate::cli`]) and a `run` function; none of them knows about argument
+//! parsing.
+
+use crate::error::{DemoError, Result};
+use crate::mesh::Mesh;
+use crate::scenes;
+
+pub mod eval;
+pub mod inspect;
+pub mod precision;
+pub mod render;
+pub mod trace;
+
+/// Where a command's mesh comes from: `--mesh PATH` or `--scene NAME` (at most one is set).
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct MeshSource {
+    /// A mesh file (OBJ, PLY, glTF or GLB).
+    pub mesh: Option<String>,
+    /// A built-in scene name (see [`scenes::SCENE_NAMES`]).
+    pub scene: Option<String>,
+}
+
+impl MeshSource {
+    /// Loads the mesh file or builds the scene, with its display name (the path, or
+    /// `"NAME (built-in)"`). Notes about computed normals and warnings about skipped primitives
+    /// go to stderr. With neither set, `default_torus` picks the torus scene; otherwise that is
+    /// a usage error.
+    pub fn load(&self, default_torus: bool) -> Result<(String, Mesh)> {
+        if let Some(path) = &self.mesh {
+            let loaded = crate::mesh::load(path)?;
+            for w in &loaded.warnings {
+                eprintln!("warning: {path}: {w}");
+            }
+            if loaded.computed_normals {
+                eprintln!(
+                    "note: {path} has no vertex normals (for some or all corners): computed angle-weighted normals"
+                );
+            }
+            return Ok((path.clone(), loaded.mesh));
+        }
+        let name = match (&self.scene, default_torus) {
+            (Some(s), _) => s.clone(),
+            (None, true) => "torus".to_string(),
+            (None, false) => {
+                return Err(DemoError::Usage(
+                    "one of --mesh PATH or --scene NAME is required".into(),
+                ));
+            }
+        };
+        let mesh = scenes::builtin(&name)
+            .ok_or_else(|| DemoError::Usage(format!("unknown scene '{name}'")))?;
+        Ok((format!("{name} (built-in)"), mesh))
+    }
+}

@@ -1,0 +1,86 @@
+//! `smoothtri trace`: rays from a CSV file (`ox,oy,oz,dx,dy,dz`), hits out as CSV.
+
+use std::fmt::Write as _;
+
+use smoothtri::Ray;
+
+use super::MeshSource;
+use crate::csvio::{display_name, num, read_text, rows, vec3};
+use crate::error::{DemoError, Result};
+use crate::mesh::Mesh;
+use crate::tracer::{Mode, Prec, Precision, Scene, tracer};
+
+/// Options of `trace`.
+#[derive(Clone, Debug)]
+pub struct TraceOptions {
+    /// The mesh (required).
+    pub source: MeshSource,
+    /// Rays CSV with header `ox,oy,oz,dx,dy,dz` (`-` for stdin).
+    pub rays: String,
+    /// Iteration budget.
+    pub iterations: usize,
+    /// Kernel precision.
+    pub precision: Precision,
+}
+
+/// Loads the mesh and traces the rays in the chosen precision.
+pub fn run(a: TraceOptions) -> Result<()> {
+    let (_, mesh) = a.source.load(false)?;
+    match a.precision {
+        Precision::F32 => trace::<f32>(&mesh, &a.rays, a.iterations),
+        Precision::F64 => trace::<f64>(&mesh, &a.rays, a.iterations),
+    }
+}
+
+/// Traces the rays of `rays_path` (`-` for stdin) against `mesh` in precision `F` and prints
+/// the closest hit with `t > 0` of each as CSV on stdout.
+pub fn trace<F: Prec>(mesh: &Mesh, rays_path: &str, iterations: usize) -> Result<()> {
+    let t = tracer::<F>(Mode::Smooth, iterations)?;
+    let text = read_text(rays_path)?;
+    let rays_path = display_name(rays_path);
+    let rows = rows(&text, rays_path, &["ox", "oy", "oz", "dx", "dy", "dz"])?;
+    let mut rays = Vec::with_capacity(rows.len());
+    for (line, f) in &rows {
+        let mut v = [F::ZERO; 6];
+        for (slot, tok) in v.iter_mut().zip(f) {
+            *slot = num::<F>(tok, rays_path, *line)?;
+        }
+        let o = glam::DVec3::new(v[0].to_f64(), v[1].to_f64(), v[2].to_f64());
+        let d = glam::DVec3::new(v[3].to_f64(), v[4].to_f64(), v[5].to_f64());
+        if d == glam::DVec3::ZERO {
+            return Err(DemoError::parse(rays_path, *line, "zero ray direction"));
+        }
+        rays.push(Ray::<F>::new(F::v(o), F::v(d)));
+    }
+    let scene = Scene::<F>::build(mesh)?;
+    if let Some(note) = scene.rejected_note() {
+        eprintln!("{note}");
+    }
+    let bvh = scene.bvh();
+    let mut out = String::from("ray,hit,t,x,y,z,nx,ny,nz,triangle,w1,w2,t_error\n");
+    for (i, ray) in rays.iter().enumerate() {
+        match t.closest(&bvh, ray, F::MIN_POSITIVE, F::MAX) {
+            Some(h) => {
+                let tri = scene
+                    .tri_ids
+                    .get(h.patch as usize)
+                    .copied()
+                    .unwrap_or(u32::MAX);
+                let _ = writeln!(
+                    out,
+                    "{i},1,{},{},{},{tri},{},{},{}",
+                    h.t,
+                    vec3::<F>(h.point),
+                    vec3::<F>(h.normal),
+                    h.w1,
+                    h.w2,
+                    h.t_error
+                );
+            }
+            None => {
+                let _ = writeln!(out, "{i},0,,,,,,,,,,,");
+            }
+        }
+    }
+    crate::image::write_bytes("-", out.as_bytes())
+}

@@ -1,0 +1,174 @@
+//! Triangle meshes: the [`Mesh`] type, vertex-normal generation, and loading from files
+//! ([`load`] picks the loader by extension: [`obj`], [`ply`], [`gltf`] for `.gltf` and `.glb`,
+//! the latter's container checked by [`glb`] first).
+//!
+//! Triangle ids are the order of triangles in the file after fan-triangulating polygons, over
+//! all objects/primitives in file order. Vertex normals come from the file (per corner); where a
+//! file has none, angle-weighted vertex normals are computed ([`LoadedMesh::computed_normals`]).
+
+use std::collections::HashMap;
+use std::path::Path;
+
+use glam::DVec3;
+
+use crate::error::{DemoError, Result};
+
+pub mod glb;
+pub mod gltf;
+pub mod obj;
+pub mod ply;
+
+/// An indexed triangle mesh with per-vertex normals, in `f64`.
+#[derive(Clone, Debug, Default)]
+pub struct Mesh {
+    /// Vertex positions.
+    pub positions: Vec<DVec3>,
+    /// Vertex normals (one per position, any positive length).
+    pub normals: Vec<DVec3>,
+    /// Triangles as indices into `positions`/`normals`, counter-clockwise seen from outside.
+    pub triangles: Vec<[u32; 3]>,
+}
+
+impl Mesh {
+    /// The three corners and normals of triangle `t`.
+    pub fn triangle(&self, t: usize) -> ([DVec3; 3], [DVec3; 3]) {
+        let [a, b, c] = self.triangles[t].map(|i| i as usize);
+        (
+            [self.positions[a], self.positions[b], self.positions[c]],
+            [self.normals[a], self.normals[b], self.normals[c]],
+        )
+    }
+
+    /// Axis-aligned bounds (min, max) of the vertices.
+    pub fn bounds(&self) -> (DVec3, DVec3) {
+        self.positions.iter().fold(
+            (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
+            |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+        )
+    }
+
+    /// Length of the bounding-box diagonal.
+    pub fn diagonal(&self) -> f64 {
+        let (lo, hi) = self.bounds();
+        (hi - lo).length()
+    }
+}
+
+/// A mesh read from a file.
+#[derive(Clone, Debug)]
+pub struct LoadedMesh {
+    /// The mesh (vertices deduplicated per (position, normal) pair).
+    pub mesh: Mesh,
+    /// `true` when some or all vertex normals were computed (angle-weighted) because the file
+    /// had none for them.
+    pub computed_normals: bool,
+    /// Warnings to show on stderr (skipped primitives and the like).
+    pub warnings: Vec<String>,
+}
+
+/// Reads a mesh, choosing the format by extension (`.obj`, `.ply`, `.gltf`, `.glb`).
+pub fn load(path: &str) -> Result<LoadedMesh> {
+    let ext = Path::new(path)
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(|e| e.to_ascii_lowercase())
+        .unwrap_or_default();
+    let out = match ext.as_str() {
+        "obj" => obj::load(path)?,
+        "ply" => ply::load(path)?,
+        "gltf" | "glb" => gltf::load(path)?,
+        _ => {
+            return Err(DemoError::format(
+                path,
+                "unknown mesh format (expected .obj, .ply, .gltf or .glb)",
+            ));
+        }
+    };
+    if out.mesh.triangles.is_empty() {
+        return Err(DemoError::Empty {
+            msg: format!("{path}: the mesh has no triangles"),
+        });
+    }
+    Ok(out)
+}
+
+/// One triangle corner as a loader reads it: an index into [`Builder::positions`] and the
+/// file's normal for that corner, if it has one.
+pub(crate) type Corner = (usize, Option<DVec3>);
+
+/// Builds a [`Mesh`] from triangles of [`Corner`]s, computing angle-weighted normals for
+/// corners without one. Shared by all loaders.
+pub(crate) struct Builder {
+    /// Positions the corners index.
+    pub positions: Vec<DVec3>,
+    /// Triangles in file order.
+    pub tris: Vec<[Corner; 3]>,
+}
+
+impl Builder {
+    /// The mesh (one vertex per distinct (position, normal) pair) and whether any normal was
+    /// computed.
+    pub fn finish(self) -> (Mesh, bool) {
+        let needs = self.tris.iter().any(|t| t.iter().any(|(_, n)| n.is_none()));
+        let computed = if needs {
+            angle_weighted_normals(
+                &self.positions,
+                self.tris.iter().map(|t| [t[0].0, t[1].0, t[2].0]),
+            )
+        } else {
+            Vec::new()
+        };
+        let mut mesh = Mesh::default();
+        let mut map: HashMap<(usize, [u64; 3]), u32> = HashMap::new();
+        for t in &self.tris {
+            let mut ids = [0u32; 3];
+            for (slot, &(p, n)) in ids.iter_mut().zip(t.iter()) {
+                let normal = n.unwrap_or_else(|| computed.get(p).copied().unwrap_or(DVec3::ZERO));
+                let key = (p, normal.to_array().map(f64::to_bits));
+                *slot = *map.entry(key).or_insert_with(|| {
+                    mesh.positions.push(self.positions[p]);
+                    mesh.normals.push(normal);
+                    (mesh.positions.len() - 1) as u32
+                });
+            }
+            mesh.triangles.push(ids);
+        }
+        (mesh, needs)
+    }
+
+    /// [`Builder::finish`] as a [`LoadedMesh`] with the given warnings.
+    pub fn into_loaded(self, warnings: Vec<String>) -> LoadedMesh {
+        let (mesh, computed_normals) = self.finish();
+        LoadedMesh {
+            mesh,
+            computed_normals,
+            warnings,
+        }
+    }
+}
+
+/// Angle-weighted vertex normals (Thürmer & Wüthrich): each triangle adds its unit face normal
+/// times its corner angle to its three vertices. Degenerate triangles add nothing.
+pub fn angle_weighted_normals(
+    positions: &[DVec3],
+    tris: impl Iterator<Item = [usize; 3]>,
+) -> Vec<DVec3> {
+    let mut acc = vec![DVec3::ZERO; positions.len()];
+    for [a, b, c] in tris {
+        let (pa, pb, pc) = (positions[a], positions[b], positions[c]);
+        let Some(nf) = (pb - pa).cross(pc - pa).try_normalize() else {
+            continue;
+        };
+        for (i, o1, o2) in [(a, pb, pc), (b, pc, pa), (c, pa, pb)] {
+            let p = positions[i];
+            let (Some(u), Some(v)) = ((o1 - p).try_normalize(), (o2 - p).try_normalize()) else {
+                continue;
+            };
+            let ang = u.dot(v).clamp(-1.0, 1.0).acos();
+            acc[i] += nf * ang;
+        }
+    }
+    acc.into_iter()
+        .map(|n| n.try_normalize().unwrap_or(DVec3::ZERO))
+        .collect()
+}

@@ -1,0 +1,137 @@
+//! Wavefront OBJ: an own line parser whose errors name `file:line`.
+
+use glam::DVec3;
+
+use super::{Builder, LoadedMesh};
+use crate::error::{DemoError, Result};
+
+/// Reads and parses an OBJ file (invalid UTF-8 is replaced, not rejected).
+pub fn load(path: &str) -> Result<LoadedMesh> {
+    let bytes = std::fs::read(path).map_err(|e| DemoError::io(path, e))?;
+    parse(&String::from_utf8_lossy(&bytes), path)
+}
+
+/// Parses a finite number, or reports `path:line` with what is wrong. Also used by the CSV
+/// readers ([`crate::csvio`]).
+pub(crate) fn parse_f64(tok: &str, path: &str, line: usize) -> Result<f64> {
+    let v: f64 = tok
+        .parse()
+        .map_err(|_| DemoError::parse(path, line, format!("malformed number '{tok}'")))?;
+    if !v.is_finite() {
+        return Err(DemoError::parse(
+            path,
+            line,
+            format!("non-finite value '{tok}'"),
+        ));
+    }
+    Ok(v)
+}
+
+/// Resolves an OBJ index (1-based, or negative relative to the current count).
+fn obj_index(tok: &str, count: usize, what: &str, path: &str, line: usize) -> Result<usize> {
+    let i: i64 = tok.parse().map_err(|_| {
+        DemoError::parse(
+            path,
+            line,
+            format!("malformed {what} index '{tok}' in face"),
+        )
+    })?;
+    let r = if i > 0 {
+        i - 1
+    } else if i < 0 {
+        count as i64 + i
+    } else {
+        -1
+    };
+    if r < 0 || r as usize >= count {
+        return Err(DemoError::parse(
+            path,
+            line,
+            format!("{what} index {i} out of range (1..={count} defined so far)"),
+        ));
+    }
+    Ok(r as usize)
+}
+
+/// Parses Wavefront OBJ text (`v`, `vn`, `vt`, `f` with `v`, `v/vt`, `v//vn`, `v/vt/vn`,
+/// negative indices; other statements ignored). Polygons are fan-triangulated.
+pub fn parse(text: &str, path: &str) -> Result<LoadedMesh> {
+    let mut positions = Vec::new();
+    let mut normals: Vec<DVec3> = Vec::new();
+    let mut n_vt = 0usize;
+    let mut tris = Vec::new();
+    for (ln, raw) in text.lines().enumerate() {
+        let line = ln + 1;
+        let content = raw.split('#').next().unwrap_or("");
+        let mut toks = content.split_whitespace();
+        let Some(kw) = toks.next() else { continue };
+        match kw {
+            "v" | "vn" => {
+                let nums: Vec<&str> = toks.collect();
+                if nums.len() < 3 {
+                    return Err(DemoError::parse(
+                        path,
+                        line,
+                        format!("'{kw}' needs 3 coordinates, found {}", nums.len()),
+                    ));
+                }
+                let mut c = [0.0; 3];
+                for (slot, tok) in c.iter_mut().zip(&nums) {
+                    *slot = parse_f64(tok, path, line)?;
+                }
+                for tok in &nums[3..] {
+                    parse_f64(tok, path, line)?;
+                }
+                if kw == "v" {
+                    positions.push(DVec3::from_array(c));
+                } else {
+                    normals.push(DVec3::from_array(c));
+                }
+            }
+            "vt" => {
+                for tok in toks {
+                    parse_f64(tok, path, line)?;
+                }
+                n_vt += 1;
+            }
+            "f" => {
+                let mut corners = Vec::new();
+                for tok in toks {
+                    let mut parts = tok.split('/');
+                    let v = parts.next().unwrap_or("");
+                    let vi = obj_index(v, positions.len(), "vertex", path, line)?;
+                    let vt = parts.next();
+                    if let Some(vt) = vt.filter(|s| !s.is_empty()) {
+                        obj_index(vt, n_vt, "texture", path, line)?;
+                    }
+                    let vn = match parts.next().filter(|s| !s.is_empty()) {
+                        Some(s) => {
+                            Some(normals[obj_index(s, normals.len(), "normal", path, line)?])
+                        }
+                        None => None,
+                    };
+                    if parts.next().is_some() {
+                        return Err(DemoError::parse(
+                            path,
+                            line,
+                            format!("malformed face vertex '{tok}'"),
+                        ));
+                    }
+                    corners.push((vi, vn));
+                }
+                if corners.len() < 3 {
+                    return Err(DemoError::parse(
+                        path,
+                        line,
+                        format!("face with {} vertices (need at least 3)", corners.len()),
+                    ));
+                }
+                for k in 1..corners.len() - 1 {
+                    tris.push([corners[0], corners[k], corners[k + 1]]);
+                }
+            }
+            _ => {}
+        }
+    }
+    Ok(Builder { positions, tris }.into_loaded(Vec::new()))
+}

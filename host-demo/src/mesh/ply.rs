@@ -1,0 +1,114 @@
+//! Stanford PLY (ASCII and binary) through the `ply-rs-bw` crate.
+
+use glam::DVec3;
+
+use super::{Builder, LoadedMesh};
+use crate::error::{DemoError, Result};
+
+fn prop_f64(p: &ply_rs_bw::ply::Property) -> Option<f64> {
+    use ply_rs_bw::ply::Property as P;
+    Some(match *p {
+        P::Char(v) => v as f64,
+        P::UChar(v) => v as f64,
+        P::Short(v) => v as f64,
+        P::UShort(v) => v as f64,
+        P::Int(v) => v as f64,
+        P::UInt(v) => v as f64,
+        P::Float(v) => v as f64,
+        P::Double(v) => v,
+        _ => return None,
+    })
+}
+
+fn prop_list(p: &ply_rs_bw::ply::Property) -> Option<Vec<i64>> {
+    use ply_rs_bw::ply::Property as P;
+    Some(match p {
+        P::ListChar(v) => v.iter().map(|&x| x as i64).collect(),
+        P::ListUChar(v) => v.iter().map(|&x| x as i64).collect(),
+        P::ListShort(v) => v.iter().map(|&x| x as i64).collect(),
+        P::ListUShort(v) => v.iter().map(|&x| x as i64).collect(),
+        P::ListInt(v) => v.iter().map(|&x| x as i64).collect(),
+        P::ListUInt(v) => v.iter().map(|&x| x as i64).collect(),
+        _ => return None,
+    })
+}
+
+/// Reads a PLY file: `vertex` elements with `x, y, z` (and optionally `nx, ny, nz`), `face`
+/// elements with a `vertex_indices` (or `vertex_index`) list, fan-triangulated.
+pub fn load(path: &str) -> Result<LoadedMesh> {
+    let file = std::fs::File::open(path).map_err(|e| DemoError::io(path, e))?;
+    let mut reader = std::io::BufReader::new(file);
+    let parser = ply_rs_bw::parser::Parser::<ply_rs_bw::ply::DefaultElement>::new();
+    let ply = parser
+        .read_ply(&mut reader)
+        .map_err(|e| DemoError::format(path, format!("malformed PLY: {e}")))?;
+    let verts = ply
+        .payload
+        .get("vertex")
+        .ok_or_else(|| DemoError::format(path, "PLY has no 'vertex' element"))?;
+    let mut positions = Vec::with_capacity(verts.len());
+    let mut file_normals = Vec::with_capacity(verts.len());
+    for (i, v) in verts.iter().enumerate() {
+        let get = |k: &str| v.get(k).and_then(prop_f64);
+        let (Some(x), Some(y), Some(z)) = (get("x"), get("y"), get("z")) else {
+            return Err(DemoError::format(
+                path,
+                format!("vertex {i} lacks numeric x, y, z"),
+            ));
+        };
+        let p = DVec3::new(x, y, z);
+        if !p.is_finite() {
+            return Err(DemoError::format(path, format!("vertex {i} is not finite")));
+        }
+        positions.push(p);
+        let n = match (get("nx"), get("ny"), get("nz")) {
+            (Some(x), Some(y), Some(z)) => {
+                let n = DVec3::new(x, y, z);
+                if !n.is_finite() {
+                    return Err(DemoError::format(
+                        path,
+                        format!("normal of vertex {i} is not finite"),
+                    ));
+                }
+                Some(n)
+            }
+            _ => None,
+        };
+        file_normals.push(n);
+    }
+    let mut tris = Vec::new();
+    if let Some(faces) = ply.payload.get("face") {
+        for (fi, f) in faces.iter().enumerate() {
+            let list = f
+                .get("vertex_indices")
+                .or_else(|| f.get("vertex_index"))
+                .and_then(prop_list)
+                .ok_or_else(|| {
+                    DemoError::format(path, format!("face {fi} has no vertex_indices list"))
+                })?;
+            if list.len() < 3 {
+                return Err(DemoError::format(
+                    path,
+                    format!("face {fi} has {} vertices (need at least 3)", list.len()),
+                ));
+            }
+            let mut corners = Vec::with_capacity(list.len());
+            for &i in &list {
+                if i < 0 || i as usize >= positions.len() {
+                    return Err(DemoError::format(
+                        path,
+                        format!(
+                            "face {fi}: vertex index {i} out of range (0..{})",
+                            positions.len()
+                        ),
+                    ));
+                }
+                corners.push((i as usize, file_normals[i as usize]));
+            }
+            for k in 1..corners.len() - 1 {
+                tris.push([corners[0], corners[k], corners[k + 1]]);
+            }
+        }
+    }
+    Ok(Builder { positions, tris }.into_loaded(Vec::new()))
+}

@@ -1,0 +1,105 @@
+//! Ray queries against a [`Scene`]: the smooth kernel at a compile-time iteration budget, or
+//! the flat and Phong baselines, chosen at run time by [`tracer`]. The precision-generic parts
+//! ([`Prec`], [`Precision`]) and the scene build ([`Scene`]) are in the submodules.
+
+use smoothtri::{Bvh, Float, Hit, Ray, flat_hit};
+
+use crate::error::{DemoError, Result};
+
+mod precision;
+mod scene;
+
+pub use precision::{Prec, Precision};
+pub use scene::Scene;
+
+/// How primary and shadow rays meet the surface.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum Mode {
+    /// The smooth patches (the core's kernel).
+    Smooth,
+    /// Flat triangles, face normals.
+    Flat,
+    /// Flat triangles, interpolated vertex normals (Phong shading).
+    Phong,
+}
+
+impl Mode {
+    /// Lower-case name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Mode::Smooth => "smooth",
+            Mode::Flat => "flat",
+            Mode::Phong => "phong",
+        }
+    }
+}
+
+/// A ray-scene query strategy (smooth kernel with a fixed budget, or a flat baseline).
+pub trait Tracer<F: Float>: Sync {
+    /// Closest hit in `[t_min, t_max]`.
+    fn closest(&self, bvh: &Bvh<'_, F>, ray: &Ray<F>, t_min: F, t_max: F) -> Option<Hit<F>>;
+    /// Whether anything is hit in `[t_min, t_max]`.
+    fn occluded(&self, bvh: &Bvh<'_, F>, ray: &Ray<F>, t_min: F, t_max: F) -> bool;
+}
+
+struct Smooth<const N: usize>;
+impl<F: Float, const N: usize> Tracer<F> for Smooth<N> {
+    fn closest(&self, bvh: &Bvh<'_, F>, ray: &Ray<F>, t_min: F, t_max: F) -> Option<Hit<F>> {
+        bvh.closest_hit::<N>(ray, t_min, t_max).ok().flatten()
+    }
+    fn occluded(&self, bvh: &Bvh<'_, F>, ray: &Ray<F>, t_min: F, t_max: F) -> bool {
+        bvh.any_hit::<N>(ray, t_min, t_max).unwrap_or(false)
+    }
+}
+
+struct Flat {
+    phong: bool,
+}
+impl<F: Float> Tracer<F> for Flat {
+    fn closest(&self, bvh: &Bvh<'_, F>, ray: &Ray<F>, t_min: F, t_max: F) -> Option<Hit<F>> {
+        bvh.closest_with(ray, t_min, t_max, |p, a, b| {
+            let ns = p.normals();
+            flat_hit(&p.vertices(), self.phong.then_some(&ns), ray, a, b)
+        })
+        .ok()
+        .flatten()
+    }
+    fn occluded(&self, bvh: &Bvh<'_, F>, ray: &Ray<F>, t_min: F, t_max: F) -> bool {
+        self.closest(bvh, ray, t_min, t_max).is_some()
+    }
+}
+
+/// Largest iteration budget accepted by `--iterations`.
+pub const MAX_ITERATIONS: usize = 40;
+
+macro_rules! smooth_dispatch {
+    ($n:expr, $($k:literal)*) => {
+        match $n {
+            $($k => Some(&Smooth::<$k> as &'static dyn Tracer<F>),)*
+            _ => None,
+        }
+    };
+}
+
+/// Iteration budgets the demo is compiled for (each is a separate monomorphised kernel; the
+/// core takes any `N` at compile time).
+pub const SUPPORTED_ITERATIONS: &str = "0..=16, 20, 24, 32, 40";
+
+/// The smooth kernel with an iteration budget of `n` (see [`SUPPORTED_ITERATIONS`]),
+/// monomorphised.
+pub fn smooth_tracer<F: Float>(n: usize) -> Option<&'static dyn Tracer<F>> {
+    smooth_dispatch!(n, 0 1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16 20 24 32 40)
+}
+
+/// The tracer of `mode` (the budget matters for [`Mode::Smooth`] only).
+pub fn tracer<F: Float>(mode: Mode, n: usize) -> Result<&'static dyn Tracer<F>> {
+    match mode {
+        Mode::Smooth => smooth_tracer(n).ok_or_else(|| {
+            DemoError::Usage(format!(
+                "--iterations {n} is not supported (use one of {SUPPORTED_ITERATIONS})"
+            ))
+        }),
+        Mode::Flat => Ok(&Flat { phong: false }),
+        Mode::Phong => Ok(&Flat { phong: true }),
+    }
+}

@@ -1,0 +1,79 @@
+//! The kernel's two floating-point precisions: [`Precision`] names one at run time (the
+//! `--precision` option), [`Prec`] is the type-level side that generic code runs on.
+
+use glam::{DVec3, Vec3};
+use smoothtri::Float;
+
+/// Floating-point precision of the kernel, as chosen on the command line. Code generic over
+/// [`Prec`] is reached with one `match` on this enum (`F32 => f::<f32>()`,
+/// `F64 => f::<f64>()`); inside, [`Prec::PRECISION`] tells which one it runs in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, clap::ValueEnum)]
+pub enum Precision {
+    /// Single precision (the real-time path).
+    F32,
+    /// Double precision.
+    F64,
+}
+
+impl Precision {
+    /// `"f32"` or `"f64"`, as in messages, tables and CSV.
+    pub fn name(self) -> &'static str {
+        match self {
+            Precision::F32 => "f32",
+            Precision::F64 => "f64",
+        }
+    }
+}
+
+impl std::fmt::Display for Precision {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.pad(self.name())
+    }
+}
+
+/// The two primitive precisions, with conversions from and to the `f64` mesh data.
+pub trait Prec: Float + Send + Sync + std::fmt::Display + 'static {
+    /// Which precision this is.
+    const PRECISION: Precision;
+    /// Rounds an `f64` vector to this precision.
+    fn v(d: DVec3) -> Self::Vec3;
+    /// Widens a vector of this precision to `f64`.
+    fn d(v: Self::Vec3) -> DVec3;
+    /// Components of a vector.
+    fn arr(v: Self::Vec3) -> [Self; 3];
+    /// Parses a decimal number directly in this precision (so that printed values read back
+    /// exactly); `None` when it is not a number.
+    fn parse(tok: &str) -> Option<Self>;
+}
+
+impl Prec for f32 {
+    const PRECISION: Precision = Precision::F32;
+    fn v(d: DVec3) -> Vec3 {
+        d.as_vec3()
+    }
+    fn d(v: Vec3) -> DVec3 {
+        v.as_dvec3()
+    }
+    fn arr(v: Vec3) -> [f32; 3] {
+        v.to_array()
+    }
+    fn parse(tok: &str) -> Option<f32> {
+        tok.parse().ok()
+    }
+}
+
+impl Prec for f64 {
+    const PRECISION: Precision = Precision::F64;
+    fn v(d: DVec3) -> DVec3 {
+        d
+    }
+    fn d(v: DVec3) -> DVec3 {
+        v
+    }
+    fn arr(v: DVec3) -> [f64; 3] {
+        v.to_array()
+    }
+    fn parse(tok: &str) -> Option<f64> {
+        tok.parse().ok()
+    }
+}

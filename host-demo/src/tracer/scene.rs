@@ -1,0 +1,145 @@
+//! [`Scene`]: the patches of a [`Mesh`] in one precision (triangles the core rejects skipped
+//! and recorded) and their BVH.
+
+use std::collections::BTreeMap;
+
+use smoothtri::{Bvh, BvhNode, Float, Patch, PatchError};
+
+use super::Prec;
+use crate::error::{DemoError, Result};
+use crate::mesh::Mesh;
+
+/// The patches of a mesh (triangles the core rejects are skipped and recorded) and their BVH.
+pub struct Scene<F: Float> {
+    /// Accepted patches.
+    pub patches: Vec<Patch<F>>,
+    /// Mesh triangle id of each patch.
+    pub tri_ids: Vec<u32>,
+    /// Patch index of each mesh triangle (`None` when rejected).
+    pub patch_of_tri: Vec<Option<u32>>,
+    /// Rejected triangles and why (only non-finite, degenerate or overflowing input: steep or
+    /// back-facing normals are repaired by the core's documented remedy instead).
+    pub rejected: Vec<(u32, PatchError)>,
+    /// Triangles whose normals were clamped by [`Patch::new_or_tilted`], with the clamp angle
+    /// in degrees.
+    pub remedied: Vec<(u32, f64)>,
+    nodes: Vec<BvhNode<F>>,
+    order: Vec<u32>,
+}
+
+impl<F: Prec> Scene<F> {
+    /// Builds the patches and the BVH. Fails only when no triangle is accepted.
+    pub fn build(mesh: &Mesh) -> Result<Self> {
+        let mut patches = Vec::with_capacity(mesh.triangles.len());
+        let mut tri_ids = Vec::with_capacity(mesh.triangles.len());
+        let mut patch_of_tri = vec![None; mesh.triangles.len()];
+        let mut rejected = Vec::new();
+        let mut remedied = Vec::new();
+        for (t, slot) in patch_of_tri.iter_mut().enumerate() {
+            let (p, n) = mesh.triangle(t);
+            match Patch::<F>::new_or_tilted(p.map(F::v), n.map(F::v)) {
+                Ok(patch) => {
+                    if let Some(deg) = patch.normal_clamp() {
+                        remedied.push((t as u32, deg));
+                    }
+                    *slot = Some(patches.len() as u32);
+                    patches.push(patch);
+                    tri_ids.push(t as u32);
+                }
+                Err(e) => rejected.push((t as u32, e)),
+            }
+        }
+        if patches.is_empty() {
+            return Err(DemoError::Empty {
+                msg: format!(
+                    "no usable triangles: all {} triangles were rejected{}",
+                    mesh.triangles.len(),
+                    rejected
+                        .first()
+                        .map(|(_, e)| format!(" (first: {e})"))
+                        .unwrap_or_default()
+                ),
+            });
+        }
+        let mut nodes = vec![BvhNode::default(); Bvh::<F>::nodes_needed(patches.len())];
+        let mut order = vec![0u32; patches.len()];
+        let used = Bvh::build(&patches, &mut nodes, &mut order)
+            .map_err(|e| DemoError::Empty {
+                msg: format!("cannot build the BVH: {e}"),
+            })?
+            .node_count();
+        nodes.truncate(used);
+        Ok(Scene {
+            patches,
+            tri_ids,
+            patch_of_tri,
+            rejected,
+            remedied,
+            nodes,
+            order,
+        })
+    }
+
+    /// The BVH over [`Scene::patches`].
+    pub fn bvh(&self) -> Bvh<'_, F> {
+        Bvh::from_parts(&self.patches, &self.nodes, &self.order)
+    }
+
+    /// Rejection counts by reason, for reports.
+    pub fn rejected_summary(&self) -> BTreeMap<String, usize> {
+        let mut m = BTreeMap::new();
+        for (_, e) in &self.rejected {
+            *m.entry(e.to_string()).or_insert(0) += 1;
+        }
+        m
+    }
+
+    /// The stderr note about skipped triangles, if any were.
+    pub fn rejected_note(&self) -> Option<String> {
+        let mut lines = Vec::new();
+        if !self.remedied.is_empty() {
+            lines.push(format!(
+                "note: {} of {} triangles have normals outside the method's domain; they were \
+                 clamped toward the face normal ({}): {}",
+                self.remedied.len(),
+                self.patch_of_tri.len(),
+                F::PRECISION,
+                self.remedied_summary()
+            ));
+        }
+        if !self.rejected.is_empty() {
+            let parts: Vec<String> = self
+                .rejected_summary()
+                .iter()
+                .map(|(k, v)| format!("{v} × {k}"))
+                .collect();
+            lines.push(format!(
+                "note: skipped {} of {} triangles that the core rejects ({}): {}",
+                self.rejected.len(),
+                self.patch_of_tri.len(),
+                F::PRECISION,
+                parts.join("; ")
+            ));
+        }
+        if lines.is_empty() {
+            None
+        } else {
+            Some(lines.join("\n"))
+        }
+    }
+
+    /// Remedied patches by clamp angle, e.g. `3 × 60°, 1 × 0° (flat)`.
+    pub fn remedied_summary(&self) -> String {
+        let mut m: BTreeMap<i64, usize> = BTreeMap::new();
+        for (_, deg) in &self.remedied {
+            *m.entry(-(*deg as i64)).or_insert(0) += 1;
+        }
+        m.iter()
+            .map(|(d, n)| {
+                let flat = if *d == 0 { " (flat)" } else { "" };
+                format!("{n} × {}°{flat}", -d)
+            })
+            .collect::<Vec<_>>()
+            .join(", ")
+    }
+}
