@@ -13,7 +13,9 @@ pub fn run(ext: &str, data: &[u8]) {
         return;
     }
     let Some(p) = path.to_str() else { return };
-    let Ok(loaded) = smoothtri_demo::mesh::load(p) else { return };
+    let Ok(loaded) = smoothtri_demo::mesh::load(p) else {
+        return;
+    };
     let mesh = &loaded.mesh;
     let mut patches = Vec::new();
     for t in 0..mesh.triangles.len().min(2000) {
@@ -32,7 +34,10 @@ pub fn run(ext: &str, data: &[u8]) {
     let bvh = Bvh::build(&patches, &mut nodes, &mut order).expect("bvh over accepted patches");
     let (lo, hi) = mesh.bounds();
     let c = (lo + hi) * 0.5;
-    let ray = DRay::new(c + (hi - lo) + glam::DVec3::splat(1.0), -(hi - lo) - glam::DVec3::splat(1.0));
+    let ray = DRay::new(
+        c + (hi - lo) + glam::DVec3::splat(1.0),
+        -(hi - lo) - glam::DVec3::splat(1.0),
+    );
     if let Ok(Some(h)) = bvh.closest_hit::<8>(&ray, 0.0, f64::INFINITY) {
         assert!(h.t.is_finite() && h.point.is_finite() && h.normal.is_finite());
     }

@@ -1,18 +1,21 @@
 //! Command-line interface: parses the arguments (clap derive) of `render`, `precision`, `trace`,
-//! `eval` and `inspect` into each command's options struct and runs it ([`crate::commands`]).
+//! `eval`, `inspect` and `tessellate` into each command's options struct and runs it ([`crate::commands`]).
 
 use std::process::ExitCode;
 
 use clap::{Args, Parser, Subcommand};
 
+use crate::camera::Up;
 use crate::commands::eval::EvalOptions;
 use crate::commands::inspect::InspectOptions;
 use crate::commands::precision::PrecisionOptions;
 use crate::commands::render::RenderOptions;
+use crate::commands::tessellate::TessellateOptions;
 use crate::commands::trace::TraceOptions;
 use crate::commands::{self, MeshSource};
 use crate::error::Result;
 use crate::scenes::SCENE_NAMES;
+use crate::tessellate::Level;
 use crate::tracer::{Mode, Precision};
 
 /// Ray tracing of smooth surfaces from triangle meshes with vertex normals.
@@ -35,6 +38,8 @@ enum Cmd {
     Eval(EvalArgs),
     /// Report mesh statistics: rejected patches, normal angles, cracks, memory.
     Inspect(InspectArgs),
+    /// Sample the smooth surface into welded triangles and write them as OBJ, PLY or GLB.
+    Tessellate(TessellateArgs),
 }
 
 #[derive(Args, Debug, Clone)]
@@ -73,9 +78,12 @@ struct RenderArgs {
     /// Output PNG (`-` for stdout).
     #[arg(long, default_value = "smoothtri.png")]
     out: String,
-    /// Camera azimuth and elevation in degrees.
+    /// Camera azimuth and elevation in degrees, relative to the up axis.
     #[arg(long, value_parser = parse_view, default_value = "30,35", allow_hyphen_values = true)]
     view: (f64, f64),
+    /// The mesh's up axis [default: y for mesh files (glTF: always y), z for the built-in scenes].
+    #[arg(long, value_enum)]
+    up: Option<Up>,
     /// Also write the primary-hit mask as a plain PBM (for tests).
     #[arg(long, hide = true)]
     mask: Option<String>,
@@ -100,9 +108,12 @@ struct PrecisionArgs {
     /// Ray grid height.
     #[arg(long, default_value_t = 150)]
     height: u32,
-    /// Camera azimuth and elevation in degrees.
+    /// Camera azimuth and elevation in degrees, relative to the up axis.
     #[arg(long, value_parser = parse_view, default_value = "30,35", allow_hyphen_values = true)]
     view: (f64, f64),
+    /// The mesh's up axis [default: y for mesh files (glTF: always y), z for the built-in scenes].
+    #[arg(long, value_enum)]
+    up: Option<Up>,
 }
 
 #[derive(Args, Debug)]
@@ -141,6 +152,44 @@ struct InspectArgs {
     precision: Precision,
 }
 
+#[derive(Args, Debug)]
+struct TessellateArgs {
+    #[command(flatten)]
+    src: Source,
+    /// Sub-triangles per patch: L×L (1..=256) [default: 4 unless --max-error is given].
+    #[arg(long, value_name = "L", conflicts_with = "max_error")]
+    level: Option<u32>,
+    /// Instead of --level: per patch the smallest power-of-two level whose measured distance
+    /// to the surface is at most E (mesh units); shared edges take the larger level.
+    #[arg(long, value_name = "E")]
+    max_error: Option<f64>,
+    /// Cap of the levels chosen by --max-error (a power of two).
+    #[arg(long, value_name = "L", default_value_t = 64)]
+    max_level: u32,
+    /// Output file: .obj, .ply (binary) or .glb.
+    #[arg(long)]
+    out: String,
+    /// Precision of the patches and of the numbers written (GLB stores f32 only).
+    #[arg(long, value_enum, default_value = "f64")]
+    precision: Precision,
+    /// Also render the traced smooth surface beside the flat-shaded tessellation (PNG).
+    #[arg(long, value_name = "PNG")]
+    picture: Option<String>,
+    /// Width of each panel of --picture.
+    #[arg(long, default_value_t = 480)]
+    width: u32,
+    /// Height of --picture.
+    #[arg(long, default_value_t = 360)]
+    height: u32,
+    /// Camera azimuth and elevation of --picture, relative to the up axis.
+    #[arg(long, value_parser = parse_view, default_value = "30,35", allow_hyphen_values = true)]
+    view: (f64, f64),
+    /// The mesh's up axis, for --picture (the output keeps the file's coordinates) [default: y
+    /// for mesh files (glTF: always y), z for the built-in scenes].
+    #[arg(long, value_enum)]
+    up: Option<Up>,
+}
+
 /// Entry point of the binary: parses arguments, runs, prints errors, returns the exit code.
 pub fn main() -> ExitCode {
     let cli = Cli::parse();
@@ -166,6 +215,7 @@ pub fn run(cli: Cli) -> Result<()> {
             height: a.height,
             out: a.out,
             view: a.view,
+            up: a.up,
             mask: a.mask,
         }),
         Cmd::Precision(a) => commands::precision::run(PrecisionOptions {
@@ -176,6 +226,7 @@ pub fn run(cli: Cli) -> Result<()> {
             width: a.width,
             height: a.height,
             view: a.view,
+            up: a.up,
         }),
         Cmd::Trace(a) => commands::trace::run(TraceOptions {
             source: a.src.into(),
@@ -191,6 +242,22 @@ pub fn run(cli: Cli) -> Result<()> {
         Cmd::Inspect(a) => commands::inspect::run(InspectOptions {
             source: a.src.into(),
             precision: a.precision,
+        }),
+        Cmd::Tessellate(a) => commands::tessellate::run(TessellateOptions {
+            source: a.src.into(),
+            level: match a.max_error {
+                Some(max_error) => Level::MaxError {
+                    max_error,
+                    max_level: a.max_level,
+                },
+                None => Level::Uniform(a.level.unwrap_or(4)),
+            },
+            out: a.out,
+            precision: a.precision,
+            picture: a.picture,
+            size: (a.width, a.height),
+            view: a.view,
+            up: a.up,
         }),
     }
 }

@@ -229,6 +229,29 @@ pub fn teapot(k: usize) -> Mesh {
     m
 }
 
+/// The up axis of a built-in scene, the default of `--up` for it: `z` for all four (the torus
+/// lies in the xy plane, the teapot stands on it, the sphere and the cube are symmetric).
+pub fn builtin_up(_name: &str) -> crate::camera::Up {
+    crate::camera::Up::Z
+}
+
+/// A distance function to an exact surface.
+pub type DistanceFn = fn(DVec3) -> f64;
+
+/// The exact surface a built-in scene samples, as its name and distance function: the torus
+/// (R = 1, r = 0.4), the unit sphere (`sphere`), the sphere of radius √3 through the cube's
+/// corners (`cube`). `None` for the teapot and unknown names.
+pub fn exact_distance(name: &str) -> Option<(&'static str, DistanceFn)> {
+    match name {
+        "torus" => Some(("torus", |x| torus_distance(x, 1.0, 0.4))),
+        "sphere" => Some(("sphere", |x| (x.length() - 1.0).abs())),
+        "cube" => Some(("sphere of radius √3", |x| {
+            (x.length() - 3f64.sqrt()).abs()
+        })),
+        _ => None,
+    }
+}
+
 /// The built-in scene names accepted by `--scene`.
 pub const SCENE_NAMES: [&str; 4] = ["torus", "sphere", "cube", "teapot"];
 

@@ -794,3 +794,457 @@ fn malformed_glb_containers_are_readable_errors() {
         assert_eq!(r.err.lines().count(), 1, "{name}: one line: {}", r.err);
     }
 }
+
+/// A tall y-up shape: the ellipsoid with semi-axes 1, 3, 1 (the icosphere stretched along y,
+/// normals by the inverse transpose).
+fn tall_y_up() -> Mesh {
+    let mut m = icosphere(2, 1.0);
+    for p in &mut m.positions {
+        p.y *= 3.0;
+    }
+    for n in &mut m.normals {
+        n.y /= 3.0;
+    }
+    m
+}
+
+/// Width and height in pixels of the hit pixels' bounding box.
+fn extent(mask: &[bool]) -> (usize, usize) {
+    let (w, h) = (W as usize, H as usize);
+    let (mut x0, mut x1, mut y0, mut y1) = (w, 0, h, 0);
+    for y in 0..h {
+        for x in 0..w {
+            if mask[y * w + x] {
+                (x0, x1, y0, y1) = (x0.min(x), x1.max(x), y0.min(y), y1.max(y));
+            }
+        }
+    }
+    (x1.saturating_sub(x0) + 1, y1.saturating_sub(y0) + 1)
+}
+
+/// `--up`: mesh files default to y up, built-ins to their own axis (z); the same shape written
+/// z-up and read with `--up z` gives the same mask as written y-up and read by default; the view
+/// is relative to the up axis; glTF is always y-up.
+#[test]
+fn up_axis_stands_meshes_upright() {
+    let d = tmp();
+    let p = d.path();
+    let tall = tall_y_up();
+    write(p, "tall.obj", &obj_text(&tall, true));
+    let mut z_up = tall.clone();
+    for v in z_up.positions.iter_mut().chain(z_up.normals.iter_mut()) {
+        *v = DVec3::new(v.x, -v.z, v.y);
+    }
+    write(p, "tall_z.obj", &obj_text(&z_up, true));
+    std::fs::write(p.join("tall.glb"), glb_bytes(&tall)).expect("glb");
+
+    let upright = mask_of(p, &["--mesh", "tall.obj"]);
+    let (w, h) = extent(&upright);
+    assert!(h as f64 > 1.5 * w as f64, "y-up shape not upright: {w}x{h}");
+    assert_eq!(upright, mask_of(p, &["--mesh", "tall.obj", "--up", "y"]));
+    assert_eq!(upright, mask_of(p, &["--mesh", "tall_z.obj", "--up", "z"]));
+    // Read with the wrong axis it lies on its side (the issue's bunny).
+    let (w, h) = extent(&mask_of(p, &["--mesh", "tall.obj", "--up", "z"]));
+    assert!(w > h, "z-up reading should lie down: {w}x{h}");
+    // The view is relative to the up axis: from straight above, the ellipsoid is a disc.
+    let (w, h) = extent(&mask_of(p, &["--mesh", "tall.obj", "--view", "0,90"]));
+    assert!(w.abs_diff(h) <= 2, "top view {w}x{h}");
+    // glTF: y-up by specification (f32 positions, so compare shapes, not masks).
+    let (w, h) = extent(&mask_of(p, &["--mesh", "tall.glb"]));
+    assert!(h as f64 > 1.5 * w as f64, "glTF not upright: {w}x{h}");
+    fails(
+        p,
+        &["render", "--mesh", "tall.glb", "--up", "z"],
+        &["--up z", "tall.glb", "y-up by specification"],
+    );
+    // Built-ins keep their own axis (z): the README's pictures are unchanged.
+    let torus = mask_of(p, &["--scene", "torus"]);
+    assert_eq!(torus, mask_of(p, &["--scene", "torus", "--up", "z"]));
+    assert_ne!(torus, mask_of(p, &["--scene", "torus", "--up", "y"]));
+    // `precision` frames a camera too.
+    let r = ok(
+        p,
+        &[
+            "precision",
+            "--mesh",
+            "tall.obj",
+            "--up",
+            "y",
+            "--width",
+            "8",
+            "--height",
+            "6",
+        ],
+    );
+    assert!(r.out.contains("precision study: tall.obj"), "{}", r.out);
+}
+
+/// glTF scenes through the command line: every node of the scene, instanced meshes instanced,
+/// a skipped primitive named with its node and mesh, and errors naming node, mesh and accessor.
+#[test]
+fn gltf_scenes_through_the_cli() {
+    let d = tmp();
+    let p = d.path();
+    let (json, bin) = gltf_parts(&cube(), None);
+    let scene = json
+        .replace(
+            r#""scenes":[{"nodes":[0]}],"nodes":[{"mesh":0}]"#,
+            r#""scenes":[{"nodes":[0,1]}],"nodes":[{"name":"Left","mesh":0,"translation":[-3,0,0],"children":[2]},{"name":"Right","mesh":0,"translation":[3,0,0]},{"name":"Wire","mesh":1}]"#,
+        )
+        .replace(
+            r#""indices":2}]}]"#,
+            r#""indices":2}]},{"name":"wire","primitives":[{"attributes":{"POSITION":0},"mode":1}]}]"#,
+        );
+    assert_ne!(scene, json, "template changed");
+    let glb = smoothtri_demo::mesh::glb::build(scene.as_bytes(), Some(&bin));
+    std::fs::write(p.join("s.glb"), &glb).expect("glb");
+    let r = ok(p, &["inspect", "--mesh", "s.glb"]);
+    assert!(r.out.contains("triangles: 24"), "{}", r.out);
+    assert!(
+        r.out
+            .contains("bounding box: min (-4, -1, -1)  max (4, 1, 1)"),
+        "{}",
+        r.out
+    );
+    assert!(
+        r.err.contains(
+            r#"warning: s.glb: mesh 1 "wire", primitive 0 (drawn by node 2 "Wire"): mode Lines is not triangles, skipped"#
+        ),
+        "{}",
+        r.err
+    );
+    // An accessor error names the node, the mesh, the primitive and the accessor.
+    let bad = scene.replacen(
+        r#""bufferView":1,"componentType":5126,"count":8"#,
+        r#""bufferView":1,"componentType":5126,"count":0"#,
+        1,
+    );
+    assert_ne!(bad, scene, "template changed");
+    std::fs::write(
+        p.join("bad.glb"),
+        smoothtri_demo::mesh::glb::build(bad.as_bytes(), Some(&bin)),
+    )
+    .expect("glb");
+    let r = fails(
+        p,
+        &["render", "--mesh", "bad.glb"],
+        &[r#"error: bad.glb: node 0 "Left", mesh 0, primitive 0: NORMAL accessor 1 has count 0"#],
+    );
+    assert_eq!(r.err.lines().count(), 1, "{}", r.err);
+}
+
+/// Every undirected edge is used by exactly two triangles: the mesh is closed, without cracks
+/// or T-junctions.
+fn assert_closed(m: &Mesh, what: &str) {
+    let mut uses = std::collections::HashMap::<(u32, u32), u32>::new();
+    for t in &m.triangles {
+        for e in 0..3 {
+            let (a, b) = (t[e], t[(e + 1) % 3]);
+            *uses.entry((a.min(b), a.max(b))).or_default() += 1;
+        }
+    }
+    let open = uses.values().filter(|&&u| u != 2).count();
+    assert_eq!(
+        open, 0,
+        "{what}: {open} edges not shared by exactly two triangles"
+    );
+}
+
+/// The number after `key` in `text` (e.g. `"max distance to the smooth surface: "`).
+fn figure(text: &str, key: &str) -> f64 {
+    let at = text
+        .find(key)
+        .unwrap_or_else(|| panic!("no {key:?} in {text}"))
+        + key.len();
+    let num: String = text[at..]
+        .chars()
+        .take_while(|c| c.is_ascii_digit() || matches!(c, '.' | 'e' | '-' | '+'))
+        .collect();
+    num.parse()
+        .unwrap_or_else(|_| panic!("bad number {num:?} after {key:?}"))
+}
+
+fn load(dir: &Path, name: &str) -> Mesh {
+    let path = dir.join(name);
+    smoothtri_demo::mesh::load(path.to_str().expect("utf-8 path"))
+        .expect("reload")
+        .mesh
+}
+
+/// A sphere mesh tessellated stays on the sphere: every vertex to 1e-12 (f64) or 1e-6 (f32)
+/// relative, normals radial, through every writer and the demo's own loaders.
+#[test]
+fn tessellated_sphere_stays_on_the_sphere() {
+    let d = tmp();
+    let p = d.path();
+    for (out, prec, tol) in [
+        ("s.obj", "f64", 1e-12),
+        ("s.ply", "f64", 1e-12),
+        ("s32.obj", "f32", 1e-6),
+        ("s32.ply", "f32", 1e-6),
+        ("s.glb", "f64", 1e-6),
+    ] {
+        ok(
+            p,
+            &[
+                "tessellate",
+                "--scene",
+                "sphere",
+                "--level",
+                "5",
+                "--out",
+                out,
+                "--precision",
+                prec,
+            ],
+        );
+        let m = load(p, out);
+        assert_eq!(m.triangles.len(), 80 * 25, "{out}");
+        let worst = m
+            .positions
+            .iter()
+            .map(|x| (x.length() - 1.0).abs())
+            .fold(0.0, f64::max);
+        assert!(worst <= tol, "{out}: {worst:e} off the sphere");
+        for (x, n) in m.positions.iter().zip(&m.normals) {
+            assert!(n.normalize().dot(x.normalize()) > 1.0 - 10.0 * tol, "{out}");
+        }
+        assert_closed(&m, out);
+    }
+}
+
+/// The output reloads through the demo's loaders (OBJ, binary PLY, GLB) with the printed
+/// counts and size; the vertex count is the welding rule's: mesh vertices + shared edges ·
+/// (L − 1) + triangles · (L − 1)(L − 2)/2 (torus 8×8: 64 + 192 · 2 + 128 · 1 = 576 at L = 3).
+#[test]
+fn tessellation_reloads_with_the_welding_rules_counts() {
+    let d = tmp();
+    let p = d.path();
+    for out in ["t.obj", "t.ply", "t.glb"] {
+        let r = ok(
+            p,
+            &[
+                "tessellate",
+                "--scene",
+                "torus",
+                "--level",
+                "3",
+                "--out",
+                out,
+            ],
+        );
+        let size = std::fs::metadata(p.join(out)).expect("output").len();
+        assert!(
+            r.out.contains(&format!(
+                "wrote {out}: 1152 triangles, 576 vertices, {size} bytes"
+            )),
+            "{}",
+            r.out
+        );
+        assert!(
+            r.out
+                .contains("welded 384 edge samples on 192 shared edges"),
+            "{}",
+            r.out
+        );
+        let m = load(p, out);
+        assert_eq!((m.triangles.len(), m.positions.len()), (1152, 576), "{out}");
+        assert_closed(&m, out);
+        let r = ok(p, &["inspect", "--mesh", out]);
+        assert!(
+            r.out.contains("triangles: 1152   vertices: 576"),
+            "{}",
+            r.out
+        );
+    }
+}
+
+/// On the torus the tessellation converges to the smooth surface (distance ÷ ~4 per doubling of
+/// L), and its distance to the true torus tends to the smooth surface's own: within 10 % at
+/// L = 8. The distances to the torus are measured here, on the reloaded file, independently of
+/// the command's figures.
+#[test]
+fn tessellated_torus_tends_to_the_smooth_surfaces_distance() {
+    use smoothtri::DPatch;
+    use smoothtri_demo::scenes::{torus, torus_distance};
+    let d = tmp();
+    let p = d.path();
+    let mesh = torus(8, 8, 1.0, 0.4);
+    let mut smooth = 0.0f64;
+    for t in 0..mesh.triangles.len() {
+        let (pp, nn) = mesh.triangle(t);
+        let patch = DPatch::new_or_tilted(pp, nn).expect("torus patch");
+        for i in 0..=12 {
+            for j in 0..=12 - i {
+                let x = patch.point(i as f64 / 12.0, j as f64 / 12.0);
+                smooth = smooth.max(torus_distance(x, 1.0, 0.4));
+            }
+        }
+    }
+    let probes = [
+        [1.0, 0.0, 0.0],
+        [0.5, 0.5, 0.0],
+        [1.0 / 3.0, 1.0 / 3.0, 1.0 / 3.0],
+    ];
+    let mut last = (f64::INFINITY, f64::INFINITY);
+    for l in ["2", "4", "8"] {
+        let out = format!("t{l}.obj");
+        let r = ok(
+            p,
+            &[
+                "tessellate",
+                "--scene",
+                "torus",
+                "--level",
+                l,
+                "--out",
+                &out,
+            ],
+        );
+        let to_surface = figure(&r.out, "max distance to the smooth surface: ");
+        let m = load(p, &out);
+        let mut to_torus = 0.0f64;
+        for t in &m.triangles {
+            let v = t.map(|i| m.positions[i as usize]);
+            for rot in 0..3 {
+                for w in probes {
+                    let x = v[rot] * w[0] + v[(rot + 1) % 3] * w[1] + v[(rot + 2) % 3] * w[2];
+                    to_torus = to_torus.max(torus_distance(x, 1.0, 0.4));
+                }
+            }
+        }
+        eprintln!(
+            "L = {l}: to the smooth surface {to_surface:.3e}, to the torus {to_torus:.3e} \
+             (smooth surface {smooth:.3e})"
+        );
+        assert!(
+            to_surface < last.0 / 3.0 && to_torus < last.1,
+            "L = {l}: no convergence"
+        );
+        let printed = figure(&r.out, "max distance to the exact torus: ");
+        assert!((printed - to_torus).abs() <= 0.02 * to_torus, "{}", r.out);
+        last = (to_surface, to_torus);
+    }
+    assert!(
+        (last.1 - smooth).abs() <= 0.1 * smooth,
+        "L = 8: {:.3e} vs the smooth surface's {smooth:.3e}",
+        last.1
+    );
+}
+
+/// `--max-error`: levels chosen per patch (powers of two), the shared edges at the larger
+/// level with stitched fans, and the output still closed; the measured distance meets the
+/// target.
+#[test]
+fn max_error_levels_differ_and_stay_watertight() {
+    let d = tmp();
+    let p = d.path();
+    let r = ok(
+        p,
+        &[
+            "tessellate",
+            "--scene",
+            "torus",
+            "--max-error",
+            "1e-2",
+            "--out",
+            "e.ply",
+        ],
+    );
+    // The torus's patches on the outer equator are flatter than those on the inner one.
+    let kinds = r.out.lines().next().unwrap_or("").matches("× L = ").count();
+    assert!(kinds >= 2, "one level only: {}", r.out);
+    let dist = figure(&r.out, "max distance to the smooth surface: ");
+    assert!(dist <= 1e-2, "{}", r.out);
+    assert_closed(&load(p, "e.ply"), "e.ply");
+}
+
+#[test]
+fn tessellate_options_are_checked() {
+    let d = tmp();
+    let p = d.path();
+    let t = ["tessellate", "--scene", "cube"];
+    let with = |extra: &[&'static str]| -> Vec<&'static str> { [&t[..], extra].concat() };
+    fails(
+        p,
+        &with(&["--level", "0", "--out", "x.obj"]),
+        &["--level", "1..=256"],
+    );
+    fails(
+        p,
+        &with(&["--level", "300", "--out", "x.obj"]),
+        &["--level"],
+    );
+    fails(
+        p,
+        &with(&["--max-error", "0", "--out", "x.obj"]),
+        &["--max-error"],
+    );
+    fails(
+        p,
+        &with(&["--max-error", "NaN", "--out", "x.obj"]),
+        &["--max-error"],
+    );
+    fails(
+        p,
+        &with(&["--max-error", "1e-3", "--max-level", "3", "--out", "x.obj"]),
+        &["power of two"],
+    );
+    fails(
+        p,
+        &with(&["--level", "2", "--max-error", "1e-3", "--out", "x.obj"]),
+        &["cannot be used"],
+    );
+    fails(
+        p,
+        &with(&["--out", "x.stl"]),
+        &["x.stl", ".obj, .ply or .glb"],
+    );
+    fails(p, &with(&[]), &["--out"]);
+    fails(p, &["tessellate", "--out", "x.obj"], &["--mesh"]);
+    fails(
+        p,
+        &with(&["--out", "/nonexistent-dir/x.obj"]),
+        &["/nonexistent-dir/x.obj"],
+    );
+    fails(
+        p,
+        &with(&["--out", "x.obj", "--picture", "x.obj"]),
+        &["same file"],
+    );
+    write(p, "tri.gltf", "{ not json");
+    fails(
+        p,
+        &["tessellate", "--mesh", "tri.gltf", "--out", "x.obj"],
+        &["tri.gltf", "malformed glTF"],
+    );
+}
+
+/// `--picture`: the traced smooth surface and the flat-shaded tessellation side by side.
+#[test]
+fn tessellate_picture_has_two_panels() {
+    let d = tmp();
+    let p = d.path();
+    let r = ok(
+        p,
+        &[
+            "tessellate",
+            "--scene",
+            "torus",
+            "--level",
+            "2",
+            "--out",
+            "t.obj",
+            "--picture",
+            "t.png",
+            "--width",
+            "40",
+            "--height",
+            "30",
+        ],
+    );
+    assert!(r.out.contains("wrote t.png"), "{}", r.out);
+    let png = std::fs::read(p.join("t.png")).expect("png");
+    let be = |at: usize| u32::from_be_bytes(png[at..at + 4].try_into().expect("4 bytes"));
+    assert_eq!((be(16), be(20)), (84, 30));
+}

@@ -2,6 +2,7 @@
 //! (filled in by [`crate::cli`]) and a `run` function; none of them knows about argument
 //! parsing.
 
+use crate::camera::Up;
 use crate::error::{DemoError, Result};
 use crate::mesh::Mesh;
 use crate::scenes;
@@ -10,6 +11,7 @@ pub mod eval;
 pub mod inspect;
 pub mod precision;
 pub mod render;
+pub mod tessellate;
 pub mod trace;
 
 /// Where a command's mesh comes from: `--mesh PATH` or `--scene NAME` (at most one is set).
@@ -51,5 +53,37 @@ impl MeshSource {
         let mesh = scenes::builtin(&name)
             .ok_or_else(|| DemoError::Usage(format!("unknown scene '{name}'")))?;
         Ok((format!("{name} (built-in)"), mesh))
+    }
+
+    /// The up axis a camera uses for this source: `up` when given, otherwise `y` for mesh files
+    /// and the scene's own axis ([`scenes::builtin_up`], `z`) for built-ins. glTF is y-up by
+    /// specification, so `--up` other than `y` on a `.gltf`/`.glb` file is a usage error.
+    pub fn up_axis(&self, up: Option<Up>) -> Result<Up> {
+        if let Some(path) = &self.mesh {
+            let gltf = crate::mesh::extension(path).is_some_and(|e| e == "gltf" || e == "glb");
+            return match up {
+                Some(u) if gltf && u != Up::Y => Err(DemoError::Usage(format!(
+                    "--up {u}: {path} is glTF, which is y-up by specification (leave --up out)"
+                ))),
+                Some(u) => Ok(u),
+                None => Ok(Up::Y),
+            };
+        }
+        let name = self.scene.as_deref().unwrap_or("torus");
+        Ok(up.unwrap_or_else(|| scenes::builtin_up(name)))
+    }
+
+    /// [`MeshSource::load`], then the mesh turned so that its up axis ([`MeshSource::up_axis`])
+    /// is `+z`, the camera's frame ([`Up::mesh_to_z_up`], exact). Returns the display name, the
+    /// turned mesh and the axis used.
+    pub fn load_upright(&self, default_torus: bool, up: Option<Up>) -> Result<(String, Mesh, Up)> {
+        let up = self.up_axis(up)?;
+        let (name, mesh) = self.load(default_torus)?;
+        let mesh = if up == Up::Z {
+            mesh
+        } else {
+            up.mesh_to_z_up(&mesh)
+        };
+        Ok((name, mesh, up))
     }
 }

@@ -7,7 +7,7 @@ use glam::DVec3;
 use smoothtri::Ray;
 
 use super::MeshSource;
-use crate::camera::Camera;
+use crate::camera::{Camera, Up};
 use crate::error::{DemoError, Result};
 use crate::image::{Image, heat};
 use crate::mesh::Mesh;
@@ -28,8 +28,10 @@ pub struct PrecisionOptions {
     pub width: u32,
     /// Ray grid height, 1..=4096.
     pub height: u32,
-    /// Camera azimuth and elevation in degrees.
+    /// Camera azimuth and elevation in degrees, relative to the up axis.
     pub view: (f64, f64),
+    /// The mesh's up axis (`None`: the source's default, [`MeshSource::up_axis`]).
+    pub up: Option<Up>,
 }
 
 /// Runs the study on [`PrecisionOptions::source`] (the torus when unset): the table on stdout,
@@ -40,7 +42,7 @@ pub fn run(a: PrecisionOptions) -> Result<()> {
             "--width and --height must be in 1..=4096".into(),
         ));
     }
-    let (name, mesh) = a.source.load(true)?;
+    let (name, mesh, _) = a.source.load_upright(true, a.up)?;
     let cam = Camera::for_mesh(&mesh, a.view.0, a.view.1, a.width, a.height);
     let study = sweep(&mesh, &cam)?;
     println!(

@@ -1,7 +1,7 @@
 //! `smoothtri render`: a mesh (default: the built-in torus) to a PNG, one mode or smooth, flat
 //! and phong side by side.
 
-use crate::camera::Camera;
+use crate::camera::{Camera, Up};
 use crate::error::{DemoError, Result};
 use crate::image::Image;
 use crate::mesh::Mesh;
@@ -28,18 +28,55 @@ pub struct RenderOptions {
     pub height: u32,
     /// Output PNG (`-` for stdout).
     pub out: String,
-    /// Camera azimuth and elevation in degrees.
+    /// Camera azimuth and elevation in degrees, relative to the up axis.
     pub view: (f64, f64),
+    /// The mesh's up axis (`None`: the source's default, [`MeshSource::up_axis`]).
+    pub up: Option<Up>,
     /// Also write the primary-hit mask as a plain PBM.
     pub mask: Option<String>,
 }
 
 /// One rendered panel and its primary-hit mask.
-struct Panel {
-    image: Image,
-    rays: u64,
-    seconds: f64,
-    mask: Vec<crate::renderer::PixelHit>,
+pub(crate) struct Panel {
+    /// The shaded image.
+    pub image: Image,
+    /// Rays traced (primary and shadow).
+    pub rays: u64,
+    /// Wall time, seconds.
+    pub seconds: f64,
+    /// Primary hits per pixel.
+    pub mask: Vec<crate::renderer::PixelHit>,
+}
+
+/// [`render_panel`] in the precision `prec` names.
+pub(crate) fn render_panel_in(
+    prec: Precision,
+    mesh: &Mesh,
+    cam: &Camera,
+    mode: Mode,
+    n: usize,
+    note: bool,
+) -> Result<Panel> {
+    match prec {
+        Precision::F32 => render_panel::<f32>(mesh, cam, mode, n, note),
+        Precision::F64 => render_panel::<f64>(mesh, cam, mode, n, note),
+    }
+}
+
+/// Panels of equal size side by side, 4 white pixels apart, each with its label in the top
+/// left corner (the layout of `render --compare`).
+pub(crate) fn side_by_side(panels: &[(&Image, String)]) -> Image {
+    let gap = 4;
+    let (w, h) = panels.first().map_or((1, 1), |(i, _)| (i.width, i.height));
+    let n = panels.len() as u32;
+    let mut img = Image::new(w * n + gap * n.saturating_sub(1), h, [255, 255, 255]);
+    let scale = if w >= 400 { 2 } else { 1 };
+    for (k, (p, label)) in panels.iter().enumerate() {
+        let x = (k as u32 * (w + gap)) as i64;
+        img.blit(p, x, 0);
+        img.label(label, x + 4 * scale, 4 * scale, scale, [255, 255, 255]);
+    }
+    img
 }
 
 /// Builds the scene in precision `F` and renders one panel in `mode` with budget `n`; `note`
@@ -74,7 +111,7 @@ pub fn run(a: RenderOptions) -> Result<()> {
         ));
     }
     tracer::<f32>(Mode::Smooth, a.iterations)?;
-    let (_, mesh) = a.source.load(true)?;
+    let (_, mesh, _) = a.source.load_upright(true, a.up)?;
     let cam = Camera::for_mesh(&mesh, a.view.0, a.view.1, a.width, a.height);
     let modes: Vec<Mode> = if a.compare {
         vec![Mode::Smooth, Mode::Flat, Mode::Phong]
@@ -83,28 +120,30 @@ pub fn run(a: RenderOptions) -> Result<()> {
     };
     let mut panels = Vec::new();
     for (k, &m) in modes.iter().enumerate() {
-        let p = match a.precision {
-            Precision::F32 => render_panel::<f32>(&mesh, &cam, m, a.iterations, k == 0)?,
-            Precision::F64 => render_panel::<f64>(&mesh, &cam, m, a.iterations, k == 0)?,
-        };
-        panels.push(p);
+        panels.push(render_panel_in(
+            a.precision,
+            &mesh,
+            &cam,
+            m,
+            a.iterations,
+            k == 0,
+        )?);
     }
     let prec = a.precision;
     let image = if a.compare {
-        let gap = 4;
-        let mut img = Image::new(a.width * 3 + gap * 2, a.height, [255, 255, 255]);
-        let scale = if a.width >= 400 { 2 } else { 1 };
-        for (k, (p, m)) in panels.iter().zip(&modes).enumerate() {
-            let x = (k as u32 * (a.width + gap)) as i64;
-            img.blit(&p.image, x, 0);
-            let label = match m {
-                Mode::Smooth => format!("SMOOTH N={}", a.iterations),
-                Mode::Flat => "FLAT".to_string(),
-                Mode::Phong => "PHONG".to_string(),
-            };
-            img.label(&label, x + 4 * scale, 4 * scale, scale, [255, 255, 255]);
-        }
-        img
+        let labelled: Vec<(&Image, String)> = panels
+            .iter()
+            .zip(&modes)
+            .map(|(p, m)| {
+                let label = match m {
+                    Mode::Smooth => format!("SMOOTH N={}", a.iterations),
+                    Mode::Flat => "FLAT".to_string(),
+                    Mode::Phong => "PHONG".to_string(),
+                };
+                (&p.image, label)
+            })
+            .collect();
+        side_by_side(&labelled)
     } else {
         panels[0].image.clone()
     };
@@ -122,10 +161,7 @@ pub fn run(a: RenderOptions) -> Result<()> {
         let flat_mask = if a.compare {
             None
         } else {
-            Some(match a.precision {
-                Precision::F32 => render_panel::<f32>(&mesh, &cam, Mode::Flat, 0, false)?.mask,
-                Precision::F64 => render_panel::<f64>(&mesh, &cam, Mode::Flat, 0, false)?.mask,
-            })
+            Some(render_panel_in(a.precision, &mesh, &cam, Mode::Flat, 0, false)?.mask)
         };
         let flat = flat_mask
             .as_deref()

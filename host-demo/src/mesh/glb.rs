@@ -174,6 +174,32 @@ impl fmt::Display for GlbError {
 
 impl std::error::Error for GlbError {}
 
+/// A GLB of a JSON document and an optional binary buffer: the header, the JSON chunk padded
+/// with spaces and the BIN chunk padded with zeros to 4-byte boundaries, as the
+/// specification requires. (The inverse of [`parse`]; no checks: a JSON or BIN of 4 GiB or more
+/// does not fit the format's `u32` lengths and is the caller's to avoid.)
+pub fn build(json: &[u8], bin: Option<&[u8]>) -> Vec<u8> {
+    let pad = |n: usize| n.div_ceil(4) * 4;
+    let jl = pad(json.len());
+    let bl = bin.map(|b| pad(b.len()));
+    let total = HEADER_LEN + CHUNK_HEADER_LEN + jl + bl.map_or(0, |l| CHUNK_HEADER_LEN + l);
+    let mut out = Vec::with_capacity(total);
+    out.extend(MAGIC);
+    out.extend(VERSION.to_le_bytes());
+    out.extend((total as u32).to_le_bytes());
+    out.extend((jl as u32).to_le_bytes());
+    out.extend(CHUNK_JSON);
+    out.extend(json);
+    out.resize(out.len() + jl - json.len(), b' ');
+    if let (Some(b), Some(l)) = (bin, bl) {
+        out.extend((l as u32).to_le_bytes());
+        out.extend(CHUNK_BIN);
+        out.extend(b);
+        out.resize(out.len() + l - b.len(), 0);
+    }
+    out
+}
+
 /// Little-endian `u32` at `at`; the caller has checked that four bytes are there.
 fn u32_at(bytes: &[u8], at: usize) -> u32 {
     let mut b = [0u8; 4];
@@ -274,6 +300,16 @@ mod tests {
         let n = out.len() as u32;
         out[8..12].copy_from_slice(&n.to_le_bytes());
         out
+    }
+
+    #[test]
+    fn build_pads_and_parse_reads_back() {
+        let bytes = build(b"{}", Some(&[1, 2, 3, 4, 5]));
+        assert_eq!(bytes.len(), 12 + 8 + 4 + 8 + 8);
+        let g = parse(&bytes).unwrap();
+        assert_eq!(g.json, b"{}  ");
+        assert_eq!(g.bin, Some(&[1u8, 2, 3, 4, 5, 0, 0, 0][..]));
+        assert_eq!(parse(&build(b"{}", None)).unwrap().bin, None);
     }
 
     #[test]

@@ -7,15 +7,22 @@
 //! (which looks it up unchecked), and, before a primitive is read, the type, count, stride and
 //! byte range of each accessor the loader reads (POSITION, NORMAL, indices), sparse parts
 //! included. The crate's accessor reader trusts all of these: it asserts on short strides, takes
-//! `count - 1`, adds offsets unchecked, and has an `unreachable!()` for float indices.
+//! `count - 1`, adds offsets unchecked, and has an `unreachable!()` for float indices. Sparse
+//! indices are also checked to increase strictly (the reader would drop the others silently).
+//!
+//! The default scene is walked node by node ([`parse`] has the rules: transforms composed in
+//! `f64`, instancing, normals by the inverse transpose, mirrored nodes re-wound, strips and fans
+//! split, other modes skipped with a warning naming mesh, primitive and nodes); errors name the
+//! node, mesh, primitive and accessor. [`write_glb`] writes a mesh as GLB (the tessellation's
+//! output).
 
 use std::collections::HashMap;
 use std::path::Path;
 
 use ::gltf::accessor::{DataType, Dimensions};
-use glam::{DMat3, DMat4, DVec3, Mat4};
+use glam::{DMat3, DMat4, DQuat, DVec3};
 
-use super::{Builder, Corner, LoadedMesh, glb};
+use super::{Builder, Corner, LoadedMesh, Mesh, glb};
 use crate::error::{DemoError, Result};
 
 /// Reads a `.gltf` or `.glb` file (see the module documentation).
@@ -26,6 +33,19 @@ pub fn load(path: &str) -> Result<LoadedMesh> {
 
 /// Parses the bytes of a glTF or GLB file. `path` names the file in messages, tells `.glb` by
 /// its extension, and anchors relative buffer URIs.
+///
+/// What is drawn is the default scene (`scene`), or the first scene when there is no default:
+/// every node reached from its root nodes, each mesh placed by its node's world transform (the
+/// node's `matrix`, or `translation · rotation · scale`, composed down the hierarchy in `f64`),
+/// once per node that references it (instancing). Positions are transformed by the world
+/// matrix, normals by the inverse transpose of its 3×3 part (correct under non-uniform scale)
+/// and renormalised, and triangles of a node whose transform mirrors (negative determinant) are
+/// re-wound so that they stay counter-clockwise, as the specification says. Without scenes,
+/// every root node is drawn; without nodes, every mesh once, untransformed (both with a
+/// warning). Primitives in `TRIANGLES`, `TRIANGLE_STRIP` and `TRIANGLE_FAN` mode are read,
+/// indexed or not, their accessors sparse or not; other modes are skipped with a warning naming
+/// the mesh, the primitive and the nodes that draw it. Errors name the node, mesh, primitive and
+/// accessor.
 pub fn parse(bytes: &[u8], path: &str) -> Result<LoadedMesh> {
     let is_glb = bytes.starts_with(&glb::MAGIC)
         || Path::new(path)
@@ -41,97 +61,415 @@ pub fn parse(bytes: &[u8], path: &str) -> Result<LoadedMesh> {
     let doc =
         document(json).map_err(|e| DemoError::format(path, format!("malformed glTF: {e}")))?;
     let buffers = buffers(&doc, blob, path)?;
-    let mesh_xf = mesh_transforms(&doc);
     let mut warnings = Vec::new();
-    let mut positions = Vec::new();
-    let mut tris: Vec<[Corner; 3]> = Vec::new();
-    for mesh in doc.meshes() {
-        let xf = mesh_xf
-            .get(&mesh.index())
-            .copied()
-            .unwrap_or(DMat4::IDENTITY);
-        let nxf = DMat3::from_mat4(xf).inverse().transpose();
-        for prim in mesh.primitives() {
-            let at = format!("mesh {} primitive {}", mesh.index(), prim.index());
-            if prim.mode() != ::gltf::mesh::Mode::Triangles {
-                warnings.push(format!(
-                    "{at}: mode {:?} is not triangles, skipped",
-                    prim.mode()
-                ));
-                continue;
-            }
-            let checks = [
-                (
-                    "POSITION",
-                    prim.get(&::gltf::Semantic::Positions),
-                    Want::Vec3F32,
-                ),
-                (
-                    "NORMAL",
-                    prim.get(&::gltf::Semantic::Normals),
-                    Want::Vec3F32,
-                ),
-                ("indices", prim.indices(), Want::Index),
-            ];
-            for (what, acc, want) in checks {
-                if let Some(acc) = acc {
-                    check_accessor(&acc, want, &buffers)
-                        .map_err(|m| DemoError::format(path, format!("{at}: {what} {m}")))?;
+    let instances = instances(&doc, &mut warnings).map_err(|m| DemoError::format(path, m))?;
+    let mut decoded: HashMap<usize, Vec<Prim>> = HashMap::new();
+    // Skipped primitives, (mesh, primitive) → (why, the nodes that draw it), in order.
+    let mut skipped: Vec<((usize, usize), String, Vec<String>)> = Vec::new();
+    let mut builder = Builder {
+        positions: Vec::new(),
+        tris: Vec::new(),
+    };
+    for inst in &instances {
+        let m = inst.mesh.index();
+        let prims = match decoded.entry(m) {
+            std::collections::hash_map::Entry::Occupied(e) => e.into_mut(),
+            std::collections::hash_map::Entry::Vacant(e) => e.insert(
+                decode_mesh(&inst.mesh, &inst.label, &buffers)
+                    .map_err(|msg| DemoError::format(path, msg))?,
+            ),
+        };
+        for (p, prim) in prims.iter().enumerate() {
+            if let Prim::Skipped(why) = prim {
+                match skipped.iter_mut().find(|(k, _, _)| *k == (m, p)) {
+                    Some((_, _, nodes)) => nodes.push(inst.label.clone()),
+                    None => skipped.push(((m, p), why.clone(), vec![inst.label.clone()])),
                 }
-            }
-            let reader = prim.reader(|b| buffers.get(b.index()).map(|v| v.as_slice()));
-            let Some(pos) = reader.read_positions() else {
-                warnings.push(format!("{at}: no POSITION, skipped"));
-                continue;
-            };
-            let first = positions.len();
-            for p in pos {
-                let p = xf.transform_point3(DVec3::from_array(p.map(f64::from)));
-                if !p.is_finite() {
-                    return Err(DemoError::format(path, "non-finite vertex position"));
-                }
-                positions.push(p);
-            }
-            let count = positions.len() - first;
-            let normals: Option<Vec<DVec3>> = reader.read_normals().map(|it| {
-                it.map(|n| nxf * DVec3::from_array(n.map(f64::from)))
-                    .collect()
-            });
-            if let Some(ns) = &normals {
-                if ns.len() != count {
-                    return Err(DemoError::format(path, "NORMAL and POSITION counts differ"));
-                }
-                if ns.iter().any(|n| !n.is_finite()) {
-                    return Err(DemoError::format(path, "non-finite vertex normal"));
-                }
-            }
-            let idx: Vec<u32> = match reader.read_indices() {
-                Some(i) => i.into_u32().collect(),
-                None => (0..count as u32).collect(),
-            };
-            if !idx.len().is_multiple_of(3) {
-                return Err(DemoError::format(
-                    path,
-                    format!("index count {} is not a multiple of 3", idx.len()),
-                ));
-            }
-            for c in idx.chunks_exact(3) {
-                let mut t: [Corner; 3] = [(0, None); 3];
-                for (slot, &i) in t.iter_mut().zip(c) {
-                    let i = i as usize;
-                    if i >= count {
-                        return Err(DemoError::format(
-                            path,
-                            format!("index {i} out of range (0..{count})"),
-                        ));
-                    }
-                    *slot = (first + i, normals.as_ref().and_then(|n| n.get(i).copied()));
-                }
-                tris.push(t);
             }
         }
+        if !add_instance(&mut builder, prims, inst.world)
+            .map_err(|msg| DemoError::format(path, format!("{}: {msg}", inst.label)))?
+        {
+            warnings.push(format!(
+                "{}: its world transform is singular (a zero scale), {} skipped",
+                inst.label,
+                mesh_label(&inst.mesh)
+            ));
+        }
     }
-    Ok(Builder { positions, tris }.into_loaded(warnings))
+    for ((m, p), why, nodes) in skipped {
+        let mesh = doc
+            .meshes()
+            .nth(m)
+            .map(|x| mesh_label(&x))
+            .unwrap_or_default();
+        let shown = nodes.iter().take(3).cloned().collect::<Vec<_>>().join(", ");
+        let more = match nodes.len() {
+            0..=3 => String::new(),
+            n => format!(" and {} more", n - 3),
+        };
+        warnings.push(format!(
+            "{mesh}, primitive {p} (drawn by {shown}{more}): {why}, skipped"
+        ));
+    }
+    Ok(builder.into_loaded(warnings))
+}
+
+/// `node 3 "Wheel"` (the name only when the node has one).
+fn node_label(n: &::gltf::Node<'_>) -> String {
+    match n.name() {
+        Some(name) => format!("node {} {name:?}", n.index()),
+        None => format!("node {}", n.index()),
+    }
+}
+
+/// `mesh 1 "wheel"` (the name only when the mesh has one).
+fn mesh_label(m: &::gltf::Mesh<'_>) -> String {
+    match m.name() {
+        Some(name) => format!("mesh {} {name:?}", m.index()),
+        None => format!("mesh {}", m.index()),
+    }
+}
+
+/// One placement of a mesh: the node that draws it (its label for messages) and its world
+/// transform.
+struct Instance<'a> {
+    mesh: ::gltf::Mesh<'a>,
+    label: String,
+    world: DMat4,
+}
+
+/// A node's local transform in `f64`: its `matrix`, or `T · R · S` from its `translation`,
+/// `rotation` (renormalised; a zero or non-finite quaternion is an error) and `scale`.
+fn local_matrix(n: &::gltf::Node<'_>) -> std::result::Result<DMat4, String> {
+    let m = match n.transform() {
+        ::gltf::scene::Transform::Matrix { matrix } => {
+            DMat4::from_cols_array_2d(&matrix.map(|c| c.map(f64::from)))
+        }
+        ::gltf::scene::Transform::Decomposed {
+            translation,
+            rotation,
+            scale,
+        } => {
+            let [x, y, z, w] = rotation.map(f64::from);
+            let len = (x * x + y * y + z * z + w * w).sqrt();
+            if !(len.is_finite() && len > 0.0) {
+                return Err(format!(
+                    "{}: rotation {rotation:?} is not a unit quaternion",
+                    node_label(n)
+                ));
+            }
+            DMat4::from_scale_rotation_translation(
+                DVec3::from_array(scale.map(f64::from)),
+                DQuat::from_xyzw(x / len, y / len, z / len, w / len),
+                DVec3::from_array(translation.map(f64::from)),
+            )
+        }
+    };
+    if !m.is_finite() {
+        return Err(format!("{}: its transform is not finite", node_label(n)));
+    }
+    Ok(m)
+}
+
+/// Every mesh placement of the drawn scene (see [`parse`]), depth-first in document order.
+/// Each node is visited once: a node reached again (a cycle, or a child of two parents, which
+/// the specification forbids and the `gltf` crate's validation lets through) is reported and
+/// not descended into again.
+fn instances<'a>(
+    doc: &'a ::gltf::Document,
+    warnings: &mut Vec<String>,
+) -> std::result::Result<Vec<Instance<'a>>, String> {
+    let scene = doc.default_scene().or_else(|| doc.scenes().next());
+    let roots: Vec<::gltf::Node<'a>> = match scene {
+        Some(sc) => {
+            let n = doc.scenes().len();
+            if n > 1 {
+                let name = sc.name().map(|s| format!(" {s:?}")).unwrap_or_default();
+                warnings.push(format!(
+                    "drawing scene {}{name}, one of {n} scenes (the default, else the first)",
+                    sc.index()
+                ));
+            }
+            sc.nodes().collect()
+        }
+        None if doc.nodes().len() > 0 => {
+            let mut child = vec![false; doc.nodes().len()];
+            for n in doc.nodes() {
+                for c in n.children() {
+                    if let Some(slot) = child.get_mut(c.index()) {
+                        *slot = true;
+                    }
+                }
+            }
+            warnings.push("the file has no scene: drawing every root node".into());
+            doc.nodes().filter(|n| !child[n.index()]).collect()
+        }
+        None => {
+            if doc.meshes().len() > 0 {
+                warnings.push(
+                    "the file has no scene and no nodes: drawing each mesh once, untransformed"
+                        .into(),
+                );
+            }
+            return Ok(doc
+                .meshes()
+                .map(|m| Instance {
+                    label: "no node".into(),
+                    mesh: m,
+                    world: DMat4::IDENTITY,
+                })
+                .collect());
+        }
+    };
+    let mut out = Vec::new();
+    let mut seen = vec![false; doc.nodes().len()];
+    let mut stack: Vec<(::gltf::Node<'a>, DMat4)> = roots
+        .into_iter()
+        .rev()
+        .map(|n| (n, DMat4::IDENTITY))
+        .collect();
+    while let Some((n, parent)) = stack.pop() {
+        match seen.get_mut(n.index()) {
+            Some(s) if !*s => *s = true,
+            _ => {
+                warnings.push(format!(
+                    "{} is reached a second time (the node hierarchy must be a forest): drawn once",
+                    node_label(&n)
+                ));
+                continue;
+            }
+        }
+        let world = parent * local_matrix(&n)?;
+        if let Some(mesh) = n.mesh() {
+            out.push(Instance {
+                mesh,
+                label: node_label(&n),
+                world,
+            });
+        }
+        let first_child = stack.len();
+        stack.extend(n.children().map(|c| (c, world)));
+        stack[first_child..].reverse();
+    }
+    Ok(out)
+}
+
+/// A primitive read in its mesh's own coordinates, or why it is skipped.
+enum Prim {
+    /// Triangles (strips and fans already split) over `positions`.
+    Triangles {
+        positions: Vec<DVec3>,
+        normals: Option<Vec<DVec3>>,
+        tris: Vec<[u32; 3]>,
+    },
+    /// Not drawn, and why (for the warning).
+    Skipped(String),
+}
+
+/// Reads every primitive of `mesh` (see [`parse`] for the modes); `node` labels the first node
+/// that draws it, for messages. Accessors are checked ([`check_accessor`]) before the `gltf`
+/// crate reads them.
+fn decode_mesh(
+    mesh: &::gltf::Mesh<'_>,
+    node: &str,
+    buffers: &[Vec<u8>],
+) -> std::result::Result<Vec<Prim>, String> {
+    use ::gltf::mesh::Mode;
+    let mut out = Vec::new();
+    for prim in mesh.primitives() {
+        let at = format!("{node}, {}, primitive {}", mesh_label(mesh), prim.index());
+        let mode = prim.mode();
+        if !matches!(
+            mode,
+            Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan
+        ) {
+            out.push(Prim::Skipped(format!("mode {mode:?} is not triangles")));
+            continue;
+        }
+        let checks = [
+            (
+                "POSITION",
+                prim.get(&::gltf::Semantic::Positions),
+                Want::Vec3F32,
+            ),
+            (
+                "NORMAL",
+                prim.get(&::gltf::Semantic::Normals),
+                Want::Vec3F32,
+            ),
+            ("indices", prim.indices(), Want::Index),
+        ];
+        for (what, acc, want) in checks {
+            if let Some(acc) = acc {
+                check_accessor(&acc, want, buffers).map_err(|m| format!("{at}: {what} {m}"))?;
+            }
+        }
+        let reader = prim.reader(|b| buffers.get(b.index()).map(|v| v.as_slice()));
+        let Some(pos) = reader.read_positions() else {
+            out.push(Prim::Skipped("no POSITION attribute".into()));
+            continue;
+        };
+        let positions: Vec<DVec3> = pos.map(|p| DVec3::from_array(p.map(f64::from))).collect();
+        if positions.iter().any(|p| !p.is_finite()) {
+            return Err(format!("{at}: non-finite vertex position"));
+        }
+        let count = positions.len();
+        let normals: Option<Vec<DVec3>> = reader
+            .read_normals()
+            .map(|it| it.map(|n| DVec3::from_array(n.map(f64::from))).collect());
+        if let Some(ns) = &normals {
+            if ns.len() != count {
+                return Err(format!("{at}: NORMAL and POSITION counts differ"));
+            }
+            if ns.iter().any(|n| !n.is_finite()) {
+                return Err(format!("{at}: non-finite vertex normal"));
+            }
+        }
+        let idx: Vec<u32> = match reader.read_indices() {
+            Some(i) => i.into_u32().collect(),
+            None => (0..count as u32).collect(),
+        };
+        if let Some(&i) = idx.iter().find(|&&i| i as usize >= count) {
+            return Err(format!("{at}: index {i} out of range (0..{count})"));
+        }
+        let tris: Vec<[u32; 3]> = match mode {
+            Mode::Triangles => {
+                if !idx.len().is_multiple_of(3) {
+                    return Err(format!(
+                        "{at}: index count {} is not a multiple of 3",
+                        idx.len()
+                    ));
+                }
+                idx.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect()
+            }
+            // The specification's strip order: p_i = (v_i, v_{i+1+i%2}, v_{i+2-i%2}).
+            Mode::TriangleStrip => (0..idx.len().saturating_sub(2))
+                .map(|i| [idx[i], idx[i + 1 + i % 2], idx[i + 2 - i % 2]])
+                .filter(|t| t[0] != t[1] && t[1] != t[2] && t[0] != t[2])
+                .collect(),
+            _ => (1..idx.len().saturating_sub(1))
+                .map(|i| [idx[i], idx[i + 1], idx[0]])
+                .filter(|t| t[0] != t[1] && t[1] != t[2] && t[0] != t[2])
+                .collect(),
+        };
+        out.push(Prim::Triangles {
+            positions,
+            normals,
+            tris,
+        });
+    }
+    Ok(out)
+}
+
+/// Appends one placement of a decoded mesh to `b`: positions through `world`, normals through
+/// the inverse transpose of its 3×3 part (renormalised), winding reversed where `world`
+/// mirrors. Returns `false` (nothing added) when `world` is singular; an error when a vertex
+/// lands on a non-finite position.
+fn add_instance(
+    b: &mut Builder,
+    prims: &[Prim],
+    world: DMat4,
+) -> std::result::Result<bool, String> {
+    let m3 = DMat3::from_mat4(world);
+    let det = m3.determinant();
+    let nxf = m3.inverse().transpose();
+    if det == 0.0 || !det.is_finite() || !nxf.is_finite() {
+        return Ok(false);
+    }
+    for prim in prims {
+        let Prim::Triangles {
+            positions,
+            normals,
+            tris,
+        } = prim
+        else {
+            continue;
+        };
+        let first = b.positions.len();
+        for p in positions {
+            let q = world.transform_point3(*p);
+            if !q.is_finite() {
+                return Err("a vertex position is not finite after the node transforms".into());
+            }
+            b.positions.push(q);
+        }
+        let normal = |i: u32| {
+            normals
+                .as_ref()
+                .and_then(|ns| ns.get(i as usize))
+                .map(|n| (nxf * *n).normalize_or_zero())
+        };
+        for t in tris {
+            let mut c: [Corner; 3] = t.map(|i| (first + i as usize, normal(i)));
+            if det < 0.0 {
+                c.swap(1, 2);
+            }
+            b.tris.push(c);
+        }
+    }
+    Ok(true)
+}
+
+/// A GLB of `mesh`: one scene with one node and one mesh of one indexed `TRIANGLES` primitive,
+/// `POSITION` (`f32`, with the `min`/`max` the specification requires) and `NORMAL` (`f32`,
+/// unit length), `u32` indices, all in the BIN chunk. glTF stores `f32` only; the JSON is
+/// written by hand (it is small and fixed). `generator` goes into `asset.generator`. An empty
+/// mesh is an error (glTF accessors need at least one element).
+pub fn write_glb(mesh: &Mesh, generator: &str) -> Result<Vec<u8>> {
+    if mesh.positions.is_empty() || mesh.triangles.is_empty() {
+        return Err(DemoError::Empty {
+            msg: "cannot write an empty mesh as glTF".into(),
+        });
+    }
+    let nv = mesh.positions.len();
+    let mut bin = Vec::with_capacity(nv * 24 + mesh.triangles.len() * 12);
+    let (mut lo, mut hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
+    for p in &mesh.positions {
+        for (k, c) in p.as_vec3().to_array().into_iter().enumerate() {
+            lo[k] = lo[k].min(c);
+            hi[k] = hi[k].max(c);
+            bin.extend(c.to_le_bytes());
+        }
+    }
+    for n in &mesh.normals {
+        for c in n.normalize_or_zero().as_vec3().to_array() {
+            bin.extend(c.to_le_bytes());
+        }
+    }
+    for t in &mesh.triangles {
+        for i in t {
+            bin.extend(i.to_le_bytes());
+        }
+    }
+    let pv = nv * 12;
+    let json = format!(
+        concat!(
+            r#"{{"asset":{{"version":"2.0","generator":{gen:?}}},"scene":0,"scenes":[{{"nodes":[0]}}],"#,
+            r#""nodes":[{{"mesh":0}}],"meshes":[{{"primitives":[{{"attributes":{{"POSITION":0,"NORMAL":1}},"indices":2,"mode":4}}]}}],"#,
+            r#""buffers":[{{"byteLength":{bl}}}],"bufferViews":["#,
+            r#"{{"buffer":0,"byteOffset":0,"byteLength":{pv},"target":34962}},"#,
+            r#"{{"buffer":0,"byteOffset":{pv},"byteLength":{pv},"target":34962}},"#,
+            r#"{{"buffer":0,"byteOffset":{io},"byteLength":{il},"target":34963}}],"accessors":["#,
+            r#"{{"bufferView":0,"componentType":5126,"count":{nv},"type":"VEC3","min":[{l0},{l1},{l2}],"max":[{h0},{h1},{h2}]}},"#,
+            r#"{{"bufferView":1,"componentType":5126,"count":{nv},"type":"VEC3"}},"#,
+            r#"{{"bufferView":2,"componentType":5125,"count":{ni},"type":"SCALAR"}}]}}"#
+        ),
+        gen = generator.replace(['"', '\\'], "'"),
+        bl = bin.len(),
+        pv = pv,
+        io = 2 * pv,
+        il = mesh.triangles.len() * 12,
+        nv = nv,
+        ni = mesh.triangles.len() * 3,
+        l0 = lo[0],
+        l1 = lo[1],
+        l2 = lo[2],
+        h0 = hi[0],
+        h1 = hi[1],
+        h2 = hi[2],
+    );
+    Ok(glb::build(json.as_bytes(), Some(&bin)))
 }
 
 /// Deserialises and validates a glTF JSON document (the `gltf` crate's checks: indices in
@@ -206,33 +544,6 @@ fn buffers(doc: &::gltf::Document, blob: Option<&[u8]>, path: &str) -> Result<Ve
     Ok(out)
 }
 
-/// World transform of the first node (scenes in order, nodes depth-first in order) that
-/// instantiates each mesh, by mesh index. Each node is visited once, so a node hierarchy with
-/// a cycle (which the `gltf` crate's validation lets through) ends instead of recursing forever.
-fn mesh_transforms(doc: &::gltf::Document) -> HashMap<usize, DMat4> {
-    let mut out = HashMap::new();
-    let mut seen = vec![false; doc.nodes().len()];
-    for scene in doc.scenes() {
-        let mut stack: Vec<(::gltf::Node<'_>, DMat4)> =
-            scene.nodes().map(|n| (n, DMat4::IDENTITY)).collect();
-        stack.reverse();
-        while let Some((n, parent)) = stack.pop() {
-            match seen.get_mut(n.index()) {
-                Some(s) if !*s => *s = true,
-                _ => continue,
-            }
-            let m = parent * Mat4::from_cols_array_2d(&n.transform().matrix()).as_dmat4();
-            if let Some(mesh) = n.mesh() {
-                out.entry(mesh.index()).or_insert(m);
-            }
-            let first_child = stack.len();
-            stack.extend(n.children().map(|c| (c, m)));
-            stack[first_child..].reverse();
-        }
-    }
-    out
-}
-
 /// What the loader reads from an accessor.
 #[derive(Clone, Copy, Debug)]
 enum Want {
@@ -290,6 +601,46 @@ fn check_accessor(
         let vals = sparse.values();
         check_view(&vals.view(), vals.offset(), n, elem, buffers)
             .map_err(|m| format!("accessor {i}, sparse values: {m}"))?;
+        check_sparse_indices(&ix, n, count, buffers)
+            .map_err(|m| format!("accessor {i}, sparse indices: {m}"))?;
+    }
+    Ok(())
+}
+
+/// Checks that the `n` sparse indices are strictly increasing and below `count`, as the
+/// specification requires (the `gltf` crate's reader would silently drop the values of
+/// indices out of order or out of range). The caller has checked that they lie in their view.
+fn check_sparse_indices(
+    ix: &::gltf::accessor::sparse::Indices<'_>,
+    n: usize,
+    count: usize,
+    buffers: &[Vec<u8>],
+) -> std::result::Result<(), String> {
+    let view = ix.view();
+    let size = ix.index_type().size();
+    let stride = view.stride().unwrap_or(size);
+    let data = buffers
+        .get(view.buffer().index())
+        .map_or(&[][..], Vec::as_slice);
+    let base = view.offset().saturating_add(ix.offset());
+    let mut prev: Option<u64> = None;
+    for k in 0..n {
+        let at = base.saturating_add(k.saturating_mul(stride));
+        let Some(b) = data.get(at..at.saturating_add(size)) else {
+            return Err(format!("index {k} lies outside its buffer"));
+        };
+        let v = b.iter().rev().fold(0u64, |acc, &x| acc << 8 | x as u64);
+        if v >= count as u64 {
+            return Err(format!(
+                "index {k} is {v}, outside the accessor's 0..{count}"
+            ));
+        }
+        if let Some(p) = prev.filter(|&p| p >= v) {
+            return Err(format!(
+                "index {k} is {v}, not above the previous {p} (they must strictly increase)"
+            ));
+        }
+        prev = Some(v);
     }
     Ok(())
 }
@@ -405,21 +756,7 @@ mod tests {
 
     /// A GLB of `json` and `bin`, both padded as the specification requires.
     fn glb_file(json: &str, bin: &[u8]) -> Vec<u8> {
-        let mut j = json.as_bytes().to_vec();
-        j.resize(j.len().div_ceil(4) * 4, b' ');
-        let mut b = bin.to_vec();
-        b.resize(b.len().div_ceil(4) * 4, 0);
-        let mut out = Vec::new();
-        out.extend(glb::MAGIC);
-        out.extend(glb::VERSION.to_le_bytes());
-        out.extend(((12 + 8 + j.len() + 8 + b.len()) as u32).to_le_bytes());
-        out.extend((j.len() as u32).to_le_bytes());
-        out.extend(glb::CHUNK_JSON);
-        out.extend(j);
-        out.extend((b.len() as u32).to_le_bytes());
-        out.extend(glb::CHUNK_BIN);
-        out.extend(b);
-        out
+        glb::build(json.as_bytes(), Some(bin))
     }
 
     /// The cube as a glTF with its buffer in a base64 data URI, with `edit` applied.
@@ -538,7 +875,10 @@ mod tests {
                 s.replacen(from, to, 1)
             });
             let e = parse(&bytes, "m.gltf").map(|_| ()).unwrap_err().to_string();
-            assert!(e.starts_with("m.gltf: mesh 0 primitive 0: "), "{why}: {e}");
+            assert!(
+                e.starts_with("m.gltf: node 0, mesh 0, primitive 0: "),
+                "{why}: {e}"
+            );
             assert!(e.contains(msg), "{why}: {e}");
         }
     }
@@ -549,7 +889,13 @@ mod tests {
     fn a_node_cycle_ends() {
         let bytes =
             embedded(|s| s.replacen(r#"{"translation":[3,0,0]}"#, r#"{"children":[0]}"#, 1));
-        assert_is_the_cube(&parse(&bytes, "m.gltf").unwrap());
+        let mut m = parse(&bytes, "m.gltf").unwrap();
+        assert_eq!(
+            m.warnings,
+            ["node 0 is reached a second time (the node hierarchy must be a forest): drawn once"]
+        );
+        m.warnings.clear();
+        assert_is_the_cube(&m);
     }
 
     /// Random byte corruptions of a valid GLB (header, chunk headers, JSON text and binary
@@ -593,5 +939,404 @@ mod tests {
             "m.gltf: malformed glTF: invalid glTF: \
              meshes[0].primitives[0].attributes[\"POSITION\"]: Index out of bounds;"
         );
+    }
+}
+
+/// Scenes: nodes, transforms, instancing, sparse accessors, primitive modes. Each test writes a
+/// small GLB with [`scene_tests::Doc`].
+#[cfg(test)]
+mod scene_tests {
+    use super::*;
+
+    /// A glTF document under construction: one binary buffer, its views and accessors.
+    #[derive(Default)]
+    pub(super) struct Doc {
+        bin: Vec<u8>,
+        views: Vec<String>,
+        accessors: Vec<String>,
+    }
+
+    impl Doc {
+        /// A buffer view over `bytes` (appended to the buffer, 4-byte aligned).
+        fn view(&mut self, bytes: &[u8]) -> usize {
+            let at = self.bin.len();
+            self.bin.extend(bytes);
+            self.bin.resize(self.bin.len().div_ceil(4) * 4, 0);
+            self.views.push(format!(
+                r#"{{"buffer":0,"byteOffset":{at},"byteLength":{}}}"#,
+                bytes.len()
+            ));
+            self.views.len() - 1
+        }
+
+        fn f32s(v: &[[f32; 3]]) -> Vec<u8> {
+            v.iter().flatten().flat_map(|c| c.to_le_bytes()).collect()
+        }
+
+        /// A `VEC3`/`FLOAT` accessor of `v` (with `min`/`max`).
+        pub(super) fn vec3(&mut self, v: &[[f32; 3]]) -> usize {
+            let view = self.view(&Self::f32s(v));
+            let (mut lo, mut hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
+            for p in v {
+                for k in 0..3 {
+                    lo[k] = lo[k].min(p[k]);
+                    hi[k] = hi[k].max(p[k]);
+                }
+            }
+            self.accessor(format!(
+                r#"{{"bufferView":{view},"componentType":5126,"count":{},"type":"VEC3","min":{lo:?},"max":{hi:?}}}"#,
+                v.len()
+            ))
+        }
+
+        /// A `VEC3`/`FLOAT` accessor of `count` elements: `base` (or zeros when `None`, no
+        /// buffer view) with the sparse `values` at `at` (u16 indices, in the given order).
+        pub(super) fn sparse_vec3(
+            &mut self,
+            count: usize,
+            base: Option<&[[f32; 3]]>,
+            at: &[u16],
+            values: &[[f32; 3]],
+            minmax: &str,
+        ) -> usize {
+            let base = base
+                .map(|b| format!(r#""bufferView":{},"#, self.view(&Self::f32s(b))))
+                .unwrap_or_default();
+            let ix: Vec<u8> = at.iter().flat_map(|x| x.to_le_bytes()).collect();
+            let iv = self.view(&ix);
+            let vv = self.view(&Self::f32s(values));
+            self.accessor(format!(
+                r#"{{{base}"componentType":5126,"count":{count},"type":"VEC3"{minmax},"sparse":{{"count":{},"indices":{{"bufferView":{iv},"componentType":5123}},"values":{{"bufferView":{vv}}}}}}}"#,
+                at.len()
+            ))
+        }
+
+        fn accessor(&mut self, json: String) -> usize {
+            self.accessors.push(json);
+            self.accessors.len() - 1
+        }
+
+        /// The GLB with `rest` (scenes, nodes, meshes: JSON members without braces).
+        pub(super) fn glb(&self, rest: &str) -> Vec<u8> {
+            let json = format!(
+                r#"{{"asset":{{"version":"2.0"}},{rest},"buffers":[{{"byteLength":{}}}],"bufferViews":[{}],"accessors":[{}]}}"#,
+                self.bin.len(),
+                self.views.join(","),
+                self.accessors.join(",")
+            );
+            glb::build(json.as_bytes(), Some(&self.bin))
+        }
+    }
+
+    /// The unit right triangle in the xy plane, normals `+z`: (POSITION, NORMAL) accessors.
+    fn triangle(d: &mut Doc) -> (usize, usize) {
+        (
+            d.vec3(&[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]),
+            d.vec3(&[[0.0, 0.0, 1.0]; 3]),
+        )
+    }
+
+    fn load(d: &Doc, rest: &str) -> LoadedMesh {
+        parse(&d.glb(rest), "s.glb").unwrap()
+    }
+
+    fn close(a: DVec3, b: DVec3) -> bool {
+        (a - b).length() < 1e-6
+    }
+
+    /// The unit face normal of loaded triangle `t`.
+    fn face(m: &Mesh, t: usize) -> DVec3 {
+        let (p, _) = m.triangle(t);
+        (p[1] - p[0]).cross(p[2] - p[0]).normalize()
+    }
+
+    #[test]
+    fn instanced_meshes_are_drawn_once_per_node() {
+        let mut d = Doc::default();
+        let (p, n) = triangle(&mut d);
+        let m = load(
+            &d,
+            &format!(
+                r#""scene":0,"scenes":[{{"nodes":[0,1]}}],
+"nodes":[{{"mesh":0,"translation":[5,0,0]}},{{"mesh":0,"translation":[0,5,0]}}],
+"meshes":[{{"primitives":[{{"attributes":{{"POSITION":{p},"NORMAL":{n}}}}}]}}]"#
+            ),
+        );
+        assert!(m.warnings.is_empty(), "{:?}", m.warnings);
+        assert_eq!(m.mesh.triangles.len(), 2);
+        let (a, _) = m.mesh.triangle(0);
+        let (b, _) = m.mesh.triangle(1);
+        assert!(close(a[1], DVec3::new(6.0, 0.0, 0.0)), "{a:?}");
+        assert!(close(b[2], DVec3::new(0.0, 6.0, 0.0)), "{b:?}");
+    }
+
+    #[test]
+    fn transforms_compose_down_the_hierarchy() {
+        let mut d = Doc::default();
+        let (p, n) = triangle(&mut d);
+        // Parent: translate (1, 0, 0) after a 90° turn about z; child: scale 2; grandchild: a
+        // matrix translating (0, 0, 3) (column-major). Vertex (1, 0, 0) of the grandchild:
+        // (1, 0, 3) → scale (2, 0, 6) → turn (0, 2, 6) → translate (1, 2, 6).
+        let h = std::f32::consts::FRAC_1_SQRT_2;
+        let m = load(
+            &d,
+            &format!(
+                r#""scene":0,"scenes":[{{"nodes":[0]}}],
+"nodes":[{{"translation":[1,0,0],"rotation":[0,0,{h},{h}],"children":[1]}},{{"scale":[2,2,2],"children":[2]}},
+{{"mesh":0,"matrix":[1,0,0,0, 0,1,0,0, 0,0,1,0, 0,0,3,1]}}],
+"meshes":[{{"primitives":[{{"attributes":{{"POSITION":{p},"NORMAL":{n}}}}}]}}]"#
+            ),
+        );
+        let (v, nn) = m.mesh.triangle(0);
+        assert!(close(v[0], DVec3::new(1.0, 0.0, 6.0)), "{v:?}");
+        assert!(close(v[1], DVec3::new(1.0, 2.0, 6.0)), "{v:?}");
+        assert!(close(v[2], DVec3::new(-1.0, 0.0, 6.0)), "{v:?}");
+        assert!(close(nn[0], DVec3::Z), "{nn:?}");
+    }
+
+    #[test]
+    fn non_uniform_scale_transforms_normals_by_the_inverse_transpose() {
+        let mut d = Doc::default();
+        let p = d.vec3(&[[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]);
+        let k = 1.0 / 3f32.sqrt();
+        let n = d.vec3(&[[k, k, k]; 3]);
+        let m = load(
+            &d,
+            &format!(
+                r#""scene":0,"scenes":[{{"nodes":[0]}}],"nodes":[{{"mesh":0,"scale":[1,2,4]}}],
+"meshes":[{{"primitives":[{{"attributes":{{"POSITION":{p},"NORMAL":{n}}}}}]}}]"#
+            ),
+        );
+        let (v, nn) = m.mesh.triangle(0);
+        // M = diag(1, 2, 4): (M⁻¹)ᵀ n ∝ (1, 1/2, 1/4), the normal of the scaled plane
+        // x + y/2 + z/4 = 1 through the scaled vertices.
+        let want = DVec3::new(1.0, 0.5, 0.25).normalize();
+        for x in nn {
+            assert!(close(x, want), "{x:?} vs {want:?}");
+        }
+        assert!(close(face(&m.mesh, 0), want));
+        assert!(close(v[2], DVec3::new(0.0, 0.0, 4.0)));
+        // The plain (wrong) transform M n would not be perpendicular to the surface.
+        let wrong = DVec3::new(1.0, 2.0, 4.0).normalize();
+        assert!(wrong.dot(want) < 0.8);
+    }
+
+    #[test]
+    fn mirroring_transforms_keep_triangles_counter_clockwise() {
+        let mut d = Doc::default();
+        let (p, n) = triangle(&mut d);
+        let m = load(
+            &d,
+            &format!(
+                r#""scene":0,"scenes":[{{"nodes":[0]}}],"nodes":[{{"mesh":0,"scale":[-1,1,1]}}],
+"meshes":[{{"primitives":[{{"attributes":{{"POSITION":{p},"NORMAL":{n}}}}}]}}]"#
+            ),
+        );
+        let (_, nn) = m.mesh.triangle(0);
+        assert!(close(nn[0], DVec3::Z), "{nn:?}");
+        assert!(close(face(&m.mesh, 0), DVec3::Z), "winding flipped");
+    }
+
+    #[test]
+    fn sparse_accessors_are_applied() {
+        let mut d = Doc::default();
+        // Positions: base triangle, vertex 2 replaced by (0, 3, 0); normals: no base (zeros),
+        // every element given sparsely.
+        let base = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+        let p = d.sparse_vec3(
+            3,
+            Some(&base),
+            &[2],
+            &[[0.0, 3.0, 0.0]],
+            r#","min":[0,0,0],"max":[1,3,0]"#,
+        );
+        let n = d.sparse_vec3(3, None, &[0, 1, 2], &[[0.0, 0.0, 1.0]; 3], "");
+        let rest = format!(
+            r#""scene":0,"scenes":[{{"nodes":[0]}}],"nodes":[{{"mesh":0}}],
+"meshes":[{{"primitives":[{{"attributes":{{"POSITION":{p},"NORMAL":{n}}}}}]}}]"#
+        );
+        let m = load(&d, &rest);
+        let (v, nn) = m.mesh.triangle(0);
+        assert!(close(v[2], DVec3::new(0.0, 3.0, 0.0)), "{v:?}");
+        assert!(close(v[1], DVec3::X), "{v:?}");
+        assert!(nn.iter().all(|&x| close(x, DVec3::Z)), "{nn:?}");
+        assert!(!m.computed_normals);
+        // Sparse indices must strictly increase: out of order is an error naming the accessor.
+        let mut d = Doc::default();
+        let p = d.sparse_vec3(
+            3,
+            Some(&base),
+            &[2, 1],
+            &[[0.0, 3.0, 0.0]; 2],
+            r#","min":[0,0,0],"max":[1,3,0]"#,
+        );
+        // This document has one accessor: it serves as POSITION and NORMAL.
+        assert_eq!(p, 0);
+        let e = parse(
+            &d.glb(&rest.replace(&format!(r#""NORMAL":{n}"#), r#""NORMAL":0"#)),
+            "s.glb",
+        )
+        .map(|_| ())
+        .unwrap_err()
+        .to_string();
+        assert!(
+            e.contains("node 0, mesh 0, primitive 0: POSITION accessor 0, sparse indices: index 1 is 1, not above the previous 2"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn non_indexed_strips_and_fans_are_triangles() {
+        let mut d = Doc::default();
+        // Two triangles, non-indexed.
+        let list = d.vec3(&[
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [1.0, 1.0, 0.0],
+            [0.0, 1.0, 0.0],
+        ]);
+        // A strip and a fan over the unit square, 4 vertices each (2 triangles each).
+        let strip = d.vec3(&[
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [1.0, 1.0, 0.0],
+        ]);
+        let fan = d.vec3(&[
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [1.0, 1.0, 0.0],
+            [0.0, 1.0, 0.0],
+        ]);
+        let m = load(
+            &d,
+            &format!(
+                r#""scene":0,"scenes":[{{"nodes":[0]}}],"nodes":[{{"mesh":0}}],
+"meshes":[{{"primitives":[{{"attributes":{{"POSITION":{list}}}}},
+{{"attributes":{{"POSITION":{strip}}},"mode":5}},{{"attributes":{{"POSITION":{fan}}},"mode":6}}]}}]"#
+            ),
+        );
+        assert_eq!(m.mesh.triangles.len(), 6);
+        assert!(m.computed_normals);
+        for t in 0..6 {
+            assert!(
+                close(face(&m.mesh, t), DVec3::Z),
+                "triangle {t} is not counter-clockwise"
+            );
+        }
+    }
+
+    #[test]
+    fn skipped_modes_name_the_mesh_and_its_nodes() {
+        let mut d = Doc::default();
+        let (p, n) = triangle(&mut d);
+        let m = load(
+            &d,
+            &format!(
+                r#""scene":0,"scenes":[{{"nodes":[0,1,2]}}],
+"nodes":[{{"name":"Body","mesh":0}},{{"name":"Wire","mesh":1}},{{"name":"Wire.001","mesh":1,"translation":[0,0,1]}}],
+"meshes":[{{"name":"body","primitives":[{{"attributes":{{"POSITION":{p},"NORMAL":{n}}}}}]}},
+{{"name":"wire","primitives":[{{"attributes":{{"POSITION":{p}}},"mode":1}},{{"attributes":{{"POSITION":{p}}},"mode":0}}]}}]"#
+            ),
+        );
+        assert_eq!(m.mesh.triangles.len(), 1);
+        assert_eq!(
+            m.warnings,
+            [
+                r#"mesh 1 "wire", primitive 0 (drawn by node 1 "Wire", node 2 "Wire.001"): mode Lines is not triangles, skipped"#,
+                r#"mesh 1 "wire", primitive 1 (drawn by node 1 "Wire", node 2 "Wire.001"): mode Points is not triangles, skipped"#,
+            ]
+        );
+    }
+
+    #[test]
+    fn the_default_scene_is_drawn_and_its_absence_handled() {
+        let mut d = Doc::default();
+        let (p, n) = triangle(&mut d);
+        let meshes = format!(
+            r#""meshes":[{{"primitives":[{{"attributes":{{"POSITION":{p},"NORMAL":{n}}}}}]}}]"#
+        );
+        let nodes = r#""nodes":[{"mesh":0,"children":[1]},{"mesh":0,"translation":[0,0,2]},{"mesh":0,"translation":[0,0,9]}]"#;
+        // Scene 1 is the default: node 2 only.
+        let m = load(
+            &d,
+            &format!(r#""scene":1,"scenes":[{{"nodes":[0]}},{{"nodes":[2]}}],{nodes},{meshes}"#),
+        );
+        assert_eq!(m.mesh.triangles.len(), 1);
+        assert_eq!(m.mesh.triangle(0).0[0].z, 9.0);
+        assert!(
+            m.warnings[0].starts_with("drawing scene 1, one of 2"),
+            "{:?}",
+            m.warnings
+        );
+        // No default: the first scene (node 0 and its child).
+        let m = load(
+            &d,
+            &format!(r#""scenes":[{{"nodes":[0]}},{{"nodes":[2]}}],{nodes},{meshes}"#),
+        );
+        assert_eq!(m.mesh.triangles.len(), 2);
+        // No scene: every root node (0 with its child 1, and 2).
+        let m = load(&d, &format!("{nodes},{meshes}"));
+        assert_eq!(m.mesh.triangles.len(), 3);
+        assert_eq!(
+            m.warnings,
+            ["the file has no scene: drawing every root node"]
+        );
+        // No nodes: each mesh once.
+        let m = load(&d, &meshes);
+        assert_eq!(m.mesh.triangles.len(), 1);
+    }
+
+    #[test]
+    fn singular_and_invalid_transforms() {
+        let mut d = Doc::default();
+        let (p, n) = triangle(&mut d);
+        let meshes = format!(
+            r#""meshes":[{{"name":"tri","primitives":[{{"attributes":{{"POSITION":{p},"NORMAL":{n}}}}}]}}]"#
+        );
+        let m = load(
+            &d,
+            &format!(
+                r#""scene":0,"scenes":[{{"nodes":[0,1]}}],"nodes":[{{"name":"Flat","mesh":0,"scale":[1,0,1]}},{{"mesh":0}}],{meshes}"#
+            ),
+        );
+        assert_eq!(m.mesh.triangles.len(), 1);
+        assert_eq!(
+            m.warnings,
+            [
+                r#"node 0 "Flat": its world transform is singular (a zero scale), mesh 0 "tri" skipped"#
+            ]
+        );
+        let e = parse(
+            &d.glb(&format!(
+                r#""scene":0,"scenes":[{{"nodes":[0]}}],"nodes":[{{"name":"Spin","mesh":0,"rotation":[0,0,0,0]}}],{meshes}"#
+            )),
+            "s.glb",
+        )
+        .map(|_| ())
+        .unwrap_err()
+        .to_string();
+        assert_eq!(
+            e,
+            r#"s.glb: node 0 "Spin": rotation [0.0, 0.0, 0.0, 0.0] is not a unit quaternion"#
+        );
+    }
+
+    #[test]
+    fn written_glbs_load_back() {
+        let m = crate::scenes::torus(4, 4, 1.0, 0.4);
+        let bytes = write_glb(&m, "test \"quoted\"").unwrap();
+        let back = parse(&bytes, "t.glb").unwrap();
+        assert!(back.warnings.is_empty() && !back.computed_normals);
+        assert_eq!(back.mesh.triangles.len(), m.triangles.len());
+        for t in 0..m.triangles.len() {
+            let ((p, n), (q, k)) = (back.mesh.triangle(t), m.triangle(t));
+            for c in 0..3 {
+                assert!(close(p[c], q[c]) && close(n[c], k[c].normalize()));
+            }
+        }
+        assert!(write_glb(&Mesh::default(), "x").is_err());
     }
 }

@@ -1,9 +1,11 @@
-//! Triangle meshes: the [`Mesh`] type, vertex-normal generation, and loading from files
-//! ([`load`] picks the loader by extension: [`obj`], [`ply`], [`gltf`] for `.gltf` and `.glb`,
-//! the latter's container checked by [`glb`] first).
+//! Triangle meshes: the [`Mesh`] type, vertex-normal generation, loading from files ([`load`],
+//! or [`parse`] on bytes, picks the loader by extension: [`obj`], [`ply`], [`gltf`] for `.gltf`
+//! and `.glb`, the latter's container checked by [`glb`] first) and writing them ([`save`], or
+//! [`encode`] to bytes: OBJ, binary PLY, GLB).
 //!
 //! Triangle ids are the order of triangles in the file after fan-triangulating polygons, over
-//! all objects/primitives in file order. Vertex normals come from the file (per corner); where a
+//! all objects/primitives in file order (glTF: primitives in the order their nodes are met,
+//! depth-first through the default scene, once per node that draws the mesh). Vertex normals come from the file (per corner); where a
 //! file has none, angle-weighted vertex normals are computed ([`LoadedMesh::computed_normals`]).
 
 use std::collections::HashMap;
@@ -66,23 +68,48 @@ pub struct LoadedMesh {
     pub warnings: Vec<String>,
 }
 
-/// Reads a mesh, choosing the format by extension (`.obj`, `.ply`, `.gltf`, `.glb`).
-pub fn load(path: &str) -> Result<LoadedMesh> {
-    let ext = Path::new(path)
+/// The lower-case extension of `path`, if it has one.
+pub fn extension(path: &str) -> Option<String> {
+    Path::new(path)
         .extension()
         .and_then(|e| e.to_str())
         .map(|e| e.to_ascii_lowercase())
-        .unwrap_or_default();
+}
+
+/// Reads a mesh, choosing the format by extension (`.obj`, `.ply`, `.gltf`, `.glb`).
+pub fn load(path: &str) -> Result<LoadedMesh> {
+    format_of(
+        path,
+        "obj, .ply, .gltf or .glb",
+        &["obj", "ply", "gltf", "glb"],
+    )?;
+    let bytes = std::fs::read(path).map_err(|e| DemoError::io(path, e))?;
+    parse(&bytes, path)
+}
+
+/// The extension of `path` when it is one of `allowed`; else a format error listing `expected`.
+fn format_of(path: &str, expected: &str, allowed: &[&str]) -> Result<String> {
+    match extension(path) {
+        Some(e) if allowed.contains(&e.as_str()) => Ok(e),
+        _ => Err(DemoError::format(
+            path,
+            format!("unknown mesh format (expected .{expected})"),
+        )),
+    }
+}
+
+/// Parses the bytes of a mesh file, the format chosen by the extension of `path` as in
+/// [`load`] (`path` also names the file in messages and anchors a glTF's external buffers).
+pub fn parse(bytes: &[u8], path: &str) -> Result<LoadedMesh> {
+    let ext = format_of(
+        path,
+        "obj, .ply, .gltf or .glb",
+        &["obj", "ply", "gltf", "glb"],
+    )?;
     let out = match ext.as_str() {
-        "obj" => obj::load(path)?,
-        "ply" => ply::load(path)?,
-        "gltf" | "glb" => gltf::load(path)?,
-        _ => {
-            return Err(DemoError::format(
-                path,
-                "unknown mesh format (expected .obj, .ply, .gltf or .glb)",
-            ));
-        }
+        "obj" => obj::parse(&String::from_utf8_lossy(bytes), path)?,
+        "ply" => ply::parse(bytes, path)?,
+        _ => gltf::parse(bytes, path)?,
     };
     if out.mesh.triangles.is_empty() {
         return Err(DemoError::Empty {
@@ -90,6 +117,36 @@ pub fn load(path: &str) -> Result<LoadedMesh> {
         });
     }
     Ok(out)
+}
+
+/// The bytes of `mesh` in the format of `path`'s extension: `.obj` ([`obj::write`]), `.ply`
+/// (binary, [`ply::write`]) or `.glb` ([`gltf::write_glb`], always `f32`). Numbers are written
+/// in `precision` where the format allows; `comment` goes into the file's comment lines (OBJ,
+/// PLY) or `asset.generator` (glTF).
+pub fn encode(
+    mesh: &Mesh,
+    path: &str,
+    precision: crate::tracer::Precision,
+    comment: &str,
+) -> Result<Vec<u8>> {
+    let ext = format_of(path, "obj, .ply or .glb", &["obj", "ply", "glb"])?;
+    Ok(match ext.as_str() {
+        "obj" => obj::write(mesh, precision, comment),
+        "ply" => ply::write(mesh, precision, comment),
+        _ => gltf::write_glb(mesh, comment)?,
+    })
+}
+
+/// Writes `mesh` to `path` ([`encode`]); returns the number of bytes written.
+pub fn save(
+    mesh: &Mesh,
+    path: &str,
+    precision: crate::tracer::Precision,
+    comment: &str,
+) -> Result<usize> {
+    let bytes = encode(mesh, path, precision, comment)?;
+    std::fs::write(path, &bytes).map_err(|e| DemoError::io(path, e))?;
+    Ok(bytes.len())
 }
 
 /// One triangle corner as a loader reads it: an index into [`Builder::positions`] and the

@@ -1,9 +1,12 @@
-//! Wavefront OBJ: an own line parser whose errors name `file:line`.
+//! Wavefront OBJ: an own line parser whose errors name `file:line`, and a writer ([`write()`]).
+
+use std::fmt::Write as _;
 
 use glam::DVec3;
 
-use super::{Builder, LoadedMesh};
+use super::{Builder, LoadedMesh, Mesh};
 use crate::error::{DemoError, Result};
+use crate::tracer::Precision;
 
 /// Reads and parses an OBJ file (invalid UTF-8 is replaced, not rejected).
 pub fn load(path: &str) -> Result<LoadedMesh> {
@@ -134,4 +137,34 @@ pub fn parse(text: &str, path: &str) -> Result<LoadedMesh> {
         }
     }
     Ok(Builder { positions, tris }.into_loaded(Vec::new()))
+}
+
+/// OBJ text of `mesh`: `comment` as `#` lines, then `v x y z`, `vn nx ny nz` (unit length) and
+/// `f a//a b//b c//c` (1-based; positions and normals share indices). Numbers are printed
+/// shortest-round-trip in `precision`, so they read back exactly in it.
+pub fn write(mesh: &Mesh, precision: Precision, comment: &str) -> Vec<u8> {
+    let mut s = String::new();
+    for line in comment.lines() {
+        let _ = writeln!(s, "# {line}");
+    }
+    let mut vec3 = |kw: &str, v: DVec3| {
+        let _ = match precision {
+            Precision::F32 => {
+                let [x, y, z] = v.as_vec3().to_array();
+                writeln!(s, "{kw} {x} {y} {z}")
+            }
+            Precision::F64 => writeln!(s, "{kw} {} {} {}", v.x, v.y, v.z),
+        };
+    };
+    for p in &mesh.positions {
+        vec3("v", *p);
+    }
+    for n in &mesh.normals {
+        vec3("vn", n.normalize_or_zero());
+    }
+    for t in &mesh.triangles {
+        let [a, b, c] = t.map(|i| i as u64 + 1);
+        let _ = writeln!(s, "f {a}//{a} {b}//{b} {c}//{c}");
+    }
+    s.into_bytes()
 }

@@ -1,9 +1,11 @@
-//! Stanford PLY (ASCII and binary) through the `ply-rs-bw` crate.
+//! Stanford PLY (ASCII and binary): read through the `ply-rs-bw` crate, written
+//! ([`write()`]) as binary little-endian by hand.
 
 use glam::DVec3;
 
-use super::{Builder, LoadedMesh};
+use super::{Builder, LoadedMesh, Mesh};
 use crate::error::{DemoError, Result};
+use crate::tracer::Precision;
 
 fn prop_f64(p: &ply_rs_bw::ply::Property) -> Option<f64> {
     use ply_rs_bw::ply::Property as P;
@@ -36,8 +38,13 @@ fn prop_list(p: &ply_rs_bw::ply::Property) -> Option<Vec<i64>> {
 /// Reads a PLY file: `vertex` elements with `x, y, z` (and optionally `nx, ny, nz`), `face`
 /// elements with a `vertex_indices` (or `vertex_index`) list, fan-triangulated.
 pub fn load(path: &str) -> Result<LoadedMesh> {
-    let file = std::fs::File::open(path).map_err(|e| DemoError::io(path, e))?;
-    let mut reader = std::io::BufReader::new(file);
+    let bytes = std::fs::read(path).map_err(|e| DemoError::io(path, e))?;
+    parse(&bytes, path)
+}
+
+/// Parses the bytes of a PLY file (see [`load`]); `path` names it in messages.
+pub fn parse(bytes: &[u8], path: &str) -> Result<LoadedMesh> {
+    let mut reader = bytes;
     let parser = ply_rs_bw::parser::Parser::<ply_rs_bw::ply::DefaultElement>::new();
     let ply = parser
         .read_ply(&mut reader)
@@ -111,4 +118,47 @@ pub fn load(path: &str) -> Result<LoadedMesh> {
         }
     }
     Ok(Builder { positions, tris }.into_loaded(Vec::new()))
+}
+
+/// A binary little-endian PLY of `mesh`: `vertex` elements with `x, y, z, nx, ny, nz` (`float`
+/// for [`Precision::F32`], `double` for [`Precision::F64`]; normals unit length), `face`
+/// elements with a `uchar`-counted `uint` list `vertex_indices`, and `comment` lines, one per
+/// line of `comment`.
+pub fn write(mesh: &Mesh, precision: Precision, comment: &str) -> Vec<u8> {
+    let ty = match precision {
+        Precision::F32 => "float",
+        Precision::F64 => "double",
+    };
+    let mut head = String::from("ply\nformat binary_little_endian 1.0\n");
+    for line in comment.lines() {
+        head += &format!("comment {line}\n");
+    }
+    head += &format!("element vertex {}\n", mesh.positions.len());
+    for c in ["x", "y", "z", "nx", "ny", "nz"] {
+        head += &format!("property {ty} {c}\n");
+    }
+    head += &format!(
+        "element face {}\nproperty list uchar uint vertex_indices\nend_header\n",
+        mesh.triangles.len()
+    );
+    let mut out = head.into_bytes();
+    for (p, n) in mesh.positions.iter().zip(&mesh.normals) {
+        for c in p
+            .to_array()
+            .into_iter()
+            .chain(n.normalize_or_zero().to_array())
+        {
+            match precision {
+                Precision::F32 => out.extend((c as f32).to_le_bytes()),
+                Precision::F64 => out.extend(c.to_le_bytes()),
+            }
+        }
+    }
+    for t in &mesh.triangles {
+        out.push(3);
+        for i in t {
+            out.extend(i.to_le_bytes());
+        }
+    }
+    out
 }
