@@ -3,8 +3,9 @@
 mod common;
 use common::*;
 use glam::{DVec3, Vec3};
-use smoothtri::bvh::MAX_DEPTH;
-use smoothtri::{Bvh, BvhError, BvhNode, DPatch, DRay, Patch, Ray};
+use smoothtri::accuracy::F64_SPHERE_HIT;
+use smoothtri::bvh::{MAX_DEPTH, MAX_LEAF};
+use smoothtri::{Bvh, BvhError, BvhNode, DPatch, DRay, Float, Hit, Patch, Ray};
 use smoothtri_demo::scenes::{icosphere, torus};
 
 #[test]
@@ -21,7 +22,7 @@ fn closest_and_any_hit_equal_brute_force() {
     let bvh = Bvh::build(&ps, &mut nodes, &mut order).unwrap();
     assert!(bvh.node_count() < 2 * ps.len());
     let mut rng = Rng(11);
-    let (mut hits, mut tested) = (0, 0);
+    let (mut hits, mut tested, mut ties) = (0, 0, 0u32);
     for _ in 0..3000 {
         let o = rng.unit() * rng.range(2.0, 6.0);
         let aim = rng.unit() * 1.5 * rng.f();
@@ -38,28 +39,40 @@ fn closest_and_any_hit_equal_brute_force() {
         match (got, want) {
             (Some(g), Some((t, id))) => {
                 hits += 1;
-                assert!((g.t - t).abs() <= 1e-6 * t.abs().max(1.0), "{} vs {t}", g.t);
-                if g.patch != id {
-                    // Two patches at the same t (shared edge): both answers are right.
-                    assert!((g.t - t).abs() <= 1e-6);
-                }
+                // The same hit, bit for bit: the BVH runs the same kernel over the same range.
+                // Two patches can tie (a ray through a shared edge): then the other patch's hit
+                // is at exactly the same t.
+                assert_eq!(g.t, t, "bvh patch {} vs brute force patch {id}", g.patch);
+                let mine = ps[g.patch as usize].intersect::<6>(&ray, 0.0, f32::INFINITY);
+                assert_eq!(
+                    mine.map(|h| Hit {
+                        patch: g.patch,
+                        ..h
+                    }),
+                    Some(g)
+                );
+                ties += (g.patch != id) as u32;
             }
             (None, None) => {}
             (g, w) => panic!("bvh {g:?} vs brute force {w:?}"),
         }
         let any = bvh.any_hit::<6>(&ray, 0.0, f32::INFINITY).unwrap();
         assert_eq!(any, want.is_some());
-        // Shadow-ray style query bounded before the first hit: nothing.
+        // Shadow-ray style query bounded before the first hit: nothing, like brute force.
         if let Some((t, _)) = want {
+            let short = t * 0.999;
+            let brute = ps
+                .iter()
+                .any(|p| p.intersect::<6>(&ray, 0.0, short).is_some());
+            assert!(!brute, "brute force hits before the closest hit {t}");
             assert!(
-                !bvh.any_hit::<6>(&ray, 0.0, t * 0.999).unwrap()
-                    || ps
-                        .iter()
-                        .any(|p| p.intersect::<6>(&ray, 0.0, t * 0.999).is_some())
+                !bvh.any_hit::<6>(&ray, 0.0, short).unwrap(),
+                "shadow ray hits"
             );
         }
         tested += 1;
     }
+    eprintln!("{hits} hits of {tested} rays, {ties} ties between patches");
     assert!(hits > 500 && tested == 3000, "{hits} hits");
 }
 
@@ -81,7 +94,11 @@ fn f64_scene_and_flat_leaf_test() {
         let ray = DRay::new(o, rng.unit() * 0.5 - o);
         let smooth = bvh.closest_hit::<8>(&ray, 0.0, f64::INFINITY).unwrap();
         if let Some(h) = smooth {
-            assert!((h.point.length() - 1.0).abs() < 1e-12);
+            assert!(
+                (h.point.length() - 1.0).abs() <= F64_SPHERE_HIT,
+                "{}",
+                h.point
+            );
         }
         let flat = bvh
             .closest_with(&ray, 0.0, f64::INFINITY, |p, a, b| {
@@ -116,17 +133,12 @@ fn errors_are_reported() {
             indices: 3
         }
     );
-    // Corrupted storage: a node whose children point back to the root.
+    // Default nodes: interior nodes whose children are nodes 0 and 1, a cycle.
     let bad = vec![BvhNode::<f32>::default(); 2];
-    let bvh = Bvh::from_parts(&ps, &bad, &order);
     let ray = Ray::new(Vec3::ZERO, Vec3::ONE);
-    let r = bvh.closest_hit::<4>(&ray, -10.0, 10.0);
-    assert!(
-        matches!(
-            r,
-            Err(BvhError::CorruptTree) | Err(BvhError::StackOverflow) | Ok(None)
-        ),
-        "{r:?}"
+    assert_eq!(
+        Bvh::from_parts(&ps, &bad, &order).closest_hit::<4>(&ray, -10.0, 10.0),
+        Err(BvhError::CorruptTree)
     );
     for e in [
         BvhError::EmptyScene,
@@ -138,10 +150,117 @@ fn errors_are_reported() {
     }
 }
 
+/// Storage not made by `Bvh::build` over these patches (handed to `Bvh::from_parts`) is
+/// detected, each way it can point outside itself, with exactly the error documented for it.
 #[test]
-fn degenerate_geometry_keeps_depth_bounded() {
-    // Many patches with identical boxes: SAH finds no split; the depth bound still holds and
-    // queries see every patch.
+fn corrupt_storage_is_reported() {
+    // Eight sphere octants along x; the ray runs along x through all of them.
+    let octant = |x: f32| {
+        let p = [Vec3::X, Vec3::Y, Vec3::Z];
+        Patch::<f32>::new(p.map(|v| v + Vec3::X * x), p).unwrap()
+    };
+    let ps: Vec<Patch> = (0..8).map(|i| octant(3.0 * i as f32)).collect();
+    let mut nodes = vec![BvhNode::<f32>::default(); Bvh::<f32>::nodes_needed(ps.len())];
+    let mut order = vec![0u32; ps.len()];
+    let used = Bvh::build(&ps, &mut nodes, &mut order)
+        .unwrap()
+        .node_count();
+    let (nodes, order) = (&nodes[..used], &order[..]);
+    let root = nodes[0];
+    assert_eq!(links(&root).1, 0, "the root is an interior node");
+    let ray = Ray::new(Vec3::new(-5.0, 0.3, 0.3), Vec3::X);
+    let query = |bvh: Bvh<f32>| {
+        let closest = bvh
+            .closest_hit::<4>(&ray, 0.0, f32::INFINITY)
+            .map(|h| h.is_some());
+        let any = bvh.any_hit::<4>(&ray, 0.0, f32::INFINITY);
+        assert_eq!(closest, any, "closest_hit and any_hit disagree");
+        closest
+    };
+    // The intact storage answers.
+    assert_eq!(query(Bvh::from_parts(&ps, nodes, order)), Ok(true));
+    // A child index outside the node storage.
+    assert_eq!(
+        query(Bvh::from_parts(&ps, &nodes[..1], order)),
+        Err(BvhError::CorruptTree)
+    );
+    // Leaf ranges outside the index storage.
+    assert_eq!(
+        query(Bvh::from_parts(&ps, nodes, &order[..0])),
+        Err(BvhError::CorruptTree)
+    );
+    // Patch indices outside the patches.
+    assert_eq!(
+        query(Bvh::from_parts(&ps[..0], nodes, order)),
+        Err(BvhError::CorruptTree)
+    );
+    // A cycle (every node is the root, whose children are nodes 1 and 2): more visits than
+    // nodes.
+    let cycle = vec![root; 3];
+    assert_eq!(
+        query(Bvh::from_parts(&ps, &cycle, order)),
+        Err(BvhError::CorruptTree)
+    );
+    // The same cycle in storage long enough for the traversal stack to fill first.
+    let deep = vec![root; 4 * MAX_DEPTH];
+    assert_eq!(
+        query(Bvh::from_parts(&ps, &deep, order)),
+        Err(BvhError::StackOverflow)
+    );
+}
+
+/// `(first, count)` of a node: its children `first` and `first + 1` (count 0) or its leaf range
+/// `order[first..first + count]`. The fields are private; their public `Debug` form is read.
+fn links<F: Float>(node: &BvhNode<F>) -> (usize, usize) {
+    let text = format!("{node:?}");
+    let field = |name: &str| -> usize {
+        let at = text
+            .find(name)
+            .unwrap_or_else(|| panic!("no {name} in {text}"))
+            + name.len();
+        let digits: String = text[at..]
+            .chars()
+            .take_while(char::is_ascii_digit)
+            .collect();
+        digits.parse().unwrap()
+    };
+    (field("first: "), field("count: "))
+}
+
+/// Depth (levels, the root alone is 1) and largest leaf of the tree in `nodes`, checking that
+/// every node is reached once and every patch index once.
+fn shape<F: Float>(nodes: &[BvhNode<F>], n: usize) -> (usize, usize) {
+    let mut seen = vec![false; nodes.len()];
+    let mut patches = vec![0u32; n];
+    let (mut depth, mut leaf) = (0, 0);
+    let mut stack = vec![(0usize, 1usize)];
+    while let Some((i, level)) = stack.pop() {
+        assert!(!seen[i], "node {i} reached twice");
+        seen[i] = true;
+        depth = depth.max(level);
+        match links(&nodes[i]) {
+            (first, 0) => stack.extend([(first, level + 1), (first + 1, level + 1)]),
+            (first, count) => {
+                leaf = leaf.max(count);
+                for slot in &mut patches[first..first + count] {
+                    *slot += 1;
+                }
+            }
+        }
+    }
+    assert!(seen.iter().all(|&s| s), "unreached nodes");
+    assert!(
+        patches.iter().all(|&c| c == 1),
+        "patch slots not covered once"
+    );
+    (depth, leaf)
+}
+
+/// Many patches with identical boxes: SAH finds no split and the midpoint split falls back to
+/// halving, so the tree is balanced: depth `⌈log2(n / MAX_LEAF)⌉ + 1`, leaves of at most
+/// `MAX_LEAF`; queries see every patch.
+#[test]
+fn identical_boxes_give_a_balanced_tree() {
     let p = DPatch::new(
         [DVec3::X, DVec3::Y, DVec3::Z],
         [DVec3::X, DVec3::Y, DVec3::Z],
@@ -151,12 +270,60 @@ fn degenerate_geometry_keeps_depth_bounded() {
     let mut nodes = vec![BvhNode::default(); Bvh::<f64>::nodes_needed(ps.len())];
     let mut order = vec![0u32; ps.len()];
     let bvh = Bvh::build(&ps, &mut nodes, &mut order).unwrap();
+    let used = bvh.node_count();
     let ray = DRay::new(DVec3::splat(2.0), -DVec3::ONE);
     let h = bvh
         .closest_hit::<8>(&ray, 0.0, f64::INFINITY)
         .unwrap()
         .unwrap();
-    assert!((h.point.length() - 1.0).abs() < 1e-12);
-    assert!(bvh.node_count() <= 2 * ps.len());
-    let _ = MAX_DEPTH;
+    assert!((h.point.length() - 1.0).abs() <= F64_SPHERE_HIT);
+    let mut tested = 0;
+    bvh.closest_with(&ray, 0.0, f64::INFINITY, |p, a, b| {
+        tested += 1;
+        p.intersect::<8>(&ray, a, b)
+    })
+    .unwrap();
+    assert_eq!(tested, ps.len(), "patch tests");
+    assert!(used < 2 * ps.len(), "{used} nodes");
+    let (depth, leaf) = shape(&nodes[..used], ps.len());
+    eprintln!(
+        "{} identical patches: {used} nodes, depth {depth}, largest leaf {leaf}",
+        ps.len()
+    );
+    let balanced = (ps.len() as f64 / MAX_LEAF as f64).log2().ceil() as usize + 1;
+    assert_eq!(depth, balanced, "depth");
+    assert!(leaf <= MAX_LEAF, "leaf of {leaf}");
+}
+
+/// Patches at exponentially growing distances and sizes along a line: every SAH split peels
+/// off the farthest few, so the tree would be a chain as deep as the scene is long; the builder
+/// stops at `MAX_DEPTH` (the last leaf takes what is left) and queries still succeed.
+#[test]
+fn depth_never_exceeds_max_depth() {
+    let octant = [DVec3::X, DVec3::Y, DVec3::Z];
+    let ps: Vec<DPatch> = (0..400)
+        .map(|i| {
+            let s = 1.4f64.powi(i);
+            DPatch::new(octant.map(|v| (v * 0.1 + DVec3::X) * s), octant).unwrap()
+        })
+        .collect();
+    let mut nodes = vec![BvhNode::default(); Bvh::<f64>::nodes_needed(ps.len())];
+    let mut order = vec![0u32; ps.len()];
+    let bvh = Bvh::build(&ps, &mut nodes, &mut order).unwrap();
+    let used = bvh.node_count();
+    // Along the line, through every patch's box.
+    let ray = DRay::new(DVec3::new(-10.0, 0.3, 0.3), DVec3::X);
+    let h = bvh.closest_hit::<8>(&ray, 0.0, f64::INFINITY).unwrap();
+    assert!(h.is_some());
+    assert!(bvh.any_hit::<8>(&ray, 0.0, f64::INFINITY).unwrap());
+    let (depth, leaf) = shape(&nodes[..used], ps.len());
+    eprintln!(
+        "{} patches on a geometric line: {used} nodes, depth {depth}, largest leaf {leaf}",
+        ps.len()
+    );
+    assert!(depth <= MAX_DEPTH, "depth {depth}");
+    assert_eq!(
+        depth, MAX_DEPTH,
+        "the scene should reach the depth limit, or it tests nothing"
+    );
 }

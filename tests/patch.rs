@@ -1,125 +1,274 @@
-//! Properties of the patch construction (docs/METHOD.md §6), f64 and f32, over random inputs.
+//! Properties of the patch construction (docs/METHOD.md §6), f64 and f32, over random inputs,
+//! against the named bounds of [`smoothtri::accuracy`]. Each property prints the worst error it
+//! measured and its seed: `cargo test --release --test patch -- --nocapture`
+//! (`SMOOTHTRI_CASES=<n>` for more cases than the default 256).
 
 mod common;
 use common::*;
 use glam::{DVec3, Vec3};
-use proptest::prelude::*;
+use smoothtri::accuracy::*;
 use smoothtri::{DPatch, Patch, PatchError};
 
 fn to32(v: [DVec3; 3]) -> [Vec3; 3] {
     v.map(|x| x.as_vec3())
 }
 
-proptest! {
-    // Fixed seed and no failure files: CI runs the same 256 cases every time.
-    #![proptest_config(ProptestConfig {
-        cases: 256,
-        failure_persistence: None,
-        rng_seed: proptest::test_runner::RngSeed::Fixed(0x5EED_0003),
-        ..ProptestConfig::default()
-    })]
+/// Seeds of the random cases: a fixed sequence (CI runs the same cases every time), 256 by
+/// default, `SMOOTHTRI_CASES` for long runs.
+fn seeds() -> impl Iterator<Item = u64> {
+    let mut rng = Rng(0x5EED_0003);
+    (0..env_cases(256)).map(move |_| rng.next_u64())
+}
 
-    /// Vertices exact, edges pass through the conjugation lines, edge normals equal the vertex
-    /// normals at the ends (f64 ≤ 1e-12 relative, f32 ≤ 1e-5).
-    #[test]
-    fn interpolates_vertices_and_edges(seed in any::<u64>()) {
+/// Largest of the values seen, with the seed where it was seen.
+#[derive(Clone, Copy, Debug, Default)]
+struct Worst {
+    value: f64,
+    seed: u64,
+}
+
+impl Worst {
+    fn see(&mut self, value: f64, seed: u64) {
+        // NaN counts as the worst.
+        if value.is_nan() || value > self.value {
+            *self = Worst { value, seed };
+        }
+    }
+}
+
+impl std::fmt::Display for Worst {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{:.2e} (seed {:#x})", self.value, self.seed)
+    }
+}
+
+/// Vertices exact, edges pass through the conjugation lines, edge normals equal the vertex
+/// normals at the ends: f64 within [`F64_INTERPOLATION`] of the size, f32 within
+/// [`F32_INTERPOLATION`] of the scale (random triangles, normals ≤ 40°).
+#[test]
+fn interpolates_vertices_and_edges() {
+    let [mut w64, mut w32, mut wn64, mut wn32] = [Worst::default(); 4];
+    for seed in seeds() {
         let mut rng = Rng(seed);
         let (p, n) = random_patch(&mut rng, 40.0);
-        let size = (p[1] - p[0]).length().max((p[2] - p[0]).length()).max((p[2] - p[1]).length());
+        let size = (p[1] - p[0])
+            .length()
+            .max((p[2] - p[0]).length())
+            .max((p[2] - p[1]).length());
         let scale = p.iter().fold(size, |m, x| m.max(x.abs().max_element()));
         let patch = DPatch::new(p, n).unwrap();
         let p32: Patch = Patch::new(to32(p), to32(n)).unwrap();
+        // Relative errors of this case: f64 points, f32 points, f64 normals, f32 normals.
+        let (mut e64, mut e32, mut en64, mut en32) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
         let corners = [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0)];
         for (k, &(w1, w2)) in corners.iter().enumerate() {
-            assert_vec_close!(patch.point(w1, w2), p[k], 1e-12 * size);
-            assert_vec_close!(p32.point(w1 as f32, w2 as f32).as_dvec3(), p[k], 1e-5 * scale);
+            e64 = e64.max((patch.point(w1, w2) - p[k]).length() / size);
+            e32 = e32.max((p32.point(w1 as f32, w2 as f32).as_dvec3() - p[k]).length() / scale);
         }
         for edge in 0..3 {
             let (_, n_start) = patch.edge_point_normal(edge, 0.0);
             let (_, n_end) = patch.edge_point_normal(edge, 1.0);
-            assert_vec_close!(n_start, n[edge].normalize(), 1e-12);
-            assert_vec_close!(n_end, n[(edge + 1) % 3].normalize(), 1e-12);
+            en64 = en64.max((n_start - n[edge].normalize()).length());
+            en64 = en64.max((n_end - n[(edge + 1) % 3].normalize()).length());
             let (_, m_start) = p32.edge_point_normal(edge, 0.0);
-            assert_vec_close!(m_start.as_dvec3(), n[edge].normalize(), 1e-5);
+            let (_, m_end) = p32.edge_point_normal(edge, 1.0);
+            en32 = en32.max((m_start.as_dvec3() - n[edge].normalize()).length());
+            en32 = en32.max((m_end.as_dvec3() - n[(edge + 1) % 3].normalize()).length());
             for t in [0.1, 0.37, 0.5, 0.81] {
                 // Barycentrics of edge `edge` at parameter t.
                 let mut w = [0.0; 3];
                 w[edge] = 1.0 - t;
                 w[(edge + 1) % 3] = t;
                 let (c, _) = patch.edge_point_normal(edge, t);
-                assert_vec_close!(patch.point(w[1], w[2]), c, 1e-12 * size, "edge {edge} t {t}");
+                e64 = e64.max((patch.point(w[1], w[2]) - c).length() / size);
                 let (c32, _) = p32.edge_point_normal(edge, t as f32);
-                assert_vec_close!(p32.point(w[1] as f32, w[2] as f32).as_dvec3(), c32.as_dvec3(), 1e-5 * scale);
+                let x32 = p32.point(w[1] as f32, w[2] as f32);
+                e32 = e32.max((x32.as_dvec3() - c32.as_dvec3()).length() / scale);
             }
         }
+        assert!(
+            e64 <= F64_INTERPOLATION,
+            "seed {seed:#x}: f64 points {e64:e} of the size"
+        );
+        assert!(
+            e32 <= F32_INTERPOLATION,
+            "seed {seed:#x}: f32 points {e32:e} of the scale"
+        );
+        assert!(
+            en64 <= F64_INTERPOLATION,
+            "seed {seed:#x}: f64 edge normals {en64:e}"
+        );
+        assert!(
+            en32 <= F32_INTERPOLATION,
+            "seed {seed:#x}: f32 edge normals {en32:e}"
+        );
+        w64.see(e64, seed);
+        w32.see(e32, seed);
+        wn64.see(en64, seed);
+        wn32.see(en32, seed);
     }
+    eprintln!(
+        "interpolation: f64 points {w64}, normals {wn64} (bound {F64_INTERPOLATION:e}); \
+         f32 points {w32}, normals {wn32} (bound {F32_INTERPOLATION:e})"
+    );
+}
 
-    /// All normals equal to the face normal reproduce the flat triangle, with the face normal.
-    #[test]
-    fn flat_normals_give_flat_triangle(seed in any::<u64>()) {
+/// All normals equal to the face normal reproduce the flat triangle, with the face normal
+/// (within [`F64_FLAT_TRIANGLE`]).
+#[test]
+fn flat_normals_give_flat_triangle() {
+    let (mut wp, mut wn) = (Worst::default(), Worst::default());
+    for seed in seeds() {
         let mut rng = Rng(seed);
         let size = 10f64.powf(rng.range(-2.0, 1.7));
         let off = DVec3::splat(rng.range(-3.0, 3.0));
         let (p, nf) = well_shaped(&mut rng, size, off);
         let patch = DPatch::new(p, [nf * 2.0, nf, nf * 0.7]).unwrap();
-        let size = (p[1] - p[0]).length();
+        let scale = (p[1] - p[0]).length().max(p[0].abs().max_element());
+        let (mut ep, mut en) = (0.0f64, 0.0f64);
         for (w1, w2) in bary_grid(7) {
             let flat = p[0] * (1.0 - w1 - w2) + p[1] * w1 + p[2] * w2;
             let (x, nrm) = patch.point_normal(w1, w2);
-            assert_vec_close!(x, flat, 1e-12 * size.max(p[0].abs().max_element()));
-            assert_vec_close!(nrm, nf, 1e-12);
+            ep = ep.max((x - flat).length() / scale);
+            en = en.max((nrm - nf).length());
         }
+        assert!(
+            ep <= F64_FLAT_TRIANGLE,
+            "seed {seed:#x}: points {ep:e} of the scale"
+        );
+        assert!(en <= F64_FLAT_TRIANGLE, "seed {seed:#x}: normals {en:e}");
+        wp.see(ep, seed);
+        wn.see(en, seed);
     }
+    eprintln!("flat normals: points {wp}, normals {wn} (bound {F64_FLAT_TRIANGLE:e})");
+}
 
-    /// Spheres are reproduced exactly: radius 1e-3…1e3, radial normals; every point on the
-    /// sphere (f64 1e-12, f32 2e-6 relative) with a radial normal.
-    #[test]
-    fn spheres_are_exact(seed in any::<u64>()) {
+/// Spheres are reproduced exactly: radius 1e-3…1e3, radial normals; every point on the sphere
+/// ([`F64_SPHERE_POINT`], [`F32_SPHERE_POINT`] of the radius) with a radial normal
+/// ([`F64_SPHERE_NORMAL`], [`F32_SPHERE_NORMAL`]).
+#[test]
+fn spheres_are_exact() {
+    let [mut wp64, mut wp32, mut wn64, mut wn32] = [Worst::default(); 4];
+    for seed in seeds() {
         let mut rng = Rng(seed);
         let r = 10f64.powf(rng.range(-3.0, 3.0));
-        let o = DVec3::new(rng.range(-2.0, 2.0), rng.range(-2.0, 2.0), rng.range(-2.0, 2.0)) * r;
+        let o = DVec3::new(
+            rng.range(-2.0, 2.0),
+            rng.range(-2.0, 2.0),
+            rng.range(-2.0, 2.0),
+        ) * r;
         let cap = rng.range(5.0, 35.0);
         let p = sphere_patch(&mut rng, o, r, cap);
         let n = p.map(|x| (x - o) / r);
         let patch = DPatch::new(p, n).unwrap();
         let p32: Patch = Patch::new(to32(p), to32(n)).unwrap();
         let o32 = o.as_vec3().as_dvec3();
+        let (mut ep64, mut ep32, mut en64, mut en32) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
         for (w1, w2) in bary_grid(6) {
             let (x, nrm) = patch.point_normal(w1, w2);
-            assert_close!((x - o).length(), r, 1e-12 * r);
-            assert_vec_close!(nrm, (x - o) / r, 1e-10);
+            ep64 = ep64.max(((x - o).length() - r).abs() / r);
+            en64 = en64.max((nrm - (x - o) / r).length());
             let (y, m) = p32.point_normal(w1 as f32, w2 as f32);
             let y = y.as_dvec3();
-            assert_close!((y - o32).length(), r, 2e-6 * r);
-            // f32 normals come from f32 derivatives: up to 2.0e-5 seen over random seeds.
-            assert_vec_close!(m.as_dvec3(), (y - o32).normalize(), 5e-5);
+            ep32 = ep32.max(((y - o32).length() - r).abs() / r);
+            en32 = en32.max((m.as_dvec3() - (y - o32).normalize()).length());
         }
+        assert!(
+            ep64 <= F64_SPHERE_POINT,
+            "seed {seed:#x}: f64 points {ep64:e}"
+        );
+        assert!(
+            ep32 <= F32_SPHERE_POINT,
+            "seed {seed:#x}: f32 points {ep32:e}"
+        );
+        assert!(
+            en64 <= F64_SPHERE_NORMAL,
+            "seed {seed:#x}: f64 normals {en64:e}"
+        );
+        assert!(
+            en32 <= F32_SPHERE_NORMAL,
+            "seed {seed:#x}: f32 normals {en32:e}"
+        );
+        wp64.see(ep64, seed);
+        wp32.see(ep32, seed);
+        wn64.see(en64, seed);
+        wn32.see(en32, seed);
     }
+    eprintln!(
+        "spheres: f64 points {wp64}, normals {wn64}; f32 points {wp32}, normals {wn32} (of the radius)"
+    );
+}
 
-    /// Exact derivatives agree with central finite differences of the f64 surface.
-    #[test]
-    fn derivatives_match_finite_differences(seed in any::<u64>()) {
+/// Exact derivatives agree with central finite differences of the f64 surface, and the edge
+/// curves are tangent to the surface: the central difference of the edge curve `c(t)` equals
+/// the surface's derivative along the edge and is perpendicular to both the edge curve's normal
+/// `n*(t)` and the surface normal there (all within [`DERIVATIVES_VS_CENTRAL_DIFFERENCES`] of
+/// the size).
+#[test]
+fn derivatives_match_finite_differences() {
+    let (mut wd, mut wt, mut wnt) = (Worst::default(), Worst::default(), Worst::default());
+    let h = 1e-5;
+    for seed in seeds() {
         let mut rng = Rng(seed);
         let (p, n) = random_patch(&mut rng, 40.0);
         let size = (p[1] - p[0]).length();
         let patch = DPatch::new(p, n).unwrap();
         let (w1, w2) = (rng.range(0.05, 0.6), rng.range(0.05, 0.35));
         let (d1, d2) = patch.derivatives(w1, w2);
-        let h = 1e-5;
         let fd1 = (patch.point(w1 + h, w2) - patch.point(w1 - h, w2)) / (2.0 * h);
         let fd2 = (patch.point(w1, w2 + h) - patch.point(w1, w2 - h)) / (2.0 * h);
-        assert_vec_close!(d1, fd1, 1e-6 * size);
-        assert_vec_close!(d2, fd2, 1e-6 * size);
-        // Edge tangent: derivative of the edge curve along t, through the surface normal.
-        let (_, nrm) = patch.point_normal(w1, w2);
-        assert_close!(nrm.dot(d1), 0.0, 1e-12 * size);
-        assert_close!(nrm.dot(d2), 0.0, 1e-12 * size);
+        let ed = (d1 - fd1).length().max((d2 - fd2).length()) / size;
+        assert!(
+            ed <= DERIVATIVES_VS_CENTRAL_DIFFERENCES,
+            "seed {seed:#x}: derivatives {d1} {d2} vs {fd1} {fd2}: {ed:e} of the size"
+        );
+        wd.see(ed, seed);
+        // Edge tangents: the edge curve's central difference against the surface's exact
+        // derivative along the edge (barycentrics (1 − t, t) on the edge's two vertices).
+        let edge = (rng.f() * 3.0) as usize % 3;
+        let t = rng.range(0.1, 0.9);
+        let mut w = [0.0; 3];
+        w[edge] = 1.0 - t;
+        w[(edge + 1) % 3] = t;
+        let tangent_fd = (patch.edge_point_normal(edge, t + h).0
+            - patch.edge_point_normal(edge, t - h).0)
+            / (2.0 * h);
+        let (e1, e2) = patch.derivatives(w[1], w[2]);
+        // d/dt of (w1, w2) along edge 0, 1, 2: (1, 0), (−1, 1), (0, −1).
+        let along = match edge {
+            0 => e1,
+            1 => e2 - e1,
+            _ => -e2,
+        };
+        let et = (along - tangent_fd).length() / size;
+        let (_, edge_normal) = patch.edge_point_normal(edge, t);
+        let (_, surface_normal) = patch.point_normal(w[1], w[2]);
+        let ent = edge_normal
+            .dot(tangent_fd)
+            .abs()
+            .max(surface_normal.dot(tangent_fd).abs())
+            / size;
+        assert!(
+            et <= DERIVATIVES_VS_CENTRAL_DIFFERENCES,
+            "seed {seed:#x}: edge {edge} t {t}: surface derivative {along} vs edge tangent {tangent_fd}: {et:e}"
+        );
+        assert!(
+            ent <= DERIVATIVES_VS_CENTRAL_DIFFERENCES,
+            "seed {seed:#x}: edge {edge} t {t}: tangent {tangent_fd} not perpendicular to the \
+             edge normal {edge_normal} or the surface normal {surface_normal}: {ent:e}"
+        );
+        wt.see(et, seed);
+        wnt.see(ent, seed);
     }
+    eprintln!(
+        "derivatives vs central differences: {wd}; edge tangent vs surface derivative {wt}; \
+         normals · edge tangent {wnt} (of the size, bound {DERIVATIVES_VS_CENTRAL_DIFFERENCES:e})"
+    );
 }
 
-/// The f32 path against the f64 path on the same (f32-representable) input: the difference,
-/// relative to the larger of the triangle's size and its coordinates, stays below 1e-6 for
-/// points and 5e-6 for normals (measured worst values are printed).
+/// The f32 path against the f64 path on the same (f32-representable) input: points within
+/// [`F32_VS_F64_POINT`] of the larger of the triangle's size and its coordinates, normals within
+/// [`F32_VS_F64_NORMAL`].
 #[test]
 fn f32_tracks_f64() {
     let mut rng = Rng(99);
@@ -139,10 +288,11 @@ fn f32_tracks_f64() {
         }
     }
     eprintln!(
-        "f32 vs f64: worst point difference {wp:.2e} of scale, worst normal difference {wn:.2e}"
+        "f32 vs f64: worst point difference {wp:.2e} of scale (bound {F32_VS_F64_POINT:e}), \
+         worst normal difference {wn:.2e} (bound {F32_VS_F64_NORMAL:e})"
     );
-    assert!(wp <= 1e-6, "points {wp:e}");
-    assert!(wn <= 5e-6, "normals {wn:e}");
+    assert!(wp <= F32_VS_F64_POINT, "points {wp:e}");
+    assert!(wn <= F32_VS_F64_NORMAL, "normals {wn:e}");
 }
 
 #[test]
@@ -208,17 +358,21 @@ fn every_error_variant_is_reported() {
         Patch::<f32>::new(big, [Vec3::Z; 3]),
         Err(PatchError::OutOfRange)
     );
-    // Every error has a readable message.
-    for e in [
+    // Every error has its own readable message, naming the vertex where there is one.
+    let messages = [
         PatchError::NonFinite,
         PatchError::DegenerateTriangle,
         PatchError::ZeroNormal { vertex: 1 },
         PatchError::BackFacingNormal { vertex: 2 },
         PatchError::InvalidShell,
         PatchError::OutOfRange,
-    ] {
-        assert!(e.to_string().len() > 10);
+    ]
+    .map(|e| e.to_string());
+    for (i, m) in messages.iter().enumerate() {
+        assert!(m.len() > 10, "{m:?}");
+        assert!(!messages[..i].contains(m), "{m:?} repeated");
     }
+    assert!(messages[2].contains("vertex 1") && messages[3].contains("vertex 2"));
 }
 
 #[test]

@@ -1,8 +1,11 @@
-//! The core against the independent f64 reference implementation in `tests/data/`.
+//! The core against the independent f64 reference implementation in `tests/data/`, within the
+//! named bounds of [`smoothtri::accuracy`]; prints the worst errors measured
+//! (`cargo test --release --test reference -- --nocapture`).
 
 mod common;
 use common::*;
 use glam::{DVec3, Vec3};
+use smoothtri::accuracy::*;
 use smoothtri::{DPatch, Patch};
 
 fn v(r: &[f64], i: usize) -> DVec3 {
@@ -14,7 +17,7 @@ fn surface_points_match_reference_f64_and_f32() {
     let (h, rows) = read_csv("surface_points.csv");
     assert_eq!(h.len(), 27);
     assert!(rows.len() >= 500);
-    let (mut worst64, mut worst32, mut worst_n) = (0.0f64, 0.0f64, 0.0f64);
+    let (mut worst64, mut worst_scale, mut worst32, mut worst_n) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
     for r in &rows {
         let p = [v(r, 1), v(r, 4), v(r, 7)];
         let n = [v(r, 10), v(r, 13), v(r, 16)];
@@ -30,13 +33,14 @@ fn surface_points_match_reference_f64_and_f32() {
         let e = (got - want).length() / size;
         let e_scale = (got - want).length() / scale;
         worst64 = worst64.max(e);
+        worst_scale = worst_scale.max(e_scale);
         assert!(
-            e <= 2e-11,
+            e <= F64_SURFACE_VS_REFERENCE_OF_SIZE,
             "patch {} at ({w1},{w2}): {got} vs {want}, rel {e:e}",
             r[0]
         );
         assert!(
-            e_scale <= 2e-14,
+            e_scale <= F64_SURFACE_VS_REFERENCE,
             "patch {} at ({w1},{w2}): {got} vs {want}, rel {e_scale:e}",
             r[0]
         );
@@ -45,7 +49,7 @@ fn surface_points_match_reference_f64_and_f32() {
             let en = (nrm - wn).length();
             worst_n = worst_n.max(en);
             assert!(
-                en <= 1e-6,
+                en <= F64_NORMAL_VS_REFERENCE,
                 "normal of patch {} at ({w1},{w2}): {nrm} vs {wn}",
                 r[0]
             );
@@ -64,13 +68,14 @@ fn surface_points_match_reference_f64_and_f32() {
         let e32 = (got32.as_dvec3() - want32).length() / scale;
         worst32 = worst32.max(e32);
         assert!(
-            e32 <= 1e-5,
+            e32 <= F32_VS_F64_POINT,
             "f32 patch {} at ({w1},{w2}): {got32} vs {want}, rel {e32:e}",
             r[0]
         );
     }
     eprintln!(
-        "reference surface points: worst rel error f64 {worst64:e}, f32 {worst32:e}; normals {worst_n:e}"
+        "reference surface points: worst error f64 {worst64:.2e} of the size, {worst_scale:.2e} of \
+         the scale; normals {worst_n:.2e}; f32 vs f64 {worst32:.2e} of the scale"
     );
 }
 
@@ -92,8 +97,11 @@ fn edge_points_match_reference() {
         let en = (cn - v(r, 6)).length();
         worst = worst.max(e);
         worst_n = worst_n.max(en);
-        assert!(e <= 1e-12, "edge point {r:?}: {c}");
-        assert!(en <= 1e-8, "edge normal {r:?}: {cn}");
+        assert!(e <= F64_EDGE_VS_REFERENCE, "edge point {r:?}: {c}");
+        assert!(
+            en <= F64_EDGE_NORMAL_VS_REFERENCE,
+            "edge normal {r:?}: {cn}"
+        );
     }
-    eprintln!("reference edge points: worst rel error {worst:e}, normals {worst_n:e}");
+    eprintln!("reference edge points: worst error {worst:.2e} of the size, normals {worst_n:.2e}");
 }

@@ -1,8 +1,10 @@
 //! The shell's height range and bounding box must contain the whole surface (dense sampling of
-//! random patches), and its cross-section must stay a proper triangle.
+//! random patches), with a clearance of [`SHELL_CLEARANCE`] of its width to the height range's
+//! faces, in `f64` and `f32`.
 
 mod common;
 use common::*;
+use smoothtri::accuracy::SHELL_CLEARANCE;
 use smoothtri::{DPatch, Patch};
 
 #[test]
@@ -32,7 +34,13 @@ fn height_range_and_box_contain_dense_samples() {
             }
         }
         eprintln!(
-            "normals ≤ {deg}°: closest approach to the shell's faces {:.3} of its width",
+            "normals ≤ {deg}°: closest approach to the shell's faces {:.3} of its width \
+             (bound {SHELL_CLEARANCE})",
+            -worst
+        );
+        assert!(
+            -worst >= SHELL_CLEARANCE,
+            "normals ≤ {deg}°: the surface comes within {:.3} of the shell's width",
             -worst
         );
     }

@@ -5,10 +5,15 @@
 //! `Patch::<FastF32>::new(…)`, with glam `Vec3` inputs and outputs wrapped per component.
 //!
 //! # Accuracy
-//! micromath's `sqrt` has a relative error of up to about 2e-3 (measured in
-//! `tests/fast.rs`); a patch built in `FastF32` deviates from the `f32` patch by up to a few
-//! 1e-3 of the triangle's size, and spheres are no longer reproduced exactly. The kernel's
+//! The square root (micromath's estimate and one Newton step) has a relative error of up to
+//! [`FASTF32_SQRT_REL`]; a patch built in `FastF32` deviates from the exact patch by up to
+//! [`FASTF32_SURFACE`] of the triangle's size and its hits by [`FASTF32_HIT`] of the size (all
+//! measured in `tests/fast.rs`), and spheres are no longer reproduced exactly. The kernel's
 //! `t_error` still bounds the distance to the `FastF32` surface.
+//!
+//! [`FASTF32_SQRT_REL`]: crate::accuracy::FASTF32_SQRT_REL
+//! [`FASTF32_SURFACE`]: crate::accuracy::FASTF32_SURFACE
+//! [`FASTF32_HIT`]: crate::accuracy::FASTF32_HIT
 
 use core::ops::{Add, AddAssign, Div, Mul, MulAssign, Neg, Sub, SubAssign};
 

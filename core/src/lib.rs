@@ -6,18 +6,24 @@
 //!
 //! # Accuracy (per function, as tested against independent references)
 //!
-//! | function | `f64` | `f32` | reference |
-//! |---|---|---|---|
-//! | [`Patch::point`] at vertices and on edges | ≤ 1e-12 of the size | ≤ 1e-5 of the scale | the input vertices; [`Patch::edge_point_normal`] |
-//! | [`Patch::point`] of a sphere's patch | ≤ 1e-12 of the radius | ≤ 2e-6 | the analytic sphere |
-//! | [`Patch::point`], general | ≤ 2e-14 of the coordinates' magnitude | ≤ 1e-6 of the scale vs `f64` | independent f64 implementation (`tests/data/` of the repository) |
-//! | [`Patch::point_normal`] normal | ≤ 1e-10 (spheres) | ≤ 2e-5 | radial normals; f64 |
-//! | [`Patch::derivatives`] | exact (dual numbers) | exact | central differences ≤ 1e-6 of the size |
-//! | [`Patch::edge_point_normal`] | ≤ 1.5e-13 of the size, normals ≤ 1e-8 | | `tests/data/` |
-//! | [`Patch::intersect`] `t` | within `t_error` (+ rounding slack); N = 8 reaches rounding on spheres and the torus | on the sphere to ≤ 5e-7 | analytic spheres; the kernel at N = 40 |
+//! Every figure is a named bound of [`accuracy`] (which says what it was measured on and which
+//! test asserts it); sizes are longest edges, scales the larger of the size and the
+//! coordinates' magnitude.
 //!
-//! `FastF32` (feature `micromath`) trades accuracy for a square root without FPU support: its
-//! surfaces deviate by up to 5e-3 of the size.
+//! | function | `f64` | `f32` | against |
+//! |---|---|---|---|
+//! | [`Patch::point`] at vertices and on edges | [`accuracy::F64_INTERPOLATION`] of the size | [`accuracy::F32_INTERPOLATION`] of the scale | the input vertices; [`Patch::edge_point_normal`] |
+//! | [`Patch::point`] of a sphere's patch | [`accuracy::F64_SPHERE_POINT`] of the radius | [`accuracy::F32_SPHERE_POINT`] of the radius | the analytic sphere |
+//! | [`Patch::point`], general | [`accuracy::F64_SURFACE_VS_REFERENCE`] of the scale | [`accuracy::F32_VS_F64_POINT`] of the scale | an independent f64 implementation (`tests/data/` of the repository); `f64` |
+//! | [`Patch::point_normal`] normal | [`accuracy::F64_SPHERE_NORMAL`] (spheres), [`accuracy::F64_NORMAL_VS_REFERENCE`] | [`accuracy::F32_SPHERE_NORMAL`] (spheres), [`accuracy::F32_VS_F64_NORMAL`] | radial normals; `tests/data/`; `f64` |
+//! | [`Patch::derivatives`] | exact (dual numbers) | exact | central differences, within [`accuracy::DERIVATIVES_VS_CENTRAL_DIFFERENCES`] of the size |
+//! | [`Patch::edge_point_normal`] | [`accuracy::F64_EDGE_VS_REFERENCE`] of the size, normals [`accuracy::F64_EDGE_NORMAL_VS_REFERENCE`] | normals at the ends [`accuracy::F32_INTERPOLATION`] | `tests/data/`; the vertex normals |
+//! | every unit vector returned | length 1 ± [`accuracy::UNIT_LENGTH_ULPS`] ε | the same | |
+//! | [`Patch::intersect`] `t` | within `t_error` (bisection bound: [`Patch::intersect`]); N = 8: sphere hits to [`accuracy::F64_SPHERE_HIT`] of the radius, the torus at rounding ([`accuracy::TORUS_F64_BY_ITERATIONS`]) | sphere hits to [`accuracy::F32_SPHERE_HIT`] of the radius | analytic spheres; the kernel at N = 40 |
+//!
+//! `FastF32` (feature `micromath`) trades accuracy for a square root without FPU support (its
+//! square root is within [`accuracy::FASTF32_SQRT_REL`] relative): its surfaces deviate by up
+//! to [`accuracy::FASTF32_SURFACE`] of the size.
 //!
 //! # Panics
 //!
@@ -45,6 +51,7 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 pub mod aabb;
+pub mod accuracy;
 pub mod bvh;
 pub mod dual;
 pub mod edge;

@@ -86,8 +86,10 @@ impl<F: Float> Patch<F> {
     /// ([`PatchError::OutOfRange`]).
     ///
     /// # Accuracy
-    /// The stored frame is orthonormal to a few ulps; vertices are reproduced to a few ulps of
-    /// the triangle's size relative to `P0`.
+    /// The stored frame is orthonormal (its normals unit to
+    /// [`UNIT_LENGTH_ULPS`](crate::accuracy::UNIT_LENGTH_ULPS) ulps); vertices are reproduced
+    /// to [`F64_INTERPOLATION`](crate::accuracy::F64_INTERPOLATION) of the triangle's size
+    /// (`f64`), [`F32_INTERPOLATION`](crate::accuracy::F32_INTERPOLATION) of its scale (`f32`).
     /// # Panics
     /// Never.
     pub fn new(p: [F::Vec3; 3], n: [F::Vec3; 3]) -> Result<Self, PatchError> {
@@ -334,7 +336,9 @@ impl<F: Float> Patch<F> {
     /// The triangle's vertices in world coordinates, as given (up to rounding of the frame).
     ///
     /// # Accuracy
-    /// Within a few ulps of the triangle's size of the input vertices.
+    /// The input vertices to [`F64_INTERPOLATION`](crate::accuracy::F64_INTERPOLATION) of the
+    /// triangle's size (`f64`), [`F32_INTERPOLATION`](crate::accuracy::F32_INTERPOLATION) of its
+    /// scale (`f32`).
     /// # Panics
     /// Never.
     pub fn vertices(&self) -> [F::Vec3; 3] {
@@ -344,7 +348,7 @@ impl<F: Float> Patch<F> {
     /// The unit vertex normals in world coordinates.
     ///
     /// # Accuracy
-    /// Unit length to a few ulps.
+    /// Unit length to [`UNIT_LENGTH_ULPS`](crate::accuracy::UNIT_LENGTH_ULPS) ulps.
     /// # Panics
     /// Never.
     pub fn normals(&self) -> [F::Vec3; 3] {

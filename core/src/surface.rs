@@ -169,9 +169,18 @@ impl<F: Float> Patch<F> {
     /// zero, then renormalised); non-finite ones count as zero.
     ///
     /// # Accuracy
-    /// `f64`: about 1e-14 of the triangle's size (vertices and edge curves reproduced to
-    /// ≤ 1e-12 relative, points of a sphere on the sphere to ≤ 1e-12 relative, all tested).
-    /// `f32`: about 1e-6 relative.
+    /// `f64`: vertices and edge curves reproduced to [`F64_INTERPOLATION`] of the triangle's
+    /// size, points of a sphere's patch on the sphere to [`F64_SPHERE_POINT`] of the radius,
+    /// general points within [`F64_SURFACE_VS_REFERENCE`] of the coordinates' scale of an
+    /// independent implementation. `f32`: [`F32_INTERPOLATION`] and [`F32_SPHERE_POINT`], and
+    /// within [`F32_VS_F64_POINT`] of the scale of `f64`.
+    ///
+    /// [`F64_INTERPOLATION`]: crate::accuracy::F64_INTERPOLATION
+    /// [`F64_SPHERE_POINT`]: crate::accuracy::F64_SPHERE_POINT
+    /// [`F64_SURFACE_VS_REFERENCE`]: crate::accuracy::F64_SURFACE_VS_REFERENCE
+    /// [`F32_INTERPOLATION`]: crate::accuracy::F32_INTERPOLATION
+    /// [`F32_SPHERE_POINT`]: crate::accuracy::F32_SPHERE_POINT
+    /// [`F32_VS_F64_POINT`]: crate::accuracy::F32_VS_F64_POINT
     /// # Panics
     /// Never; the result is finite for every accepted patch.
     pub fn point(&self, w1: F, w2: F) -> F::Vec3 {
@@ -197,8 +206,15 @@ impl<F: Float> Patch<F> {
     /// normal is the vertex normal.
     ///
     /// # Accuracy
-    /// Point as [`Patch::point`]; normal: `f64` about 1e-12, `f32` about 1e-5 (angle in radians,
-    /// against central differences and spheres' radial normals, tested).
+    /// Point as [`Patch::point`]. Normal (differences of unit vectors ≈ angles in radians):
+    /// radial on a sphere's patch to [`F64_SPHERE_NORMAL`] (`f64`) and [`F32_SPHERE_NORMAL`]
+    /// (`f32`); `f32` within [`F32_VS_F64_NORMAL`] of `f64`; unit length to
+    /// [`UNIT_LENGTH_ULPS`] ulps.
+    ///
+    /// [`F64_SPHERE_NORMAL`]: crate::accuracy::F64_SPHERE_NORMAL
+    /// [`F32_SPHERE_NORMAL`]: crate::accuracy::F32_SPHERE_NORMAL
+    /// [`F32_VS_F64_NORMAL`]: crate::accuracy::F32_VS_F64_NORMAL
+    /// [`UNIT_LENGTH_ULPS`]: crate::accuracy::UNIT_LENGTH_ULPS
     /// # Panics
     /// Never; both results are finite for every accepted patch.
     pub fn point_normal(&self, w1: F, w2: F) -> (F::Vec3, F::Vec3) {
@@ -215,9 +231,12 @@ impl<F: Float> Patch<F> {
     /// world coordinates, in length units per unit of barycentric coordinate.
     ///
     /// # Accuracy
-    /// Exact derivatives of the computed surface up to rounding (dual numbers). Where they
+    /// Exact derivatives of the computed surface up to rounding (dual numbers; central
+    /// differences agree to [`DERIVATIVES_VS_CENTRAL_DIFFERENCES`] of the size). Where they
     /// overflow (f32 coordinates near 1e9 within ~1e-30 of a vertex) the flat triangle's edge
     /// vectors are returned instead.
+    ///
+    /// [`DERIVATIVES_VS_CENTRAL_DIFFERENCES`]: crate::accuracy::DERIVATIVES_VS_CENTRAL_DIFFERENCES
     /// # Panics
     /// Never; always finite.
     pub fn derivatives(&self, w1: F, w2: F) -> (F::Vec3, F::Vec3) {
@@ -241,7 +260,15 @@ impl<F: Float> Patch<F> {
     /// above 2 are taken mod 3.
     ///
     /// # Accuracy
-    /// Point as [`Patch::point`]; normal from the exact tangent, `f64` about 1e-13.
+    /// Points within [`F64_EDGE_VS_REFERENCE`] of the size of an independent implementation
+    /// (`f64`); normals from the exact tangent, within [`F64_EDGE_NORMAL_VS_REFERENCE`] of it,
+    /// equal to the vertex normals at the ends to [`F64_INTERPOLATION`] (`f64`) and
+    /// [`F32_INTERPOLATION`] (`f32`).
+    ///
+    /// [`F64_EDGE_VS_REFERENCE`]: crate::accuracy::F64_EDGE_VS_REFERENCE
+    /// [`F64_EDGE_NORMAL_VS_REFERENCE`]: crate::accuracy::F64_EDGE_NORMAL_VS_REFERENCE
+    /// [`F64_INTERPOLATION`]: crate::accuracy::F64_INTERPOLATION
+    /// [`F32_INTERPOLATION`]: crate::accuracy::F32_INTERPOLATION
     /// # Panics
     /// Never.
     pub fn edge_point_normal(&self, edge: usize, t: F) -> (F::Vec3, F::Vec3) {

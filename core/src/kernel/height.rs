@@ -13,8 +13,9 @@
 //!   line quadratic, so the root does not change; the double-root test is scaled to match).
 //!
 //! # Accuracy
-//! Equal to [`crate::surface`]'s height within rounding: tested on random patches against it
-//! (`tests/kernel.rs`, bound [`crate::accuracy`]'s kernel-height tolerances).
+//! Equal to [`crate::surface`]'s height within rounding: within
+//! [`KERNEL_HEIGHT_VS_SURFACE`](crate::accuracy::KERNEL_HEIGHT_VS_SURFACE) of the triangle's
+//! size on random patches (the unit test below).
 
 use crate::patch::Patch;
 use crate::real::Float;
