@@ -77,14 +77,13 @@ fn tiny_f32_triangles_are_out_of_range() {
     }
 }
 
-/// Bug (open, found while removing the filters of `tests/robustness.rs`): a well-shaped
+/// Bug (found while removing the filters of `tests/robustness.rs`, fixed): a well-shaped
 /// triangle so small that `|e × f|²` underflows the precision (`f32`: edges below about
-/// 1e-12) is rejected as `DegenerateTriangle` ("collinear or coincident vertices"), not as
-/// `OutOfRange` ("too small for this precision"): `Patch::new` tests the relative area, whose
-/// `|e × f|` is then 0, before the magnitude. Expected: `OutOfRange`, e.g. by testing the
-/// scale (`longest_edge⁴ < MIN_POSITIVE / ε`) before the area.
+/// 1e-12) was rejected as `DegenerateTriangle` ("collinear or coincident vertices"), not as
+/// `OutOfRange` ("too small for this precision"), because `Patch::new` tested the relative
+/// area before the magnitude. It now tests the scale (`longest_edge⁴ < MIN_POSITIVE / ε`)
+/// first.
 #[test]
-#[ignore = "BUG (open): tiny well-shaped triangles are reported as DegenerateTriangle instead of OutOfRange (core/src/patch.rs tests the area before the magnitude)"]
 fn tiny_triangles_are_out_of_range_not_degenerate() {
     let mut wrong = Vec::new();
     for e in -22..=-12 {

@@ -270,13 +270,6 @@ fn tiny_and_huge_patches() {
                     h.t_error
                 );
             }
-            // Known bug (`tiny_triangles_are_out_of_range_not_degenerate` in
-            // `tests/regressions.rs`, ignored): below 1e-12, |e × f|² underflows f32 and the
-            // rejection is misreported as `DegenerateTriangle`.
-            Err(err) if e <= -12 => assert!(
-                matches!(err, PatchError::OutOfRange | PatchError::DegenerateTriangle),
-                "f32 scale {s:e}: {err:?}"
-            ),
             Err(err) => assert_eq!(err, PatchError::OutOfRange, "f32 scale {s:e}"),
         }
     }

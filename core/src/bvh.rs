@@ -83,7 +83,8 @@ pub struct BvhNode<F: Float> {
 }
 
 impl<F: Float> Default for BvhNode<F> {
-    /// An empty leaf (no ray enters its empty box).
+    /// A placeholder for storage that [`Bvh::build`] fills (an interior node with an empty box;
+    /// a BVH made of default nodes is reported as [`BvhError::CorruptTree`] by queries).
     fn default() -> Self {
         BvhNode {
             bounds: Aabb::EMPTY,

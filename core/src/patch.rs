@@ -106,6 +106,13 @@ impl<F: Float> Patch<F> {
         if !lmax2.is_fin() || !c_len.is_fin() {
             return Err(PatchError::OutOfRange);
         }
+        // The scale before the area: for triangles this small |e × f|² underflows and the area
+        // test below would report a well-shaped triangle as degenerate. Exactly coincident
+        // vertices stay `DegenerateTriangle`.
+        let all_zero = |v: V3<F>| v.x == F::ZERO && v.y == F::ZERO && v.z == F::ZERO;
+        if !(all_zero(e) && all_zero(f)) && lmax2 * lmax2 < F::MIN_POSITIVE / F::EPSILON {
+            return Err(PatchError::OutOfRange);
+        }
         if c_len <= degenerate_ratio::<F>() * lmax2 || c_len <= F::ZERO {
             return Err(PatchError::DegenerateTriangle);
         }

@@ -8,9 +8,9 @@
 //! points at `t = 0.1, ¼, ½, ¾, 0.9` and four interior points) and widens the sampled range by
 //! [`MARGIN_REL`] of the range plus [`MARGIN_ABS`] of the triangle's size. The margin is
 //! validated, not proven: `tests/shell.rs` samples 2000 random well-shaped patches with normals
-//! up to 50° from the face on a 861-point grid and checks that every point lies inside. The
-//! largest excursion beyond the sampled range seen there is 0.18 of the range (so the margin
-//! has a safety factor of about 2.8). Beyond about 55° the surface itself can become wild (the
+//! up to 50° from the face on a 861-point grid and checks that every point lies inside, at least
+//! [`SHELL_CLEARANCE`](crate::accuracy::SHELL_CLEARANCE) of the range's width away from its
+//! faces. Beyond about 55° the surface itself can become wild (the
 //! nearest sphere roots switch branches, docs/METHOD.md §7) and may leave the shell: that is outside
 //! the method's domain and is measured in the reliability study (`tests/domain.rs`). Even below
 //! 50° the construction has rare isolated spikes where a sphere root switches branch (2 in

@@ -131,7 +131,7 @@ pub fn check_rejection<F: Float>(
         PatchError::NonFinite => {}
         PatchError::DegenerateTriangle => prop_assert!(
             // NaN: coincident vertices (no longest edge to scale by).
-            rel_area.is_nan() || rel_area <= 2.0 * eps.sqrt() || area_underflows(area, min_pos),
+            rel_area.is_nan() || rel_area <= 2.0 * eps.sqrt(),
             "{}",
             why
         ),
@@ -153,15 +153,6 @@ pub fn check_rejection<F: Float>(
         PatchError::InvalidShell => prop_assert!(!degenerate, "{}", why),
     }
     Ok(())
-}
-
-/// Known bug (reproducer `tiny_triangles_are_out_of_range_not_degenerate`, ignored, in
-/// `tests/regressions.rs`): when `|e × f|²` underflows the precision (well-shaped `f32`
-/// triangles below about 1e-12, `f64` below about 1e-162), `Patch::new` tests the area before
-/// the magnitude and reports `DegenerateTriangle` instead of `OutOfRange`. Remove this
-/// exception with the fix.
-fn area_underflows(area: f64, min_pos: f64) -> bool {
-    area * area < min_pos
 }
 
 // ---------------------------------------------------------------------------------------------

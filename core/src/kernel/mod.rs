@@ -76,7 +76,8 @@ impl<F: Float> Patch<F> {
     }
 
     /// [`Patch::intersect`] with `K` bracketing samples and `N` refinement iterations chosen by
-    /// the caller, also returning the [`KernelStats`] (evaluation counts) of the call.
+    /// the caller, also returning the [`KernelStats`] of the call (evaluation counts, the shell
+    /// interval's width and the rounding allowance).
     ///
     /// # Accuracy
     /// As [`Patch::intersect`].
