@@ -338,17 +338,7 @@ fn bvh_closest_hit_equals_brute_force() {
             inject: None,
         },
     ];
-    let spread = 3.2002586206307746f64;
-    let ps: Vec<DPatch> = inputs
-        .iter()
-        .enumerate()
-        .filter_map(|(i, s)| {
-            let (p, n) = s.build();
-            let shift =
-                DVec3::new(i as f64, (i * 7 % 5) as f64, (i * 3 % 4) as f64) * 10f64.powf(spread);
-            DPatch::new(p.map(|x| x + shift), n).ok()
-        })
-        .collect();
+    let ps: Vec<DPatch> = strategies::scene(&inputs, 3.2002586206307746);
     let r = RayParam {
         from: (2.9215975809141703, 2.0065596962331687),
         dist: 1.363361739228828,

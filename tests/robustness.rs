@@ -204,21 +204,6 @@ proptest! {
     }
 }
 
-/// The accepted patches of `inputs`, patch `i` shifted by `(i, 7i mod 5, 3i mod 4)·10^spread`
-/// (a scene scale).
-fn scene<F: smoothtri::Float>(inputs: &[Structured], spread: f64) -> Vec<Patch<F>> {
-    inputs
-        .iter()
-        .enumerate()
-        .filter_map(|(i, s)| {
-            let (p, n) = s.build();
-            let shift =
-                DVec3::new(i as f64, (i * 7 % 5) as f64, (i * 3 % 4) as f64) * 10f64.powf(spread);
-            Patch::<F>::new(p.map(|x| to_f::<F>(x + shift)), n.map(to_f::<F>)).ok()
-        })
-        .collect()
-}
-
 // ---------------------------------------------------------------------------------------------
 // Plain tests of specific extremes
 

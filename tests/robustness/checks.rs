@@ -1,25 +1,15 @@
 //! The checks of `tests/robustness.rs`: what must hold for every input, whatever it is. Each
 //! returns a proptest failure naming what broke; none of them skips or relaxes a case.
 
-use crate::strategies::RayParam;
+use crate::strategies::{RayParam, to_f};
 use glam::DVec3;
 use proptest::prelude::*;
 use smoothtri::accuracy::UNIT_LENGTH_ULPS;
 use smoothtri::patch::MIN_NORMAL_COS;
-use smoothtri::vec::V3;
 use smoothtri::{Bvh, BvhNode, Float, Hit, KernelStats, Patch, PatchError, Ray};
 
 // ---------------------------------------------------------------------------------------------
 // Conversions between f64 test data and the precision under test
-
-/// An `f64` vector rounded to precision `F`.
-pub fn to_f<F: Float>(v: DVec3) -> F::Vec3 {
-    F::to_glam(V3::new(
-        F::from_f64(v.x),
-        F::from_f64(v.y),
-        F::from_f64(v.z),
-    ))
-}
 
 /// A vector of precision `F`, exactly, in `f64`.
 pub fn to_d<F: Float>(v: F::Vec3) -> DVec3 {

@@ -281,3 +281,27 @@ impl RayParam {
         )
     }
 }
+
+/// An `f64` vector rounded to precision `F`.
+pub fn to_f<F: smoothtri::Float>(v: DVec3) -> F::Vec3 {
+    F::to_glam(smoothtri::vec::V3::new(
+        F::from_f64(v.x),
+        F::from_f64(v.y),
+        F::from_f64(v.z),
+    ))
+}
+
+/// The accepted patches of `inputs`, patch `i` shifted by `(i, 7i mod 5, 3i mod 4)·10^spread`
+/// (a scene scale).
+pub fn scene<F: smoothtri::Float>(inputs: &[Structured], spread: f64) -> Vec<smoothtri::Patch<F>> {
+    inputs
+        .iter()
+        .enumerate()
+        .filter_map(|(i, s)| {
+            let (p, n) = s.build();
+            let shift =
+                DVec3::new(i as f64, (i * 7 % 5) as f64, (i * 3 % 4) as f64) * 10f64.powf(spread);
+            smoothtri::Patch::<F>::new(p.map(|x| to_f::<F>(x + shift)), n.map(to_f::<F>)).ok()
+        })
+        .collect()
+}
