@@ -82,6 +82,33 @@ pub struct BvhNode<F: Float> {
     count: u32,
 }
 
+impl<F: Float> BvhNode<F> {
+    /// The node's box (the union of its patches' shell boxes).
+    ///
+    /// # Panics
+    /// Never.
+    pub fn bounds(&self) -> Aabb<F> {
+        self.bounds
+    }
+
+    /// Interior node: index of the first child (the second is `first + 1`). Leaf: start of
+    /// its range in [`Bvh::order`].
+    ///
+    /// # Panics
+    /// Never.
+    pub fn first(&self) -> u32 {
+        self.first
+    }
+
+    /// Number of patches of a leaf (at most [`MAX_LEAF`]); 0 for an interior node.
+    ///
+    /// # Panics
+    /// Never.
+    pub fn count(&self) -> u32 {
+        self.count
+    }
+}
+
 impl<F: Float> Default for BvhNode<F> {
     /// A placeholder for storage that [`Bvh::build`] fills (an interior node with an empty box;
     /// a BVH made of default nodes is reported as [`BvhError::CorruptTree`] by queries).
@@ -266,6 +293,22 @@ impl<'a, F: Float> Bvh<'a, F> {
     /// The patches.
     pub fn patches(&self) -> &'a [Patch<F>] {
         self.patches
+    }
+
+    /// The nodes (node 0 is the root; see [`BvhNode`] for the layout), for uploading the tree.
+    ///
+    /// # Panics
+    /// Never.
+    pub fn nodes(&self) -> &'a [BvhNode<F>] {
+        self.nodes
+    }
+
+    /// The patch indices that leaves refer to (`order[first..first + count]`).
+    ///
+    /// # Panics
+    /// Never.
+    pub fn order(&self) -> &'a [u32] {
+        self.order
     }
 
     /// Bytes used by the nodes and indices (not the patches).

@@ -58,6 +58,7 @@ pub mod edge;
 pub mod error;
 #[cfg(feature = "micromath")]
 pub mod fast;
+pub mod geometry;
 pub mod kernel;
 mod math;
 pub mod patch;
@@ -73,6 +74,7 @@ pub use bvh::{Bvh, BvhError, BvhNode};
 pub use error::PatchError;
 #[cfg(feature = "micromath")]
 pub use fast::FastF32;
+pub use geometry::PatchData;
 pub use kernel::flat::{flat_hit, moller_trumbore};
 pub use kernel::{DEFAULT_SAMPLES, KernelStats};
 pub use patch::{DPatch, Patch};

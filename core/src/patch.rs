@@ -8,6 +8,7 @@
 use crate::aabb::Aabb;
 use crate::edge::{EdgeView, edge_point};
 use crate::error::PatchError;
+use crate::geometry::PatchData;
 use crate::real::{Float, Real};
 use crate::shell;
 use crate::sphere::curvature;
@@ -392,5 +393,25 @@ impl<F: Float> Patch<F> {
     /// Never.
     pub fn bounds(&self) -> Aabb<F> {
         self.bbox
+    }
+
+    /// The stored geometry as plain arrays (see [`PatchData`] for each field's meaning and
+    /// invariants): what a GPU port of the kernel uploads.
+    ///
+    /// # Panics
+    /// Never.
+    pub fn data(&self) -> PatchData<F> {
+        let a = |v: V3<F>| [v.x, v.y, v.z];
+        PatchData {
+            origin: a(self.origin),
+            axes: self.axes.map(a),
+            p: self.p.map(a),
+            n: self.n.map(a),
+            d: self.d.map(a),
+            k: self.k,
+            sigma: self.sigma,
+            bbox_min: a(self.bbox.lo),
+            bbox_max: a(self.bbox.hi),
+        }
     }
 }

@@ -159,6 +159,8 @@ fn exercise<F: Float>() -> u32 {
     let u = b.union(&Aabb::new(b.min(), b.max())).union(&Aabb::EMPTY);
     let e = Aabb::<F>::default();
     acc += F::from_glam(u.max()).all_finite() as u32 + (e == Aabb::EMPTY) as u32;
+    let data = patch.data();
+    acc += (data.sigma[1].is_fin() && data == black_box(patch).data()) as u32;
     // Rays and the per-patch kernels.
     let ray = Ray::<F>::new(v::<F>(2.0, 2.0, 2.0), v::<F>(-1.0, -1.0, -1.0));
     let at = ray.at(c::<F>(0.5));
@@ -185,6 +187,9 @@ fn exercise<F: Float>() -> u32 {
         Ok(bvh) => {
             acc += bvh.node_count() as u32 + bvh.memory_bytes() as u32;
             acc += bvh.patches().len() as u32;
+            let root = bvh.nodes().first().copied().unwrap_or_default();
+            acc += root.first() + root.count() + bvh.order().len() as u32;
+            acc += F::from_glam(root.bounds().min()).all_finite() as u32;
             if let Ok(Some(h)) = bvh.closest_hit::<8>(&ray, t0, t1) {
                 acc += h.patch;
             }
