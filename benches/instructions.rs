@@ -21,9 +21,11 @@ use common::*;
 const CASES: &[(&str, &str, usize)] = &[
     ("moller_trumbore_f32", "patch test", 1024),
     ("smooth_f32_N0", "patch test", 1024),
+    ("smooth_f32_N2", "patch test", 1024),
     ("smooth_f32_N4", "patch test", 1024),
     ("smooth_f32_N8", "patch test", 1024),
     ("smooth_f64_N8", "patch test", 1024),
+    ("scene_smooth_8x8_f32_N4", "camera ray", 160 * 120),
     ("scene_smooth_8x8_f32_N8", "camera ray", 160 * 120),
     ("scene_flat_equal_error_f32", "camera ray", 160 * 120),
     ("construct_f32", "patch", 128),
@@ -39,6 +41,21 @@ macro_rules! per_patch {
         }
         hits
     }};
+}
+
+/// The 160×120 camera rays through the BVH of the 8×8 torus, `reps` times.
+fn scene_smooth<const N: usize>(reps: usize) -> usize {
+    let scene = Scene::new(&torus(8, 8, 1.0, 0.4));
+    let bvh = scene.bvh();
+    let rays = camera_rays(160, 120);
+    let mut hits = 0;
+    for _ in 0..reps {
+        for r in &rays {
+            let h = bvh.closest_hit::<N>(black_box(r), 0.0, f32::INFINITY);
+            hits += matches!(h, Ok(Some(_))) as usize;
+        }
+    }
+    hits
 }
 
 /// Runs one workload `reps` times; returns something derived from the results so nothing is
@@ -57,22 +74,12 @@ fn run_case(name: &str, reps: usize) -> usize {
             hits
         }
         "smooth_f32_N0" => per_patch!(s, reps, s.p32, s.rays32, 0, f32::INFINITY),
+        "smooth_f32_N2" => per_patch!(s, reps, s.p32, s.rays32, 2, f32::INFINITY),
         "smooth_f32_N4" => per_patch!(s, reps, s.p32, s.rays32, 4, f32::INFINITY),
         "smooth_f32_N8" => per_patch!(s, reps, s.p32, s.rays32, 8, f32::INFINITY),
         "smooth_f64_N8" => per_patch!(s, reps, s.p64, s.rays64, 8, f64::INFINITY),
-        "scene_smooth_8x8_f32_N8" => {
-            let scene = Scene::new(&torus(8, 8, 1.0, 0.4));
-            let bvh = scene.bvh();
-            let rays = camera_rays(160, 120);
-            let mut hits = 0;
-            for _ in 0..reps {
-                for r in &rays {
-                    let h = bvh.closest_hit::<8>(black_box(r), 0.0, f32::INFINITY);
-                    hits += matches!(h, Ok(Some(_))) as usize;
-                }
-            }
-            hits
-        }
+        "scene_smooth_8x8_f32_N4" => scene_smooth::<4>(reps),
+        "scene_smooth_8x8_f32_N8" => scene_smooth::<8>(reps),
         "scene_flat_equal_error_f32" => {
             let (n, _) = flat_torus_matching(7.4e-3);
             let scene = Scene::new(&torus(n, n, 1.0, 0.4));

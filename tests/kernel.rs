@@ -6,6 +6,8 @@ mod common;
 use common::*;
 use glam::{DVec3, Vec3};
 use smoothtri::accuracy::*;
+use smoothtri::kernel::max_lane_calls;
+use smoothtri::kernel::refine::WORST_SHRINK;
 use smoothtri::{DEFAULT_SAMPLES, DPatch, DRay, Float, Patch, Ray};
 use smoothtri_demo::scenes::{Mesh, cube, icosphere, torus};
 
@@ -244,33 +246,33 @@ fn precision_versus_iterations_is_certified() {
     }
 }
 
-/// The work bound: at most K + 2 + N height evaluations per patch test, hits and misses alike.
+/// The work bound: at most `max_lane_calls(K, N)` lane calls (eight height evaluations each)
+/// per patch test, hits and misses alike, and the bound is reached.
 #[test]
 fn work_per_ray_is_bounded() {
     let mesh = torus(8, 8, 1.0, 0.4);
     let ps = patches32(&mesh);
     let mut rng = Rng(77);
     let (mut max_evals, mut tests) = (0u32, 0u64);
+    let bound = 8 * max_lane_calls(DEFAULT_SAMPLES, 8) as u32;
+    assert_eq!(bound, 8 * (1 + 8));
     for _ in 0..2000 {
         let (o, d) = random_ray(&mut rng, 1.5);
         let ray = Ray::new(o.as_vec3(), d.as_vec3());
         for p in &ps {
-            let (_, s) = p.intersect_stats::<4, 8>(&ray, 0.0, f32::INFINITY);
-            assert!(
-                s.height_evals <= 4 + 2 + 8,
-                "{} evaluations",
-                s.height_evals
-            );
+            let (_, s) = p.intersect_stats::<DEFAULT_SAMPLES, 8>(&ray, 0.0, f32::INFINITY);
+            assert!(s.height_evals <= bound, "{} evaluations", s.height_evals);
             assert!(s.normal_evals <= 1);
             max_evals = max_evals.max(s.height_evals);
             tests += 1;
-            let (_, s) = p.intersect_stats::<2, 3>(&ray, 0.0, f32::INFINITY);
-            assert!(s.height_evals <= 2 + 2 + 3);
+            let (_, s) = p.intersect_stats::<10, 3>(&ray, 0.0, f32::INFINITY);
+            assert!(s.height_evals <= 8 * max_lane_calls(10, 3) as u32);
+            assert_eq!(max_lane_calls(10, 3), 2 + 3);
         }
     }
-    eprintln!("{tests} patch tests, at most {max_evals} height evaluations (bound 14)");
+    eprintln!("{tests} patch tests, at most {max_evals} height evaluations (bound {bound})");
     assert_eq!(
-        max_evals, 14,
+        max_evals, bound,
         "the bound should be reached by some ray, or the test is too easy"
     );
 }
@@ -278,8 +280,8 @@ fn work_per_ray_is_bounded() {
 /// The bisection guarantee of [`Patch::intersect`]: `t_error` is the final bracket's width
 /// plus the rounding allowance ([`smoothtri::KernelStats::rounding`]), and the bracket is at
 /// most one sampling step `(tb − ta)/(K + 1)` of the shell interval
-/// ([`smoothtri::KernelStats::shell_width`]) after N = 0 or 1 iterations, halved by every
-/// further one: `≤ (tb − ta)/((K + 1)·2^(N−1))`. Checked for every patch test of random rays
+/// ([`smoothtri::KernelStats::shell_width`]) after bracketing, divided by at least
+/// [`WORST_SHRINK`] = 5 by every refinement step: `≤ (tb − ta)/((K + 1)·5^N)`. Checked for every patch test of random rays
 /// on the icosphere and the torus (f64, and f32 up to N = 8, beyond which f32 brackets are at
 /// rounding), for `K` = [`DEFAULT_SAMPLES`] and `K` = 1; prints the largest ratio of the
 /// bracket to its bound.
@@ -295,7 +297,7 @@ fn t_error_is_within_the_bisection_bound() {
         let (t, t_error) = (h.t.to_f64(), h.t_error.to_f64());
         let bracket = t_error - s.rounding;
         let step = s.shell_width / (K + 1) as f64;
-        let bound = step / 2f64.powi(N.max(1) as i32 - 1);
+        let bound = step / (WORST_SHRINK as f64).powi(N as i32);
         // The bracket's ends are rounded positions along the ray.
         let eps = F::EPSILON.to_f64();
         let allowance = 8.0 * eps * (t.abs() + s.shell_width + t_error);

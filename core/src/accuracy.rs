@@ -178,21 +178,22 @@ const fn row(n: usize, max_error: f64, p99_error: f64, max_t_error: f64) -> Iter
     }
 }
 
-/// Precision versus iterations, `f64`, torus 8×8 (major radius 1, minor 0.4), 1500 random rays
-/// from outside (1042 hits), closest hit over all patches: per N, bounds of the error against
-/// N = 40 (every error is also within the returned `t_error`, and no ray changes between hit
-/// and miss). Measured (max / 99th pct / max `t_error`): N = 0: 2.40e-2 / 4.87e-3 / 1.78e-1;
-/// 1: 5.86e-3 / 1.06e-3 / 8.90e-2; 2: 1.03e-3 / 1.84e-4 / 4.45e-2; 4: 7.88e-6 / 1.03e-6 /
-/// 5.68e-3; 8: 1.5e-15 / 9.1e-16 / 5.90e-7; 16 and 24: 0 / 0 / 1.5e-12 (`t_error` is then the
-/// rounding allowance). Asserted by `tests/kernel.rs`.
+/// Precision versus refinement steps, `f64`, torus 8×8 (major radius 1, minor 0.4), 1500
+/// random rays from outside (1042 hits), closest hit over all patches, eight evaluations per
+/// step ([`crate::kernel::refine`]): per N, bounds of the error against N = 40 (every error is
+/// also within the returned `t_error`, and no ray changes between hit and miss). Measured
+/// (max / 99th pct / max `t_error`): N = 0: 2.25e-2 / 2.19e-3 / 1.27e-1; 1: 8.26e-4 /
+/// 5.63e-6 / 1.62e-2; 2: 1.54e-5 / 6.4e-11 / 1.64e-3; 4: 5.6e-15 / 7.8e-16 / 6.28e-8; 8, 16
+/// and 24: 0 / 0 / 6.96e-13 (`t_error` is then the rounding allowance). Asserted by
+/// `tests/kernel.rs`.
 pub const TORUS_F64_BY_ITERATIONS: [IterationBound; 7] = [
-    row(0, 2.5e-2, 5.0e-3, 1.9e-1),
-    row(1, 6.5e-3, 1.2e-3, 9.5e-2),
-    row(2, 1.2e-3, 2.0e-4, 5.0e-2),
-    row(4, 9.0e-6, 1.2e-6, 6.0e-3),
-    row(8, 4e-15, 2e-15, 6.5e-7),
-    row(16, 4e-15, 2e-15, 5e-12),
-    row(24, 4e-15, 2e-15, 5e-12),
+    row(0, 2.5e-2, 3.0e-3, 1.5e-1),
+    row(1, 1.2e-3, 1.0e-5, 2.0e-2),
+    row(2, 3.0e-5, 1.0e-9, 2.5e-3),
+    row(4, 1.0e-14, 2e-15, 1.0e-7),
+    row(8, 4e-15, 2e-15, 1.0e-12),
+    row(16, 4e-15, 2e-15, 1.0e-12),
+    row(24, 4e-15, 2e-15, 1.0e-12),
 ];
 
 // ---------------------------------------------------------------------------------------------

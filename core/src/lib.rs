@@ -60,6 +60,7 @@ pub mod error;
 pub mod fast;
 pub mod geometry;
 pub mod kernel;
+pub mod lanes;
 mod math;
 pub mod patch;
 pub mod ray;

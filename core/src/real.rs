@@ -95,6 +95,8 @@ pub trait Real:
 pub trait Float: Real<F = Self> + Copy + Default + PartialEq {
     /// The glam 3-vector over this float (`glam::Vec3` or `glam::DVec3`).
     type Vec3: Copy + Debug + PartialEq;
+    /// The 8-lane vector of this float that the kernel evaluates over ([`crate::lanes`]).
+    type L8: crate::lanes::Lane<F = Self>;
     /// `0.0`.
     const ZERO: Self;
     /// `1.0`.
@@ -128,7 +130,7 @@ pub trait Float: Real<F = Self> + Copy + Default + PartialEq {
 }
 
 macro_rules! impl_float {
-    ($f:ty, $v:ty, $sqrt:path) => {
+    ($f:ty, $v:ty, $l:ty, $sqrt:path) => {
         impl Real for $f {
             type F = $f;
             #[inline(always)]
@@ -150,6 +152,7 @@ macro_rules! impl_float {
         }
         impl Float for $f {
             type Vec3 = $v;
+            type L8 = $l;
             const ZERO: $f = 0.0;
             const ONE: $f = 1.0;
             const EPSILON: $f = <$f>::EPSILON;
@@ -196,5 +199,5 @@ macro_rules! impl_float {
     };
 }
 
-impl_float!(f32, glam::Vec3, crate::math::sqrt_f32);
-impl_float!(f64, glam::DVec3, crate::math::sqrt_f64);
+impl_float!(f32, glam::Vec3, wide::f32x8, crate::math::sqrt_f32);
+impl_float!(f64, glam::DVec3, wide::f64x8, crate::math::sqrt_f64);

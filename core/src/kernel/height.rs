@@ -1,195 +1,422 @@
-//! The kernel's specialised height evaluation `σS(X)`: the same surface as
-//! [`crate::surface`] (docs/METHOD.md §5), written for speed in plain scalar arithmetic.
+//! The kernel's height evaluation `f(τ) = z(τ) − σS(X(τ))` at eight ray parameters per call:
+//! the same surface as [`crate::surface`] (docs/METHOD.md §5), written once over [`Lane`] for
+//! speed.
 //!
 //! Differences from the generic evaluation (which stays the reference and serves the public
 //! evaluation API):
+//! - eight points per call, in the lanes of [`Float::L8`], with selects instead of branches;
+//! - per-patch precomputation ([`Prepared`], built once per patch test): the generator line of
+//!   an edge is linear in its parameter `t` (`p(t) − anchor = t·e` or `(t − 1)·e`,
+//!   `g(t) = da + t·gd`), so the three coefficients of each edge sphere's quadratic
+//!   `qa s² + 2 qb s + qc` are polynomials in `t` of degree ≤ 2 whose coefficients are dot
+//!   products of patch data, computed once;
 //! - no dual numbers: the edge tangent `c′(t)` that the edge normal `n*` needs (eq. (3)) is the
-//!   hand-written forward derivative of the two edge-sphere roots, the very arithmetic the dual
-//!   numbers perform, without carrying derivatives through everything else;
-//! - the generator line of an edge is linear in `t`, so `w = p(t) − anchor` is `t·e` or
-//!   `(t − 1)·e` and its derivative is the edge vector `e`: no lerps of anchors;
-//! - the normal `n*` is left unnormalised where the formulas are homogeneous in it (the
-//!   curvature through a point scales with the axis, and so do all three coefficients of the
-//!   line quadratic, so the root does not change; the double-root test is scaled to match).
+//!   forward derivative of the two edge-sphere roots, `s′ = (qc′ − s·q′)/q`, the arithmetic the
+//!   dual numbers perform, with the polynomials' exact derivatives;
+//! - the exact zeros of the local frame are used (`P0 = 0`, `P1.y = P1.z = P2.z = 0`,
+//!   `di.z = 1`, so `g.z = 1`), and the normal `n*` is left unnormalised where the formulas are
+//!   homogeneous in it (the curvature through a point and all three coefficients of the line
+//!   quadratic scale with the axis, so the root does not change).
 //!
 //! # Accuracy
 //! Equal to [`crate::surface`]'s height within rounding: within
 //! [`KERNEL_HEIGHT_VS_SURFACE`](crate::accuracy::KERNEL_HEIGHT_VS_SURFACE) of the triangle's
 //! size on random patches (the unit test below).
 
+use crate::lanes::Lane;
 use crate::patch::Patch;
 use crate::real::Float;
 use crate::vec::V3;
 
-/// Root `s` nearest 0 of `qa s² + 2 qb s + qc = 0` for the line `base + s·g` and the sphere
-/// anchored at `a` with axis `m` (of length `|m|`, not necessarily unit) and curvature
-/// `kappa` (scaled by `|m|` like the axis): [`crate::sphere::nearest_root`] without dual
-/// numbers. Returns `(s, q)` with `q` the denominator (`s = qc / q`), for derivatives.
-#[inline(always)]
-fn root<F: Float>(w: V3<F>, g: V3<F>, m: V3<F>, m2: F, kappa: F) -> (F, F, [F; 3]) {
-    let g2 = g.length2();
-    let w2 = w.length2();
-    let qa = kappa * g2;
-    let qb = kappa * w.dot(g) - g.dot(m);
-    let qc = kappa * w2 - F::from_f64(2.0) * w.dot(m);
-    let disc = (qb * qb - qa * qc).max(F::ZERO);
-    let sq = if disc > F::ZERO { disc.sqrt() } else { F::ZERO };
-    let q = if qb < F::ZERO { sq - qb } else { -qb - sq };
-    // Double root at s = 0 (the line tangent to the sphere at a point of it): `qc` and `qb`
-    // are rounding noise; see `nearest_root`. Scales carry |m|² where the axis enters.
-    let tol = F::EPSILON * F::from_f64(16.0);
-    let k2 = kappa * kappa;
-    let c_scale = F::from_f64(2.0) * (k2 * w2 * w2 + F::from_f64(4.0) * w2 * m2);
-    let b_scale = F::from_f64(2.0) * (k2 * w2 * g2 + g2 * m2);
-    let noise = |v: F, scale: F| v * v <= tol * tol * scale;
-    if (noise(qc, c_scale) && noise(qb, b_scale)) || q == F::ZERO {
-        return (F::ZERO, F::ZERO, [qa, qb, qc]);
-    }
-    let s = qc / q;
-    if s.is_fin() {
-        (s, q, [qa, qb, qc])
-    } else {
-        (F::ZERO, F::ZERO, [qa, qb, qc])
-    }
-}
-
-/// Derivative `s′` of a root `s = qc / q` of [`root`] given the coefficients' derivatives
-/// (forward mode, the same arithmetic as dual numbers: `sqrt` has derivative 0 where the
-/// discriminant is clamped).
-#[inline(always)]
-fn root_derivative<F: Float>(s: F, q: F, c: [F; 3], dc: [F; 3]) -> F {
-    if q == F::ZERO {
-        return F::ZERO;
-    }
-    let [qa, qb, qc] = c;
-    let [da, db, dcc] = dc;
-    let disc = qb * qb - qa * qc;
-    let ddisc = F::from_f64(2.0) * qb * db - da * qc - qa * dcc;
-    let dsq = if disc > F::ZERO {
-        ddisc / (F::from_f64(2.0) * disc.sqrt())
-    } else {
-        F::ZERO
-    };
-    let dq = if qb < F::ZERO { dsq - db } else { -db - dsq };
-    let ds = (dcc - s * dq) / q;
-    if ds.is_fin() { ds } else { F::ZERO }
-}
-
-/// Coefficient derivatives of the edge-sphere quadratic along the edge parameter: the line's
-/// offset from the anchor moves with `e` (`w′ = e`) and its direction with `gd` (`g′ = gd`).
-#[inline(always)]
-fn coeff_derivatives<F: Float>(
-    w: V3<F>,
-    g: V3<F>,
+/// One edge's data for the height evaluation, precomputed from the patch (edge `j` runs from
+/// `A = Pj` to `B = Pj+1`).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct EdgePrep<F> {
+    /// Start vertex `A`.
+    a: V3<F>,
+    /// Edge vector `e = B − A`.
     e: V3<F>,
+    /// Direction field at `A` (`z = 1`).
+    da: V3<F>,
+    /// `gd = dB − dA` (`z = 0`).
     gd: V3<F>,
-    m: V3<F>,
-    kappa: F,
-) -> [F; 3] {
-    let two = F::from_f64(2.0);
+    /// Curvatures of `S¹` (anchor `A`, axis `nA`) and `S²` (anchor `B`, axis `nB`).
+    k: [F; 2],
+    /// `|g(t)|² = g0 + t·(g1 + t·g2)`.
+    gg: [F; 3],
+    /// `e·g(t) = e0 + t·e1`.
+    eg: [F; 2],
+    /// `|e|²`.
+    ee: F,
+    /// For each sphere `m = nA, nB`: `[da·m, gd·m, e·m]`.
+    m: [[F; 3]; 2],
+}
+
+/// A patch's data for the height evaluation: built once per patch test, used by every call.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Prepared<F> {
+    /// `P1.x`, `P2.x`, `P2.y` (the other coordinates of the local vertices are zero).
+    p: [F; 3],
+    /// Unit vertex normals.
+    n: [V3<F>; 3],
+    /// Direction field at the vertices (`z = 1`).
+    d: [V3<F>; 3],
+    /// The edges.
+    edges: [EdgePrep<F>; 3],
+}
+
+impl<F: Float> Prepared<F> {
+    /// The precomputation for `patch` (about 120 flops).
+    #[inline(always)]
+    pub(crate) fn new(patch: &Patch<F>) -> Self {
+        let two = F::from_f64(2.0);
+        let edge = |j: usize| {
+            let ev = patch.edge(j);
+            let e = ev.b - ev.a;
+            let gd = ev.db - ev.da;
+            EdgePrep {
+                a: ev.a,
+                e,
+                da: ev.da,
+                gd,
+                k: [ev.k1, ev.k2],
+                gg: [ev.da.length2(), two * ev.da.dot(gd), gd.length2()],
+                eg: [e.dot(ev.da), e.dot(gd)],
+                ee: e.length2(),
+                m: [ev.na, ev.nb].map(|m| [ev.da.dot(m), gd.dot(m), e.dot(m)]),
+            }
+        };
+        let [p0, p1, p2] = patch.p;
+        let _ = p0;
+        Prepared {
+            p: [p1.x, p2.x, p2.y],
+            n: patch.n,
+            d: patch.d,
+            edges: [edge(0), edge(1), edge(2)],
+        }
+    }
+}
+
+/// A 3-vector of lanes.
+#[derive(Clone, Copy)]
+struct L3<L> {
+    x: L,
+    y: L,
+    z: L,
+}
+
+impl<L: Lane> L3<L> {
+    #[inline(always)]
+    fn splat(v: V3<L::F>) -> Self {
+        L3 {
+            x: L::splat(v.x),
+            y: L::splat(v.y),
+            z: L::splat(v.z),
+        }
+    }
+    #[inline(always)]
+    fn dot(self, o: Self) -> L {
+        self.x * o.x + self.y * o.y + self.z * o.z
+    }
+    #[inline(always)]
+    fn sub(self, o: Self) -> Self {
+        L3 {
+            x: self.x - o.x,
+            y: self.y - o.y,
+            z: self.z - o.z,
+        }
+    }
+    #[inline(always)]
+    fn add(self, o: Self) -> Self {
+        L3 {
+            x: self.x + o.x,
+            y: self.y + o.y,
+            z: self.z + o.z,
+        }
+    }
+    #[inline(always)]
+    fn scale(self, s: L) -> Self {
+        L3 {
+            x: self.x * s,
+            y: self.y * s,
+            z: self.z * s,
+        }
+    }
+    #[inline(always)]
+    fn select(m: L::Mask, a: Self, b: Self) -> Self {
+        L3 {
+            x: L::select(m, a.x, b.x),
+            y: L::select(m, a.y, b.y),
+            z: L::select(m, a.z, b.z),
+        }
+    }
+}
+
+#[inline(always)]
+fn c<L: Lane>(x: f64) -> L {
+    L::splat(L::F::from_f64(x))
+}
+
+/// The root nearest 0 of `qa s² + 2 qb s + qc = 0` ([`crate::sphere::nearest_root`]'s
+/// cancellation-free form and double-root test, over lanes). `w2 = |w|²`, `g2 = |g|²` and
+/// `m2 = |m|²` (the axis may be scaled: `κ` and all three coefficients scale with it) set the
+/// noise scales. Returns `(s, q, sq, ok)`: `s = qc/q` where `ok`, else 0.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+fn root<L: Lane>(qa: L, qb: L, qc: L, k: L, w2: L, g2: L, m2: L) -> (L, L, L, L::Mask) {
+    let zero = L::splat(L::F::ZERO);
+    let disc = qb * qb - qa * qc;
+    let sq = L::select(disc.gt(zero), disc, zero).sqrt();
+    let q = L::select(qb.lt(zero), sq - qb, -qb - sq);
+    // Double root at s = 0 (the line tangent to the sphere at a point of it): `qc` and `qb`
+    // are rounding noise, both below 16 ε of their natural scale.
+    let tol = L::F::EPSILON * L::F::from_f64(16.0);
+    let tol2 = L::splat(tol * tol);
+    let two = c::<L>(2.0);
+    let kk = k * k;
+    let c_scale = two * (kk * w2 * w2 + c::<L>(4.0) * w2 * m2);
+    let b_scale = two * (kk * w2 * g2 + g2 * m2);
+    let noise = L::and((qc * qc).le(tol2 * c_scale), (qb * qb).le(tol2 * b_scale));
+    let s = qc / q;
+    let ok = L::and(L::not(noise), L::and(L::not(q.eq(zero)), s.finite()));
+    (L::select(ok, s, zero), L::select(ok, q, zero), sq, ok)
+}
+
+/// Derivative `s′` of a root of [`root`] from the coefficients' derivatives (forward mode; the
+/// square root has derivative 0 where the discriminant is clamped).
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+fn root_derivative<L: Lane>(
+    s: L,
+    q: L,
+    sq: L,
+    ok: L::Mask,
+    [qa, qb, qc]: [L; 3],
+    [da, db, dc]: [L; 3],
+) -> L {
+    let zero = L::splat(L::F::ZERO);
+    let two = c::<L>(2.0);
+    let ddisc = two * qb * db - da * qc - qa * dc;
+    let dsq = L::select(sq.gt(zero), ddisc / (two * sq), zero);
+    let dq = L::select(qb.lt(zero), dsq - db, -db - dsq);
+    let ds = (dc - s * dq) / q;
+    L::select(L::and(ok, ds.finite()), ds, zero)
+}
+
+/// Conjugation point `c(t)` of an edge and its normal `n*(t)` scaled by `|c′|² > 0`
+/// (eq. (3)), at eight edge parameters.
+#[inline(always)]
+fn edge_point_normal<L: Lane>(ep: &EdgePrep<L::F>, t: L) -> (L3<L>, L3<L>) {
+    let one = c::<L>(1.0);
+    let two = c::<L>(2.0);
+    let zero = L::splat(L::F::ZERO);
+    let u = t - one;
+    let e = L3::<L>::splat(ep.e);
+    let gd = L3::<L>::splat(ep.gd);
+    let g = L3 {
+        x: L::splat(ep.da.x) + t * gd.x,
+        y: L::splat(ep.da.y) + t * gd.y,
+        z: one,
+    };
+    let [g0, g1, g2c] = ep.gg.map(L::splat);
+    let gg = g0 + t * (g1 + t * g2c);
+    let dgg = g1 + two * t * g2c;
+    let [e0, e1] = ep.eg.map(L::splat);
+    let eg = e0 + t * e1;
+    let ee = L::splat(ep.ee);
+    let [k1, k2] = ep.k.map(L::splat);
+    // S¹: anchor A, w = t·e.
+    let [m0, m1, m2] = ep.m[0].map(L::splat);
+    let w2a = t * t * ee;
+    let ca = [
+        k1 * gg,
+        k1 * t * eg - (m0 + t * m1),
+        t * (k1 * t * ee - two * m2),
+    ];
+    let dca = [k1 * dgg, k1 * (eg + t * e1) - m1, two * (k1 * t * ee - m2)];
+    let (s1, q1, sq1, ok1) = root(ca[0], ca[1], ca[2], k1, w2a, gg, one);
+    let ds1 = root_derivative(s1, q1, sq1, ok1, ca, dca);
+    // S²: anchor B, w = (t − 1)·e.
+    let [n0, n1, n2] = ep.m[1].map(L::splat);
+    let w2b = u * u * ee;
+    let cb = [
+        k2 * gg,
+        k2 * u * eg - (n0 + t * n1),
+        u * (k2 * u * ee - two * n2),
+    ];
+    let dcb = [k2 * dgg, k2 * (eg + u * e1) - n1, two * (k2 * u * ee - n2)];
+    let (s2, q2, sq2, ok2) = root(cb[0], cb[1], cb[2], k2, w2b, gg, one);
+    let ds2 = root_derivative(s2, q2, sq2, ok2, cb, dcb);
+    let s = t * s2 - u * s1;
+    let ds = t * ds2 - u * ds1 + (s2 - s1);
+    let cpt = L3::<L>::splat(ep.a).add(e.scale(t)).add(g.scale(s));
+    // c′ = e + g′·s + g·s′.
+    let tan = e.add(gd.scale(s)).add(g.scale(ds));
+    let tt = tan.dot(tan);
+    let n = g.scale(tt).sub(tan.scale(tan.dot(g)));
+    // Where the tangent vanishes or is parallel to g (never for an accepted patch): g.
+    let good = L::and(tt.gt(zero), n.dot(n).gt(zero));
+    (cpt, L3::select(good, n, g))
+}
+
+/// The term of vertex `i` in eq. (5): `½ (Xi·s¹ + ((1 − Xi)/2)·s²)`, for the line
+/// `base + s·dir` (`dd = |dir|²`).
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+fn vertex_term<L: Lane>(
+    ep: &EdgePrep<L::F>,
+    pi: L3<L>,
+    ni: V3<L::F>,
+    xi: L,
+    xa: L,
+    xb: L,
+    base: L3<L>,
+    dir: L3<L>,
+    dd: L,
+) -> L {
+    let zero = L::splat(L::F::ZERO);
+    let one = c::<L>(1.0);
+    let two = c::<L>(2.0);
+    let den = xa + xb;
+    let t = L::select(den.gt(L::splat(L::F::EPSILON)), xb / den, c::<L>(0.5));
+    let (cpt, nc) = edge_point_normal(ep, t);
+    let ni = L3::<L>::splat(ni);
+    // Ŝ¹: anchor Pi, unit axis ni, through c; Ŝ²: anchor c, axis n* (scaled), through Pi.
+    let wc = cpt.sub(pi);
+    let l2 = wc.dot(wc);
+    let has = l2.gt(zero);
+    let inv = two / l2;
+    let k1 = L::select(has, wc.dot(ni) * inv, zero);
+    let k2 = L::select(has, -(wc.dot(nc) * inv), zero);
+    let w = base.sub(pi);
+    let w2 = w.dot(w);
+    let (s1, _, _, _) = root(
+        k1 * dd,
+        k1 * w.dot(dir) - dir.dot(ni),
+        k1 * w2 - two * w.dot(ni),
+        k1,
+        w2,
+        dd,
+        one,
+    );
+    let w = base.sub(cpt);
+    let w2 = w.dot(w);
+    let (s2, _, _, _) = root(
+        k2 * dd,
+        k2 * w.dot(dir) - dir.dot(nc),
+        k2 * w2 - two * w.dot(nc),
+        k2,
+        w2,
+        dd,
+        nc.dot(nc),
+    );
+    c::<L>(0.5) * xi * s1 + c::<L>(0.25) * (one - xi) * s2
+}
+
+/// Barycentrics of local points, projected onto the triangle like
+/// [`crate::surface::project_bary`]: the cross-section at each point's height (vertices
+/// `Pi + z·di`), negative or non-finite components set to 0, renormalised (the centroid if all
+/// vanish).
+#[inline(always)]
+fn bary<L: Lane>(pr: &Prepared<L::F>, x: L3<L>) -> [L; 3] {
+    let zero = L::splat(L::F::ZERO);
+    let one = c::<L>(1.0);
+    let [p1x, p2x, p2y] = pr.p.map(L::splat);
+    let [d0, d1, d2] = pr.d;
+    let s = x.z;
+    let ax = |px: L, d: V3<L::F>| px + L::splat(d.x) * s - x.x;
+    let ay = |py: L, d: V3<L::F>| py + L::splat(d.y) * s - x.y;
+    let (a0x, a0y) = (ax(zero, d0), ay(zero, d0));
+    let (a1x, a1y) = (ax(p1x, d1), ay(zero, d1));
+    let (a2x, a2y) = (ax(p2x, d2), ay(p2y, d2));
+    let n1 = a2x * a0y - a2y * a0x;
+    let n2 = a0x * a1y - a0y * a1x;
+    let n0 = a1x * a2y - a1y * a2x;
+    let area = n0 + n1 + n2;
+    let (w1, w2) = (n1 / area, n2 / area);
+    let clean = |v: L| L::select(L::and(v.finite(), v.gt(zero)), v, zero);
+    let (a, b, cc) = (clean(one - w1 - w2), clean(w1), clean(w2));
+    let m = a.max_of(b).max_of(cc);
+    let good = L::and(m.gt(zero), m.finite());
+    let (a, b, cc) = (a / m, b / m, cc / m);
+    let inv = one / (a + b + cc);
+    let third = c::<L>(1.0 / 3.0);
     [
-        two * kappa * g.dot(gd),
-        kappa * (e.dot(g) + w.dot(gd)) - gd.dot(m),
-        two * kappa * w.dot(e) - two * e.dot(m),
+        L::select(good, a * inv, third),
+        L::select(good, b * inv, third),
+        L::select(good, cc * inv, third),
     ]
 }
 
-/// Conjugation point `c(t)` of edge `j` and its (unnormalised, positively scaled) normal
-/// `n*(t)·|c′|²`.
-#[inline(always)]
-fn edge_point_normal<F: Float>(patch: &Patch<F>, j: usize, t: F) -> (V3<F>, V3<F>) {
-    let ev = patch.edge(j);
-    let e = ev.b - ev.a;
-    let gd = ev.db - ev.da;
-    let g = ev.da + gd * t;
-    let w1 = e * t;
-    let w2 = e * (t - F::ONE);
-    let (s1, q1, c1) = root(w1, g, ev.na, F::ONE, ev.k1);
-    let (s2, q2, c2) = root(w2, g, ev.nb, F::ONE, ev.k2);
-    let ds1 = root_derivative(s1, q1, c1, coeff_derivatives(w1, g, e, gd, ev.na, ev.k1));
-    let ds2 = root_derivative(s2, q2, c2, coeff_derivatives(w2, g, e, gd, ev.nb, ev.k2));
-    let u = F::ONE - t;
-    let s = u * s1 + t * s2;
-    let ds = u * ds1 + t * ds2 + (s2 - s1);
-    let c = ev.a + w1 + g * s;
-    // c′ = e + g′·s + g·s′.
-    let tan = e + gd * s + g * ds;
-    let tt = tan.length2();
-    // n* ∝ g − T (T·g)/|T|², scaled by |T|² > 0.
-    let n = if tt > F::ZERO {
-        g * tt - tan * tan.dot(g)
-    } else {
-        g
-    };
-    // Where the tangent is parallel to g (never for an accepted patch), fall back to g as the
-    // generic evaluation does.
-    if n.length2() > F::ZERO {
-        (c, n)
-    } else {
-        (c, g)
+/// Larger of two lanes, NaN-free for the finite, non-negative values [`bary`] compares.
+trait MaxOf {
+    fn max_of(self, o: Self) -> Self;
+}
+impl<L: Lane> MaxOf for L {
+    #[inline(always)]
+    fn max_of(self, o: Self) -> Self {
+        L::select(self.gt(o), self, o)
     }
 }
 
-/// The term of vertex `i` in eq. (5): `½ (Xi·s¹ + ((1 − Xi)/2)·s²)`.
+/// `f(τ) = z − σS(X)` at the local points `o + τ·r` of eight parameters `tau` (one ray: `o`
+/// and `r` splatted; a packet: one ray per lane), with the projected barycentrics `X`.
 #[inline(always)]
-#[allow(clippy::too_many_arguments)]
-fn vertex_term<F: Float>(
-    patch: &Patch<F>,
-    opposite_edge: usize,
-    pi: V3<F>,
-    ni: V3<F>,
-    xi: F,
-    xa: F,
-    xb: F,
-    base: V3<F>,
-    dir: V3<F>,
-) -> F {
-    let den = xa + xb;
-    let t = if den > F::EPSILON {
-        xb / den
-    } else {
-        F::from_f64(0.5)
+pub(crate) fn f_lanes<L: Lane>(pr: &Prepared<L::F>, o: [L; 3], r: [L; 3], tau: L) -> L {
+    let [ox, oy, oz] = o;
+    let [rx, ry, rz] = r;
+    let x = L3 {
+        x: ox + rx * tau,
+        y: oy + ry * tau,
+        z: oz + rz * tau,
     };
-    let (c, nc) = edge_point_normal(patch, opposite_edge, t);
-    let two = F::from_f64(2.0);
-    // Ŝ¹: anchor Pi, unit axis ni, through c.
-    let wc = c - pi;
-    let l2 = wc.length2();
-    let k1 = if l2 > F::ZERO {
-        two * wc.dot(ni) / l2
-    } else {
-        F::ZERO
-    };
-    let (s1, _, _) = root(base - pi, dir, ni, F::ONE, k1);
-    // Ŝ²: anchor c, axis n* (scaled), through Pi; the curvature scales with the axis.
-    let nc2 = nc.length2();
-    let k2 = if l2 > F::ZERO {
-        -two * wc.dot(nc) / l2
-    } else {
-        F::ZERO
-    };
-    let (s2, _, _) = root(base - c, dir, nc, nc2, k2);
-    F::from_f64(0.5) * xi * s1 + F::from_f64(0.25) * (F::ONE - xi) * s2
+    x.z - height_at(pr, bary(pr, x))
 }
 
-/// Height `σS(X)` of the surface over the triangle's plane at barycentrics `x` (summing to one,
-/// inside the triangle).
+/// Height `σS(X)` at eight barycentric triples (summing to one, inside the triangle).
 #[inline(always)]
-pub(crate) fn height<F: Float>(patch: &Patch<F>, x: [F; 3]) -> F {
-    let [x0, x1, x2] = x;
-    let [p0, p1, p2] = patch.p;
-    let [d0, d1, d2] = patch.d;
-    let [n0, n1, n2] = patch.n;
-    let base = p0 * x0 + p1 * x1 + p2 * x2;
-    let dir = d0 * x0 + d1 * x1 + d2 * x2;
-    vertex_term(patch, 1, p0, n0, x0, x1, x2, base, dir)
-        + vertex_term(patch, 2, p1, n1, x1, x2, x0, base, dir)
-        + vertex_term(patch, 0, p2, n2, x2, x0, x1, base, dir)
+pub(crate) fn height_at<L: Lane>(pr: &Prepared<L::F>, [x0, x1, x2]: [L; 3]) -> L {
+    let zero = L::splat(L::F::ZERO);
+    let [p1x, p2x, p2y] = pr.p.map(L::splat);
+    let [d0, d1, d2] = pr.d;
+    let sp = |v: L::F| L::splat(v);
+    let base = L3 {
+        x: x1 * p1x + x2 * p2x,
+        y: x2 * p2y,
+        z: zero,
+    };
+    let dir = L3 {
+        x: x0 * sp(d0.x) + x1 * sp(d1.x) + x2 * sp(d2.x),
+        y: x0 * sp(d0.y) + x1 * sp(d1.y) + x2 * sp(d2.y),
+        z: x0 + x1 + x2,
+    };
+    let dd = dir.dot(dir);
+    let [e0, e1, e2] = &pr.edges;
+    let [n0, n1, n2] = pr.n;
+    let p0 = L3 {
+        x: zero,
+        y: zero,
+        z: zero,
+    };
+    let p1 = L3 {
+        x: p1x,
+        y: zero,
+        z: zero,
+    };
+    let p2 = L3 {
+        x: p2x,
+        y: p2y,
+        z: zero,
+    };
+    vertex_term(e1, p0, n0, x0, x1, x2, base, dir, dd)
+        + vertex_term(e2, p1, n1, x1, x2, x0, base, dir, dd)
+        + vertex_term(e0, p2, n2, x2, x0, x1, base, dir, dd)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::lanes::LANES;
     use crate::surface;
     use glam::DVec3;
 
@@ -221,13 +448,24 @@ mod tests {
                 continue;
             };
             tested += 1;
+            let pr = Prepared::new(&patch);
             let size = (p[1] - p[0]).length().max((p[2] - p[0]).length());
-            for i in 0..=10 {
-                for j in 0..=(10 - i) {
-                    let (w1, w2) = (i as f64 / 10.0, j as f64 / 10.0);
-                    let x = [1.0 - w1 - w2, w1, w2];
-                    let a = height(&patch, x);
-                    let b = surface::height(&patch, x);
+            let mut xs = [[0.0; 3]; 66];
+            let grid = (0..=10).flat_map(|i| (0..=(10 - i)).map(move |j| (i, j)));
+            for (slot, (i, j)) in xs.iter_mut().zip(grid) {
+                let (w1, w2) = (i as f64 / 10.0, j as f64 / 10.0);
+                *slot = [1.0 - w1 - w2, w1, w2];
+            }
+            for chunk in xs.chunks(LANES) {
+                let lane = |c: usize| {
+                    wide::f64x8::new(core::array::from_fn(|i| {
+                        let x = chunk.get(i).or(chunk.first()).copied().unwrap_or_default();
+                        x.get(c).copied().unwrap_or_default()
+                    }))
+                };
+                let h = height_at(&pr, [lane(0), lane(1), lane(2)]).to_array();
+                for (x, a) in chunk.iter().zip(h) {
+                    let b = surface::height(&patch, *x);
                     worst = worst.max((a - b).abs() / size);
                 }
             }

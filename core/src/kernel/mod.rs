@@ -19,23 +19,36 @@
 pub mod clip;
 pub mod flat;
 pub(crate) mod height;
-pub mod itp;
+pub mod refine;
 
+use crate::lanes::Lane;
 use crate::patch::Patch;
 use crate::ray::{Hit, Ray};
 use crate::real::Float;
 use crate::surface::{normal_local, point_derivs_local, project_bary};
 use crate::vec::V3;
 use clip::{LocalRay, bary_numerators, shell_interval};
-use itp::{Bracket, refine};
+use height::{Prepared, f_lanes};
+use refine::{first_sign_change, refine};
 
-/// Default number `K` of interior bracketing samples used by [`Patch::intersect`].
-pub const DEFAULT_SAMPLES: usize = 4;
+/// Default number `K` of interior bracketing samples used by [`Patch::intersect`]: with the two
+/// ends, eight points, one lane call.
+pub const DEFAULT_SAMPLES: usize = 6;
+
+/// The most lane calls ([`crate::lanes`]: eight height evaluations each) that one patch test
+/// with `k` bracketing samples and `n` refinement steps makes: `⌈(k + 2)/8⌉ + n`.
+///
+/// # Panics
+/// Never.
+pub const fn max_lane_calls(k: usize, n: usize) -> usize {
+    (k + 2).div_ceil(crate::lanes::LANES) + n
+}
 
 /// Statistics of one kernel call, for tests and studies.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct KernelStats {
-    /// Number of height evaluations `σS` performed (at most `K + 2 + N`).
+    /// Number of height evaluations `σS` performed, eight per lane call (at most
+    /// `8 ·` [`max_lane_calls`]`(K, N)`).
     pub height_evals: u32,
     /// Number of full point-and-normal evaluations (0 or 1).
     pub normal_evals: u32,
@@ -152,11 +165,13 @@ impl<F: Float> Patch<F> {
         let (a, b) = shell_interval(self, &lray, a, b)?;
         stats.shell_width = (b - a).to_f64();
 
-        let mut f = |tau: F| -> F {
-            stats.height_evals += 1;
-            let x = lray.at(tau);
-            let h = height::height(self, bary_at(self, x));
-            x.z - h
+        let prep = Prepared::new(self);
+        let sp = <F::L8 as Lane>::splat;
+        let (o, r) = (lray.o, lray.r);
+        let (o8, r8) = ([sp(o.x), sp(o.y), sp(o.z)], [sp(r.x), sp(r.y), sp(r.z)]);
+        let mut f = |taus: [F; crate::lanes::LANES]| {
+            stats.height_evals += crate::lanes::LANES as u32;
+            f_lanes(&prep, o8, r8, <F::L8 as Lane>::from_array(taus)).to_array()
         };
         let bracket = first_sign_change::<F, K>(a, b, &mut f)?;
         let fin = refine::<F, N>(bracket, &mut f);
@@ -235,56 +250,4 @@ pub(crate) fn bary_at<F: Float>(patch: &Patch<F>, x: V3<F>) -> [F; 3] {
     let ([_, n1, n2], area) = bary_numerators(patch, x);
     let inv = F::ONE / area;
     project_bary(n1 * inv, n2 * inv)
-}
-
-/// Samples `f` at `a`, `K` interior points and `b`; returns the first bracket with a sign
-/// change (or an exact zero). At most `K + 2` evaluations.
-#[inline(always)]
-fn first_sign_change<F: Float, const K: usize>(
-    a: F,
-    b: F,
-    f: &mut impl FnMut(F) -> F,
-) -> Option<Bracket<F>> {
-    let fa = f(a);
-    if fa == F::ZERO {
-        return Some(Bracket {
-            a,
-            b: a,
-            fa,
-            fb: fa,
-        });
-    }
-    if !(b > a) {
-        return None;
-    }
-    let step = (b - a) / F::from_f64((K + 1) as f64);
-    let mut x0 = a;
-    let mut f0 = fa;
-    for j in 1..=K + 1 {
-        let x1 = if j == K + 1 {
-            b
-        } else {
-            a + step * F::from_f64(j as f64)
-        };
-        let f1 = f(x1);
-        if f1 == F::ZERO {
-            return Some(Bracket {
-                a: x1,
-                b: x1,
-                fa: f1,
-                fb: f1,
-            });
-        }
-        if (f1 > F::ZERO) != (f0 > F::ZERO) {
-            return Some(Bracket {
-                a: x0,
-                b: x1,
-                fa: f0,
-                fb: f1,
-            });
-        }
-        x0 = x1;
-        f0 = f1;
-    }
-    None
 }

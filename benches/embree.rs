@@ -1,0 +1,276 @@
+//! smoothtri beside Embree on the same camera rays, one thread:
+//! `cargo bench --features embree --bench embree` (needs Embree 3: `apt-get install
+//! libembree-dev` on Debian and Ubuntu).
+//!
+//! The rays are those of `smoothtri render`'s default image: the built-in 8×8 torus (R = 1,
+//! r = 0.4, 128 triangles) framed by `Camera::for_mesh` from the default view (azimuth 30°,
+//! elevation 35°), 640×480 pixel-centre rays in f32. smoothtri traces its patches (f32, the
+//! default N = 8 iterations, closest hit through its BVH, hit normal included); Embree traces
+//! the flat n×n torus of the same generator (n = 35 by default, the coarsest flat grid whose
+//! error matches smoothtri's, `SMOOTHTRI_EMBREE_N` to change it) with `rtcIntersect1`, and
+//! interpolates the Phong normal from the hit's barycentrics inside the timed loop. The table
+//! reports the median of several timed passes after a warm-up pass, the memory, the maximum
+//! and mean distance of the hit points to the true torus, and the hit count. A second Embree
+//! row traces the flat grid of equal maximum error found at run time when it differs from n.
+
+use std::hint::black_box;
+use std::time::Instant;
+
+use glam::{DVec3, Vec3};
+use smoothtri::Ray;
+use smoothtri_demo::camera::Camera;
+use smoothtri_demo::scenes::{builtin, torus, torus_distance};
+use smoothtri_demo::{Mesh, Scene};
+
+mod common;
+#[path = "embree/ffi.rs"]
+mod ffi;
+
+use common::{cpu_name, flat_torus_matching};
+
+/// `smoothtri render`'s defaults: image size, view (azimuth, elevation), iterations.
+const WIDTH: u32 = 640;
+const HEIGHT: u32 = 480;
+const VIEW: (f64, f64) = (30.0, 35.0);
+const N_ITER: usize = 8;
+/// Torus radii of the built-in scene.
+const BIG_R: f64 = 1.0;
+const SMALL_R: f64 = 0.4;
+
+/// One row of the table.
+struct Row {
+    what: String,
+    prims: usize,
+    mrays: f64,
+    kib: f64,
+    max_dist: f64,
+    mean_dist: f64,
+    hits: usize,
+    /// What the memory column counts.
+    memory_note: String,
+}
+
+/// Median seconds of `reps` timed calls of `f` after one warm-up call.
+fn median_secs(reps: usize, mut f: impl FnMut() -> usize) -> f64 {
+    black_box(f());
+    let mut t: Vec<f64> = (0..reps)
+        .map(|_| {
+            let s = Instant::now();
+            black_box(f());
+            s.elapsed().as_secs_f64()
+        })
+        .collect();
+    t.sort_by(f64::total_cmp);
+    t[t.len() / 2]
+}
+
+/// Max and mean distance of `points` to the true torus.
+fn distances(points: &[DVec3]) -> (f64, f64) {
+    let d: Vec<f64> = points
+        .iter()
+        .map(|&p| torus_distance(p, BIG_R, SMALL_R))
+        .collect();
+    let max = d.iter().copied().fold(0.0, f64::max);
+    (max, d.iter().sum::<f64>() / d.len().max(1) as f64)
+}
+
+fn env_usize(name: &str, default: usize) -> usize {
+    std::env::var(name)
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(default)
+}
+
+fn smoothtri_row(mesh: &Mesh, rays: &[Ray], reps: usize) -> Row {
+    let scene = Scene::<f32>::build(mesh).expect("the torus builds");
+    assert!(scene.rejected.is_empty(), "no torus triangle is rejected");
+    let bvh = scene.bvh();
+    let trace = || {
+        let mut hits = 0;
+        for r in rays {
+            if let Ok(Some(h)) = bvh.closest_hit::<N_ITER>(r, 0.0, f32::MAX) {
+                black_box(h.normal);
+                hits += 1;
+            }
+        }
+        hits
+    };
+    let secs = median_secs(reps, trace);
+    let points: Vec<DVec3> = rays
+        .iter()
+        .filter_map(|r| bvh.closest_hit::<N_ITER>(r, 0.0, f32::MAX).ok().flatten())
+        .map(|h| h.point.as_dvec3())
+        .collect();
+    let (max_dist, mean_dist) = distances(&points);
+    let bytes = size_of_val(scene.patches.as_slice()) + bvh.memory_bytes();
+    Row {
+        what: format!("smoothtri 8×8 torus patches, f32, N = {N_ITER}"),
+        prims: scene.patches.len(),
+        mrays: rays.len() as f64 / secs / 1e6,
+        kib: bytes as f64 / 1024.0,
+        max_dist,
+        mean_dist,
+        hits: points.len(),
+        memory_note: format!(
+            "smoothtri: the patches ({} B) + the BVH's nodes and order ({} B)",
+            size_of_val(scene.patches.as_slice()),
+            bvh.memory_bytes()
+        ),
+    }
+}
+
+/// The Embree ray of `r` (`tnear` 0, `tfar` f32::MAX as smoothtri's query), no hit yet.
+fn rtc_ray(r: &Ray) -> ffi::RTCRayHit {
+    let mut rh = ffi::RTCRayHit::default();
+    rh.ray.org_x = r.origin.x;
+    rh.ray.org_y = r.origin.y;
+    rh.ray.org_z = r.origin.z;
+    rh.ray.dir_x = r.dir.x;
+    rh.ray.dir_y = r.dir.y;
+    rh.ray.dir_z = r.dir.z;
+    rh.ray.tnear = 0.0;
+    rh.ray.tfar = f32::MAX;
+    rh.ray.mask = u32::MAX;
+    rh.hit.geom_id = ffi::RTC_INVALID_GEOMETRY_ID;
+    rh.hit.inst_id = [ffi::RTC_INVALID_GEOMETRY_ID];
+    rh
+}
+
+/// Closest hit of `r` on the Embree scene with its interpolated (Phong) unit normal.
+#[inline]
+fn embree_hit(
+    scene: &ffi::Scene<'_>,
+    ctx: &mut ffi::RTCIntersectContext,
+    indices: &[[u32; 3]],
+    normals: &[Vec3],
+    r: &Ray,
+) -> Option<(f32, Vec3)> {
+    let mut rh = rtc_ray(r);
+    scene.intersect1(ctx, &mut rh);
+    if rh.hit.geom_id == ffi::RTC_INVALID_GEOMETRY_ID {
+        return None;
+    }
+    let [a, b, c] = indices[rh.hit.prim_id as usize].map(|i| normals[i as usize]);
+    let (u, v) = (rh.hit.u, rh.hit.v);
+    let n = (a * (1.0 - u - v) + b * u + c * v).normalize();
+    Some((rh.ray.tfar, n))
+}
+
+/// The Embree row of the flat `n`×`n` torus; `equal` marks the grid of equal max error.
+fn embree_row(n: usize, equal: bool, rays: &[Ray], reps: usize) -> Row {
+    let mesh = torus(n, n, BIG_R, SMALL_R);
+    let positions: Vec<[f32; 3]> = mesh
+        .positions
+        .iter()
+        .map(|p| p.as_vec3().to_array())
+        .collect();
+    let normals: Vec<Vec3> = mesh.normals.iter().map(|p| p.as_vec3()).collect();
+    let indices = mesh.triangles.clone();
+    let device = ffi::Device::new(c"threads=1");
+    let scene = ffi::Scene::triangles(&device, &positions, &indices);
+    let (net, peak) = (device.net_bytes(), device.peak_bytes());
+    let mut ctx = ffi::RTCIntersectContext::new();
+    let secs = median_secs(reps, || {
+        let mut hits = 0;
+        for r in rays {
+            if let Some((t, nrm)) = embree_hit(&scene, &mut ctx, &indices, &normals, r) {
+                black_box((t, nrm));
+                hits += 1;
+            }
+        }
+        hits
+    });
+    let points: Vec<DVec3> = rays
+        .iter()
+        .filter_map(|r| {
+            embree_hit(&scene, &mut ctx, &indices, &normals, r)
+                .map(|(t, _)| (r.origin + r.dir * t).as_dvec3())
+        })
+        .collect();
+    let (max_dist, mean_dist) = distances(&points);
+    // The monitor counts Embree's own copies of the vertex and index buffers and its BVH; the
+    // normals live in the application's array.
+    let bytes = net.max(0) as usize + size_of_val(normals.as_slice());
+    let memory_note = format!(
+        "Embree {n}×{n}: the net bytes Embree's memory monitor reports after `rtcCommitScene` \
+         ({net} B: its vertex and index buffers, {} B, and the BVH; the peak during the build \
+         was {peak} B) + the vertex normals ({} B)",
+        size_of_val(positions.as_slice()) + size_of_val(indices.as_slice()),
+        size_of_val(normals.as_slice())
+    );
+    Row {
+        what: format!(
+            "Embree flat {n}×{n}{}, Phong normals, rtcIntersect1",
+            if equal { " (equal max error)" } else { "" }
+        ),
+        prims: indices.len(),
+        mrays: rays.len() as f64 / secs / 1e6,
+        kib: bytes as f64 / 1024.0,
+        max_dist,
+        mean_dist,
+        hits: points.len(),
+        memory_note,
+    }
+}
+
+fn main() {
+    // `cargo bench` passes `--bench`; `cargo test --benches` does not: skip its debug-build run.
+    if !std::env::args().any(|a| a == "--bench") {
+        eprintln!("run with `cargo bench --features embree --bench embree`");
+        return;
+    }
+    let mesh = builtin("torus").expect("the built-in torus");
+    let cam = Camera::for_mesh(&mesh, VIEW.0, VIEW.1, WIDTH, HEIGHT);
+    let rays: Vec<Ray> = (0..HEIGHT)
+        .flat_map(|y| (0..WIDTH).map(move |x| (x, y)))
+        .map(|(x, y)| {
+            let (o, d) = cam.pixel_ray(x, y);
+            Ray::new(o.as_vec3(), d.as_vec3())
+        })
+        .collect();
+    let smooth_reps = env_usize("SMOOTHTRI_EMBREE_REPS", 5).max(1);
+    let n = env_usize("SMOOTHTRI_EMBREE_N", 35).max(3);
+
+    let embree_reps = 4 * smooth_reps + 1;
+
+    let smooth = smoothtri_row(&mesh, &rays, smooth_reps);
+    // The coarsest flat grid whose triangles stay within smoothtri's max distance (sampled on
+    // each triangle): 35 for the kernel of the issue.
+    let (n_eq, flat_err) = flat_torus_matching(smooth.max_dist);
+    let mut rows = vec![smooth, embree_row(n, n == n_eq, &rays, embree_reps)];
+    if n_eq != n {
+        rows.push(embree_row(n_eq, true, &rays, embree_reps));
+    }
+
+    println!(
+        "\n## smoothtri vs Embree 3 ({}; one thread, {} camera rays {WIDTH}×{HEIGHT}, median of \
+         {smooth_reps} passes for smoothtri, {embree_reps} for Embree)\n",
+        cpu_name(),
+        rays.len(),
+    );
+    println!("| what | triangles/patches | Mrays/s | memory KiB | max dist | mean dist | hits |");
+    println!("|---|---|---|---|---|---|---|");
+    for r in &rows {
+        println!(
+            "| {} | {} | {:.3} | {:.1} | {:.2e} | {:.2e} | {} |",
+            r.what, r.prims, r.mrays, r.kib, r.max_dist, r.mean_dist, r.hits
+        );
+    }
+    println!(
+        "\nEqual max error: the flat {n_eq}×{n_eq} grid is the coarsest within smoothtri's max \
+         distance ({flat_err:.2e} sampled over its triangles).\n\nMemory:"
+    );
+    for r in &rows {
+        println!("- {}", r.memory_note);
+    }
+    let s = &rows[0];
+    for r in &rows[1..] {
+        println!(
+            "\n{} ÷ smoothtri: {:.1}× the ray rate, {:.1}× the memory, {:.2}× the max distance",
+            r.what,
+            r.mrays / s.mrays,
+            r.kib / s.kib,
+            r.max_dist / s.max_dist
+        );
+    }
+}

@@ -1,0 +1,261 @@
+//! The few declarations of Embree 3's C API (`/usr/include/embree3`, Debian's `libembree-dev`,
+//! 3.13) that the `embree` bench needs, and a small safe wrapper: a one-thread device, a scene
+//! of one triangle mesh, closest hits. All of the bench's `unsafe` is in this module.
+
+use std::ffi::{CStr, c_char, c_void};
+use std::sync::atomic::{AtomicI64, Ordering};
+
+type RTCDevice = *mut c_void;
+type RTCScene = *mut c_void;
+type RTCGeometry = *mut c_void;
+
+/// `RTC_GEOMETRY_TYPE_TRIANGLE` (`enum RTCGeometryType`).
+const RTC_GEOMETRY_TYPE_TRIANGLE: u32 = 0;
+/// `RTC_BUFFER_TYPE_INDEX`, `RTC_BUFFER_TYPE_VERTEX` (`enum RTCBufferType`).
+const RTC_BUFFER_TYPE_INDEX: u32 = 0;
+const RTC_BUFFER_TYPE_VERTEX: u32 = 1;
+/// `RTC_FORMAT_UINT3`, `RTC_FORMAT_FLOAT3` (`enum RTCFormat`).
+const RTC_FORMAT_UINT3: u32 = 0x5003;
+const RTC_FORMAT_FLOAT3: u32 = 0x9003;
+/// `RTC_INVALID_GEOMETRY_ID`.
+pub const RTC_INVALID_GEOMETRY_ID: u32 = u32::MAX;
+/// `RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT` (`enum RTCIntersectContextFlags`).
+const RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT: u32 = 0;
+
+/// `struct RTCRay` (`rtcore_ray.h`, `RTC_ALIGN(16)`): 48 bytes.
+#[repr(C, align(16))]
+#[derive(Clone, Copy, Debug, Default)]
+pub struct RTCRay {
+    pub org_x: f32,
+    pub org_y: f32,
+    pub org_z: f32,
+    pub tnear: f32,
+    pub dir_x: f32,
+    pub dir_y: f32,
+    pub dir_z: f32,
+    pub time: f32,
+    pub tfar: f32,
+    pub mask: u32,
+    pub id: u32,
+    pub flags: u32,
+}
+
+/// `struct RTCHit` (`RTC_ALIGN(16)`, `RTC_MAX_INSTANCE_LEVEL_COUNT` = 1 in Debian's build):
+/// 32 bytes.
+#[repr(C, align(16))]
+#[derive(Clone, Copy, Debug, Default)]
+pub struct RTCHit {
+    pub ng_x: f32,
+    pub ng_y: f32,
+    pub ng_z: f32,
+    pub u: f32,
+    pub v: f32,
+    pub prim_id: u32,
+    pub geom_id: u32,
+    pub inst_id: [u32; 1],
+}
+
+/// `struct RTCRayHit`: 80 bytes, 16-byte aligned.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default)]
+pub struct RTCRayHit {
+    pub ray: RTCRay,
+    pub hit: RTCHit,
+}
+
+/// `struct RTCIntersectContext` with `RTC_MAX_INSTANCE_LEVEL_COUNT` = 1 (no `instStackSize`)
+/// and `RTC_MIN_WIDTH` = 0 (no `minWidthDistanceFactor`), as in Debian's `rtcore_config.h`.
+#[repr(C)]
+pub struct RTCIntersectContext {
+    flags: u32,
+    filter: Option<unsafe extern "C" fn(*const c_void)>,
+    inst_id: [u32; 1],
+}
+
+const _: () = {
+    // The sizes, alignments and offsets a C compiler gives the header's structs.
+    assert!(size_of::<RTCRay>() == 48 && align_of::<RTCRay>() == 16);
+    assert!(size_of::<RTCHit>() == 32 && align_of::<RTCHit>() == 16);
+    assert!(size_of::<RTCRayHit>() == 80 && align_of::<RTCRayHit>() == 16);
+    assert!(std::mem::offset_of!(RTCRayHit, hit) == 48);
+    assert!(size_of::<RTCIntersectContext>() == 24);
+};
+
+impl RTCIntersectContext {
+    /// `rtcInitIntersectContext` (an inline function of `rtcore_common.h`) for this
+    /// configuration.
+    pub fn new() -> Self {
+        RTCIntersectContext {
+            flags: RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT,
+            filter: None,
+            inst_id: [RTC_INVALID_GEOMETRY_ID],
+        }
+    }
+}
+
+type RTCMemoryMonitorFunction = unsafe extern "C" fn(*mut c_void, isize, bool) -> bool;
+
+#[link(name = "embree3")]
+unsafe extern "C" {
+    fn rtcNewDevice(config: *const c_char) -> RTCDevice;
+    fn rtcReleaseDevice(device: RTCDevice);
+    fn rtcGetDeviceError(device: RTCDevice) -> u32;
+    fn rtcSetDeviceMemoryMonitorFunction(
+        device: RTCDevice,
+        monitor: Option<RTCMemoryMonitorFunction>,
+        user: *mut c_void,
+    );
+    fn rtcNewScene(device: RTCDevice) -> RTCScene;
+    fn rtcCommitScene(scene: RTCScene);
+    fn rtcReleaseScene(scene: RTCScene);
+    fn rtcNewGeometry(device: RTCDevice, kind: u32) -> RTCGeometry;
+    fn rtcSetNewGeometryBuffer(
+        geometry: RTCGeometry,
+        kind: u32,
+        slot: u32,
+        format: u32,
+        byte_stride: usize,
+        item_count: usize,
+    ) -> *mut c_void;
+    fn rtcCommitGeometry(geometry: RTCGeometry);
+    fn rtcAttachGeometry(scene: RTCScene, geometry: RTCGeometry) -> u32;
+    fn rtcReleaseGeometry(geometry: RTCGeometry);
+    fn rtcIntersect1(scene: RTCScene, context: *mut RTCIntersectContext, rayhit: *mut RTCRayHit);
+}
+
+/// Net bytes Embree reported through the memory monitor (allocations minus frees) and the
+/// peak of that sum. Boxed so its address stays fixed while the device holds it.
+#[derive(Default)]
+pub struct Memory {
+    pub net: AtomicI64,
+    pub peak: AtomicI64,
+}
+
+/// The memory monitor: `bytes` > 0 for an allocation, < 0 for a free; each is reported once.
+unsafe extern "C" fn monitor(user: *mut c_void, bytes: isize, _post: bool) -> bool {
+    // SAFETY: `user` is the `Box<Memory>` of the `Device` that registered this callback, which
+    // outlives the device (it is dropped after `rtcReleaseDevice`).
+    let m = unsafe { &*(user as *const Memory) };
+    let now = m.net.fetch_add(bytes as i64, Ordering::Relaxed) + bytes as i64;
+    m.peak.fetch_max(now, Ordering::Relaxed);
+    true
+}
+
+/// An Embree device with a memory monitor.
+pub struct Device {
+    raw: RTCDevice,
+    pub memory: Box<Memory>,
+}
+
+impl Device {
+    /// `rtcNewDevice(config)`, e.g. `"threads=1"`.
+    pub fn new(config: &CStr) -> Device {
+        // SAFETY: `config` is a NUL-terminated string that Embree only reads during the call.
+        let raw = unsafe { rtcNewDevice(config.as_ptr()) };
+        assert!(!raw.is_null(), "rtcNewDevice failed");
+        let memory = Box::new(Memory::default());
+        // SAFETY: `raw` is a live device; the user pointer is the boxed `Memory`, which lives as
+        // long as the device (see `Drop`), and `monitor` only reads it through atomics.
+        unsafe {
+            rtcSetDeviceMemoryMonitorFunction(
+                raw,
+                Some(monitor),
+                &*memory as *const Memory as *mut c_void,
+            )
+        };
+        Device { raw, memory }
+    }
+
+    /// Net bytes allocated through the device so far.
+    pub fn net_bytes(&self) -> i64 {
+        self.memory.net.load(Ordering::Relaxed)
+    }
+
+    /// Peak of [`Device::net_bytes`] so far.
+    pub fn peak_bytes(&self) -> i64 {
+        self.memory.peak.load(Ordering::Relaxed)
+    }
+
+    fn check(&self, what: &str) {
+        // SAFETY: `self.raw` is a live device.
+        let e = unsafe { rtcGetDeviceError(self.raw) };
+        assert_eq!(e, 0, "Embree error {e} after {what}");
+    }
+}
+
+impl Drop for Device {
+    fn drop(&mut self) {
+        // SAFETY: every `Scene` borrows the device, so none outlives this call; the monitor's
+        // user data (`self.memory`) is dropped only after it.
+        unsafe { rtcReleaseDevice(self.raw) };
+    }
+}
+
+/// A committed scene holding one triangle mesh.
+pub struct Scene<'d> {
+    raw: RTCScene,
+    _device: &'d Device,
+}
+
+impl<'d> Scene<'d> {
+    /// Builds and commits a scene of the triangles `indices` over `positions`.
+    pub fn triangles(device: &'d Device, positions: &[[f32; 3]], indices: &[[u32; 3]]) -> Self {
+        // SAFETY: `device.raw` is live. Each buffer Embree returns has room for `item_count`
+        // items of `byte_stride` bytes (Embree pads vertex buffers itself), so the copies stay in
+        // bounds; the `[f32; 3]`/`[u32; 3]` items match FLOAT3/UINT3 with stride 12, and the
+        // buffers are 4-byte aligned (Embree aligns them to 16). The geometry is released after
+        // the scene takes its own reference in `rtcAttachGeometry`.
+        unsafe {
+            let scene = rtcNewScene(device.raw);
+            let geom = rtcNewGeometry(device.raw, RTC_GEOMETRY_TYPE_TRIANGLE);
+            device.check("rtcNewGeometry");
+            let vb = rtcSetNewGeometryBuffer(
+                geom,
+                RTC_BUFFER_TYPE_VERTEX,
+                0,
+                RTC_FORMAT_FLOAT3,
+                12,
+                positions.len(),
+            ) as *mut [f32; 3];
+            device.check("rtcSetNewGeometryBuffer(vertex)");
+            assert!(!vb.is_null());
+            std::ptr::copy_nonoverlapping(positions.as_ptr(), vb, positions.len());
+            let ib = rtcSetNewGeometryBuffer(
+                geom,
+                RTC_BUFFER_TYPE_INDEX,
+                0,
+                RTC_FORMAT_UINT3,
+                12,
+                indices.len(),
+            ) as *mut [u32; 3];
+            device.check("rtcSetNewGeometryBuffer(index)");
+            assert!(!ib.is_null());
+            std::ptr::copy_nonoverlapping(indices.as_ptr(), ib, indices.len());
+            rtcCommitGeometry(geom);
+            rtcAttachGeometry(scene, geom);
+            rtcReleaseGeometry(geom);
+            rtcCommitScene(scene);
+            device.check("rtcCommitScene");
+            Scene {
+                raw: scene,
+                _device: device,
+            }
+        }
+    }
+
+    /// `rtcIntersect1`: fills `rh.ray.tfar` and `rh.hit` on a hit (`rh.hit.geom_id` must be
+    /// [`RTC_INVALID_GEOMETRY_ID`] on entry).
+    #[inline]
+    pub fn intersect1(&self, ctx: &mut RTCIntersectContext, rh: &mut RTCRayHit) {
+        // SAFETY: the scene is committed and live; `ctx` and `rh` are valid, exclusive and
+        // laid out as the header's structs (checked above), `rh` 16-byte aligned.
+        unsafe { rtcIntersect1(self.raw, ctx, rh) }
+    }
+}
+
+impl Drop for Scene<'_> {
+    fn drop(&mut self) {
+        // SAFETY: the scene is live and released once.
+        unsafe { rtcReleaseScene(self.raw) };
+    }
+}
