@@ -27,6 +27,7 @@ const CASES: &[(&str, &str, usize)] = &[
     ("smooth_f64_N8", "patch test", 1024),
     ("scene_smooth_8x8_f32_N4", "camera ray", 160 * 120),
     ("scene_smooth_8x8_f32_N8", "camera ray", 160 * 120),
+    ("scene_packets_8x8_f32_N8", "camera ray", 160 * 120),
     ("scene_flat_equal_error_f32", "camera ray", 160 * 120),
     ("construct_f32", "patch", 128),
 ];
@@ -80,6 +81,19 @@ fn run_case(name: &str, reps: usize) -> usize {
         "smooth_f64_N8" => per_patch!(s, reps, s.p64, s.rays64, 8, f64::INFINITY),
         "scene_smooth_8x8_f32_N4" => scene_smooth::<4>(reps),
         "scene_smooth_8x8_f32_N8" => scene_smooth::<8>(reps),
+        "scene_packets_8x8_f32_N8" => {
+            let scene = Scene::new(&torus(8, 8, 1.0, 0.4));
+            let bvh = scene.bvh();
+            let tiles = camera_tiles(160, 120);
+            let mut hits = 0;
+            for _ in 0..reps {
+                for t in &tiles {
+                    let h = bvh.closest_hit_packet::<8>(black_box(t), 0.0, f32::INFINITY);
+                    hits += h.map_or(0, |h| h.iter().flatten().count());
+                }
+            }
+            hits
+        }
         "scene_flat_equal_error_f32" => {
             let (n, _) = flat_torus_matching(7.4e-3);
             let scene = Scene::new(&torus(n, n, 1.0, 0.4));

@@ -1,4 +1,4 @@
-//! The bounded-iteration ray kernel against analytic spheres, itself at N = 40, its bisection
+//! The bounded-iteration ray kernel against analytic spheres, itself at N = 40, its worst-case
 //! guarantee and its work bound, within the named bounds of [`smoothtri::accuracy`]. Prints
 //! what it measures: `cargo test --release --test kernel -- --nocapture`.
 
@@ -277,7 +277,7 @@ fn work_per_ray_is_bounded() {
     );
 }
 
-/// The bisection guarantee of [`Patch::intersect`]: `t_error` is the final bracket's width
+/// The worst-case guarantee of [`Patch::intersect`]: `t_error` is the final bracket's width
 /// plus the rounding allowance ([`smoothtri::KernelStats::rounding`]), and the bracket is at
 /// most one sampling step `(tb − ta)/(K + 1)` of the shell interval
 /// ([`smoothtri::KernelStats::shell_width`]) after bracketing, divided by at least
@@ -286,7 +286,7 @@ fn work_per_ray_is_bounded() {
 /// rounding), for `K` = [`DEFAULT_SAMPLES`] and `K` = 1; prints the largest ratio of the
 /// bracket to its bound.
 #[test]
-fn t_error_is_within_the_bisection_bound() {
+fn t_error_is_within_the_worst_case_bound() {
     fn check<F: Float, const K: usize, const N: usize>(
         p: &Patch<F>,
         ray: &Ray<F>,
@@ -343,7 +343,7 @@ fn t_error_is_within_the_bisection_bound() {
                 check::<f32, 1, 3>(q, &ray32, w);
             }
         }
-        eprintln!("{name}: bisection bound checked");
+        eprintln!("{name}: worst-case bound checked");
     }
     eprintln!("{hits} patch hits; largest bracket / bound {worst:.3}");
     assert!(hits > 500, "{hits} hits");

@@ -19,7 +19,7 @@
 //! | [`Patch::derivatives`] | exact (dual numbers) | exact | central differences, within [`accuracy::DERIVATIVES_VS_CENTRAL_DIFFERENCES`] of the size |
 //! | [`Patch::edge_point_normal`] | [`accuracy::F64_EDGE_VS_REFERENCE`] of the size, normals [`accuracy::F64_EDGE_NORMAL_VS_REFERENCE`] | normals at the ends [`accuracy::F32_INTERPOLATION`] | `tests/data/`; the vertex normals |
 //! | every unit vector returned | length 1 ± [`accuracy::UNIT_LENGTH_ULPS`] ε | the same | |
-//! | [`Patch::intersect`] `t` | within `t_error` (bisection bound: [`Patch::intersect`]); N = 8: sphere hits to [`accuracy::F64_SPHERE_HIT`] of the radius, the torus at rounding ([`accuracy::TORUS_F64_BY_ITERATIONS`]) | sphere hits to [`accuracy::F32_SPHERE_HIT`] of the radius | analytic spheres; the kernel at N = 40 |
+//! | [`Patch::intersect`] `t` | within `t_error` (worst-case bound: [`Patch::intersect`]); N = 8: sphere hits to [`accuracy::F64_SPHERE_HIT`] of the radius, the torus at rounding ([`accuracy::TORUS_F64_BY_ITERATIONS`]) | sphere hits to [`accuracy::F32_SPHERE_HIT`] of the radius | analytic spheres; the kernel at N = 40 |
 //!
 //! `FastF32` (feature `micromath`) trades accuracy for a square root without FPU support (its
 //! square root is within [`accuracy::FASTF32_SQRT_REL`] relative): its surfaces deviate by up

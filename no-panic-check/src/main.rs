@@ -96,8 +96,7 @@ fn scalars<F: Float>() -> u32 {
         + (d == dd) as u32
         + (d < dd) as u32;
     // Float.
-    let f = x.sqrt() + x.min(y) + x.max(y) + F::from_f64(F::EPSILON.to_f64())
-        - F::MIN_POSITIVE
+    let f = x.sqrt() + x.min(y) + x.max(y) + F::from_f64(F::EPSILON.to_f64()) - F::MIN_POSITIVE
         + F::MAX * F::ZERO
         + F::MIN * F::ZERO
         + F::ONE;
@@ -105,7 +104,10 @@ fn scalars<F: Float>() -> u32 {
     // V3.
     let a = V3::new(x, y, F::ONE);
     let b = V3::<F>::zero() + F::from_glam(v::<F>(0.3, 0.2, 0.1));
-    let m = a.cross(b).try_normalize().unwrap_or(V3::new(F::ZERO, F::ZERO, F::ONE));
+    let m = a
+        .cross(b)
+        .try_normalize()
+        .unwrap_or(V3::new(F::ZERO, F::ZERO, F::ONE));
     let w = a.lerp(b, y) - m * x;
     let lifted: V3<Dual<F>> = V3::lift(w);
     let vv = (-lifted).re();
@@ -120,9 +122,30 @@ fn scalars<F: Float>() -> u32 {
 }
 
 /// Everything above the scalar layer, in precision `F`.
+/// Every method of the lane type of `F` (the kernel's eight-wide evaluation) and the work bound.
+fn lanes<F: Float>() -> u32 {
+    use smoothtri::lanes::{LANES, Lane};
+    let a = F::L8::from_array(core::array::from_fn(|i| c::<F>(i as f64 - 3.5)));
+    let b = black_box(F::L8::splat(c::<F>(0.5)));
+    let x = ((a + b) * b - a / b).abs().sqrt() + (-a);
+    let m = F::L8::and(a.lt(b), F::L8::not(a.eq(b)));
+    let m = F::L8::or(m, F::L8::and(a.le(b), a.gt(b)));
+    let m = F::L8::and(m, x.finite());
+    let y = F::L8::select(m, x, b).to_array();
+    let mut acc = F::L8::any(m) as u32 + F::L8::mask_array(m).iter().filter(|&&q| q).count() as u32;
+    acc += y.iter().filter(|q| q.is_fin()).count() as u32;
+    acc += (smoothtri::kernel::max_lane_calls(black_box(DEFAULT_SAMPLES), black_box(8)) + LANES)
+        as u32;
+    acc
+}
+
 fn exercise<F: Float>() -> u32 {
     let mut acc = scalars::<F>();
-    let p = [v::<F>(1.0, 0.0, 0.0), v::<F>(0.0, 1.0, 0.0), v::<F>(0.0, 0.0, 1.0)];
+    let p = [
+        v::<F>(1.0, 0.0, 0.0),
+        v::<F>(0.0, 1.0, 0.0),
+        v::<F>(0.0, 0.0, 1.0),
+    ];
     let n = black_box(p);
     // Construction: both constructors and every error's Display.
     let steep = [v::<F>(1.0, 0.0, -0.2), n[1], n[2]];
@@ -167,14 +190,15 @@ fn exercise<F: Float>() -> u32 {
     acc += F::from_glam(at).all_finite() as u32;
     let (t0, t1) = (c::<F>(0.0), c::<F>(f64::INFINITY));
     let hit: Option<Hit<F>> = patch.intersect::<8>(&ray, t0, t1);
-    let (hit2, stats): (_, KernelStats) =
-        patch.intersect_stats::<DEFAULT_SAMPLES, 5>(&ray, t0, t1);
+    let (hit2, stats): (_, KernelStats) = patch.intersect_stats::<DEFAULT_SAMPLES, 5>(&ray, t0, t1);
     let (hit3, _) = patch.intersect_stats::<0, 0>(&ray, t0, t1);
     let verts = patch.vertices();
     let mt = moller_trumbore(&verts, &ray, t0, t1);
     let flat = flat_hit(&verts, None, &ray, t0, t1);
     let phong = flat_hit(&verts, Some(&patch.normals()), &ray, t0, t1);
-    acc += hit.map_or(0, |h| h.patch + h.front_face as u32 + h.t_error.is_fin() as u32);
+    acc += hit.map_or(0, |h| {
+        h.patch + h.front_face as u32 + h.t_error.is_fin() as u32
+    });
     acc += hit2.is_some() as u32 + hit3.is_some() as u32 + mt.is_some() as u32;
     acc += flat.is_some() as u32 + phong.is_some() as u32;
     acc += stats.height_evals + stats.normal_evals;
@@ -192,6 +216,10 @@ fn exercise<F: Float>() -> u32 {
             acc += F::from_glam(root.bounds().min()).all_finite() as u32;
             if let Ok(Some(h)) = bvh.closest_hit::<8>(&ray, t0, t1) {
                 acc += h.patch;
+            }
+            let rays = [ray; smoothtri::lanes::LANES];
+            if let Ok(hs) = bvh.closest_hit_packet::<4>(black_box(&rays), t0, t1) {
+                acc += hs.iter().flatten().count() as u32;
             }
             if let Ok(true) = bvh.any_hit::<4>(&ray, t0, t1) {
                 acc += 1;
@@ -229,6 +257,7 @@ pub extern "C" fn _start() -> ! {
 
 extern "C" fn main() -> ! {
     let r = exercise::<f32>() + exercise::<f64>() + exercise::<FastF32>();
+    let r = r + lanes::<f32>() + lanes::<f64>() + lanes::<FastF32>();
     // SAFETY: libc's exit, linked from the C library (only the start files are left out).
     unsafe { exit(if black_box(r) >= 3 { 0 } else { 1 }) }
 }

@@ -9,16 +9,20 @@
 //! 2. samples `f` at `ta`, at `K` evenly spaced interior points and at `tb`, and takes the first
 //!    sign change (so a ray grazing a bulge twice inside the shell is not missed when the
 //!    crossings are at least `(tb − ta)/(K + 1)` apart);
-//! 3. refines that bracket with exactly `N` ITP iterations ([`itp`]);
+//! 3. refines that bracket with exactly `N` steps of eight points each ([`refine`]: at least
+//!    5× narrower per step, superlinear near a simple root);
 //! 4. evaluates the exact surface normal once at the estimate.
 //!
-//! Work per ray is at most `K + 2 + N` height evaluations plus one normal evaluation, whatever
-//! the input: every loop has a compile-time trip count (a loop may stop early when it has its
-//! answer, never run longer). The final bracket's width is returned as [`Hit::t_error`].
+//! `f` is evaluated at eight parameters per call, in the lanes of [`Float::L8`]
+//! ([`crate::lanes`]). Work per ray is at most [`max_lane_calls`]`(K, N) = ⌈(K + 2)/8⌉ + N`
+//! lane calls plus one normal evaluation, whatever the input: every loop has a compile-time
+//! trip count (a loop may stop early when it has its answer, never run longer). The final
+//! bracket's width plus a rounding allowance is returned as [`Hit::t_error`].
 
 pub mod clip;
 pub mod flat;
 pub(crate) mod height;
+pub(crate) mod packet;
 pub mod refine;
 
 use crate::lanes::Lane;
@@ -53,7 +57,7 @@ pub struct KernelStats {
     /// Number of full point-and-normal evaluations (0 or 1).
     pub normal_evals: u32,
     /// Width `tb − ta` of the shell interval that was sampled (in units of the ray parameter
-    /// `t`, converted to `f64`); 0 when the ray missed the box or the shell. The bisection
+    /// `t`, converted to `f64`); 0 when the ray missed the box or the shell. The worst-case
     /// guarantee of [`Patch::intersect`] is stated in terms of it.
     pub shell_width: f64,
     /// The rounding allowance included in the returned [`Hit::t_error`] (converted to `f64`):
@@ -72,16 +76,18 @@ impl<F: Float> Patch<F> {
     /// `|t − t_true| ≤ hit.t_error` where `t_true` is the crossing inside the final bracket.
     /// `t_error` is the final bracket's width plus a rounding allowance
     /// ([`KernelStats::rounding`], `16 ε L / |f′|` for the patch's extent `L`), and the bracket
-    /// is at most `(tb − ta) / ((K + 1)·2^(max(N, 1) − 1))` for the shell interval `[ta, tb]`
-    /// ([`KernelStats::shell_width`]): one sampling step after N = 0 or 1 iterations, halved by
-    /// each further one (ITP's worst case; tested on every patch test of random rays in
-    /// `tests/kernel.rs`). Convergence is usually far faster: at N = 8, `f64` hits on spheres
-    /// are on the sphere to [`F64_SPHERE_HIT`](crate::accuracy::F64_SPHERE_HIT) and the torus
-    /// is at rounding ([`TORUS_F64_BY_ITERATIONS`](crate::accuracy::TORUS_F64_BY_ITERATIONS)).
+    /// is at most `(tb − ta) / ((K + 1)·5^N)` for the shell interval `[ta, tb]`
+    /// ([`KernelStats::shell_width`]): one sampling step, divided by at least
+    /// [`WORST_SHRINK`](refine::WORST_SHRINK) = 5 by every refinement step (tested on every
+    /// patch test of random rays in `tests/kernel.rs`). Convergence is usually far faster: from
+    /// N = 4, `f64` hits on the torus are at rounding
+    /// ([`TORUS_F64_BY_ITERATIONS`](crate::accuracy::TORUS_F64_BY_ITERATIONS)); at N = 8 `f64`
+    /// hits on spheres are on the sphere to [`F64_SPHERE_HIT`](crate::accuracy::F64_SPHERE_HIT).
     /// Rays that cross the surface twice within one sampling step `(tb − ta)/(K + 1)` may be
     /// reported as misses.
     /// # Panics
-    /// Never. Work is bounded: at most `K + 2 + N` height evaluations and one normal evaluation.
+    /// Never. Work is bounded: at most [`max_lane_calls`]`(K, N)` lane calls (eight height
+    /// evaluations each) and one normal evaluation.
     #[inline]
     pub fn intersect<const N: usize>(&self, ray: &Ray<F>, t_min: F, t_max: F) -> Option<Hit<F>> {
         self.intersect_stats::<DEFAULT_SAMPLES, N>(ray, t_min, t_max)
@@ -122,16 +128,11 @@ impl<F: Float> Patch<F> {
         Some(hit)
     }
 
-    /// The search part of the kernel (clip, bracket, refine) without the normal: where the ray
-    /// crosses the patch, or `None`. At most `K + 2 + N` height evaluations.
+    /// Clips a world ray to the patch's box, slab and shell: the local ray re-based at `t0`
+    /// (the middle of the box interval) and the interval `[a, b]` of `τ = t − t0` to search, or
+    /// `None` when the ray misses the shell (or is degenerate).
     #[inline(always)]
-    pub(crate) fn crossing<const K: usize, const N: usize>(
-        &self,
-        ray: &Ray<F>,
-        t_min: F,
-        t_max: F,
-        stats: &mut KernelStats,
-    ) -> Option<Crossing<F>> {
+    pub(crate) fn clip_ray(&self, ray: &Ray<F>, t_min: F, t_max: F) -> Option<Clipped<F>> {
         let o = F::from_glam(ray.origin);
         let d = F::from_glam(ray.dir);
         if !o.all_finite() || !d.all_finite() || d.length2() == F::ZERO {
@@ -163,11 +164,25 @@ impl<F: Float> Patch<F> {
             return None;
         }
         let (a, b) = shell_interval(self, &lray, a, b)?;
-        stats.shell_width = (b - a).to_f64();
+        Some(Clipped { t0, lray, a, b })
+    }
 
+    /// The search part of the kernel (clip, bracket, refine) without the normal: where the ray
+    /// crosses the patch, or `None`. At most [`max_lane_calls`]`(K, N)` lane calls.
+    #[inline(always)]
+    pub(crate) fn crossing<const K: usize, const N: usize>(
+        &self,
+        ray: &Ray<F>,
+        t_min: F,
+        t_max: F,
+        stats: &mut KernelStats,
+    ) -> Option<Crossing<F>> {
+        let cl = self.clip_ray(ray, t_min, t_max)?;
+        let (a, b) = (cl.a, cl.b);
+        stats.shell_width = (b - a).to_f64();
         let prep = Prepared::new(self);
         let sp = <F::L8 as Lane>::splat;
-        let (o, r) = (lray.o, lray.r);
+        let (o, r) = (cl.lray.o, cl.lray.r);
         let (o8, r8) = ([sp(o.x), sp(o.y), sp(o.z)], [sp(r.x), sp(r.y), sp(r.z)]);
         let mut f = |taus: [F; crate::lanes::LANES]| {
             stats.height_evals += crate::lanes::LANES as u32;
@@ -175,17 +190,35 @@ impl<F: Float> Patch<F> {
         };
         let bracket = first_sign_change::<F, K>(a, b, &mut f)?;
         let fin = refine::<F, N>(bracket, &mut f);
+        self.complete(&cl, &bracket, &fin, t_min, t_max)
+    }
+
+    /// The crossing at the final bracket `fin` (refined from the sampling bracket `bracket`)
+    /// of the clipped ray `cl`: `t`, `t_error` with its rounding allowance, barycentrics.
+    #[inline(always)]
+    pub(crate) fn complete(
+        &self,
+        cl: &Clipped<F>,
+        bracket: &refine::Bracket<F>,
+        fin: &refine::Bracket<F>,
+        t_min: F,
+        t_max: F,
+    ) -> Option<Crossing<F>> {
         let tau = fin.estimate();
-        let bary = bary_at(self, lray.at(tau));
+        let bary = bary_at(self, cl.lray.at(tau));
         // Re-basing can round the hit an ulp outside the caller's range: clamp it.
-        let t = (t0 + tau).max(t_min).min(t_max);
+        let t = (cl.t0 + tau).max(t_min).min(t_max);
         // Rounding allowance: the sign of f is only known to about `16 ε L` (L: the patch's
         // size plus its distance from the world origin), which moves the root by that over the
-        // bracket's slope |f'|.
+        // slope |f'|. The slope is the smaller of the sampling bracket's and the final
+        // bracket's secants: near convergence the final bracket's end values are themselves
+        // rounding noise and its secant can be far too steep (which made f32 hits at N ≥ 8
+        // fall outside `t_error` on 0.85 % of the torus's camera rays).
+        let secant = |br: &refine::Bracket<F>| (br.fb - br.fa).abs() / (br.b - br.a);
         let slope = if fin.b > fin.a {
-            (fin.fb - fin.fa).abs() / (fin.b - fin.a)
+            secant(fin).min(secant(bracket))
         } else {
-            (bracket.fb - bracket.fa).abs() / (bracket.b - bracket.a)
+            secant(bracket)
         };
         let scale = crate::shell::longest_edge(self) * F::from_f64(4.0) + self.origin.length();
         let rounding = F::from_f64(16.0) * F::EPSILON * scale / slope;
@@ -227,6 +260,19 @@ impl<F: Float> Patch<F> {
             patch: 0,
         })
     }
+}
+
+/// A ray clipped to a patch's shell ([`Patch::clip_ray`]).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Clipped<F> {
+    /// The world parameter the local ray is re-based at.
+    pub t0: F,
+    /// The local ray (`τ = t − t0`).
+    pub lray: LocalRay<F>,
+    /// Start of the shell interval in `τ`.
+    pub a: F,
+    /// End of the shell interval in `τ`.
+    pub b: F,
 }
 
 /// Where a ray crosses a patch, before the normal is evaluated (the BVH keeps the closest
