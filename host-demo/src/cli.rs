@@ -87,6 +87,10 @@ struct RenderArgs {
     /// Also write the primary-hit mask as a plain PBM (for tests).
     #[arg(long, hide = true)]
     mask: Option<String>,
+    /// Trace on the GPU (the WGSL port of the kernel, f32; Vulkan, or Mesa's software
+    /// lavapipe). Without a Vulkan adapter: one line on stderr and a non-zero exit.
+    #[arg(long)]
+    gpu: bool,
 }
 
 #[derive(Args, Debug)]
@@ -114,6 +118,10 @@ struct PrecisionArgs {
     /// The mesh's up axis [default: y for mesh files (glTF: always y), z for the built-in scenes].
     #[arg(long, value_enum)]
     up: Option<Up>,
+    /// Also sweep the GPU kernel (f32; rows labelled gpu) and render --strip on it. Without a
+    /// Vulkan adapter: one line on stderr and a non-zero exit.
+    #[arg(long)]
+    gpu: bool,
 }
 
 #[derive(Args, Debug)]
@@ -217,6 +225,7 @@ pub fn run(cli: Cli) -> Result<()> {
             view: a.view,
             up: a.up,
             mask: a.mask,
+            gpu: a.gpu,
         }),
         Cmd::Precision(a) => commands::precision::run(PrecisionOptions {
             source: a.src.into(),
@@ -227,6 +236,7 @@ pub fn run(cli: Cli) -> Result<()> {
             height: a.height,
             view: a.view,
             up: a.up,
+            gpu: a.gpu,
         }),
         Cmd::Trace(a) => commands::trace::run(TraceOptions {
             source: a.src.into(),

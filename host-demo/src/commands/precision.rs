@@ -1,10 +1,13 @@
 //! `smoothtri precision`: precision versus iteration budget, the hit-point error of f32 and
-//! f64 runs at each budget of [`BUDGETS`] against an `f64` reference at N = 40.
+//! f64 runs at each budget of [`BUDGETS`] against an `f64` reference at N = 40; with `--gpu`
+//! also the GPU kernel (f32) at each budget, rows labelled `gpu`.
 
 use std::fmt::Write as _;
+use std::sync::Arc;
 
 use glam::DVec3;
 use smoothtri::Ray;
+use smoothtri_gpu::{Gpu, GpuScene};
 
 use super::MeshSource;
 use crate::camera::{Camera, Up};
@@ -32,6 +35,8 @@ pub struct PrecisionOptions {
     pub view: (f64, f64),
     /// The mesh's up axis (`None`: the source's default, [`MeshSource::up_axis`]).
     pub up: Option<Up>,
+    /// Also sweep the GPU kernel (f32), and render the strip on it.
+    pub gpu: bool,
 }
 
 /// Runs the study on [`PrecisionOptions::source`] (the torus when unset): the table on stdout,
@@ -42,13 +47,29 @@ pub fn run(a: PrecisionOptions) -> Result<()> {
             "--width and --height must be in 1..=4096".into(),
         ));
     }
+    let gpu = if a.gpu {
+        Some(super::render::open_gpu()?)
+    } else {
+        None
+    };
     let (name, mesh, _) = a.source.load_upright(true, a.up)?;
     let cam = Camera::for_mesh(&mesh, a.view.0, a.view.1, a.width, a.height);
-    let study = sweep(&mesh, &cam)?;
+    let study = sweep_with(&mesh, &cam, gpu.as_ref())?;
     println!(
         "precision study: {name}, {} rays ({}x{}), reference f64 N = 40",
         study.rays, a.width, a.height
     );
+    if let Some(g) = &gpu {
+        let soft = if g.is_software() {
+            " (software Vulkan: its ns/ray are not GPU timings)"
+        } else {
+            ""
+        };
+        println!(
+            "gpu rows: the GPU kernel (f32) on {}{soft}",
+            g.adapter_name()
+        );
+    }
     print!("{}", study.table());
     if let Some(csv) = &a.csv {
         crate::image::write_bytes(csv, study.csv().as_bytes())?;
@@ -57,7 +78,7 @@ pub fn run(a: PrecisionOptions) -> Result<()> {
         study.plot(plot, &name)?;
     }
     if let Some(out) = &a.strip {
-        let img = strip(&mesh, a.view, a.width, a.height)?;
+        let img = strip_with(&mesh, a.view, a.width, a.height, gpu.as_ref())?;
         img.write_png(out)?;
     }
     Ok(())
@@ -73,6 +94,8 @@ pub const REFERENCE_N: usize = 40;
 pub struct Row {
     /// Precision of the run.
     pub precision: Precision,
+    /// Whether the run was the GPU kernel (f32; labelled `gpu` in the table and the CSV).
+    pub gpu: bool,
     /// Iteration budget.
     pub iterations: usize,
     /// Hits compared (both this run and the reference hit).
@@ -89,8 +112,20 @@ pub struct Row {
     pub bound_holds: f64,
     /// Rays that hit in one run and miss in the other.
     pub disagreements: usize,
-    /// Time per primary ray, nanoseconds (one thread).
+    /// Time per primary ray, nanoseconds (one thread; GPU rows: the whole batch's wall time,
+    /// transfers included, per ray).
     pub ns_per_ray: f64,
+}
+
+impl Row {
+    /// The label of the run: `f32`, `f64` or `gpu`.
+    pub fn label(&self) -> &'static str {
+        if self.gpu {
+            "gpu"
+        } else {
+            self.precision.name()
+        }
+    }
 }
 
 /// The whole study.
@@ -149,6 +184,31 @@ fn percentile(sorted: &[f64], q: f64) -> f64 {
     sorted[k]
 }
 
+/// Traces all rays with budget `n` on the GPU scene `gs`: as [`trace_all`].
+fn trace_gpu(
+    gs: &GpuScene,
+    rays: &[(DVec3, DVec3)],
+    n: usize,
+) -> Result<(Vec<Option<Traced>>, f64)> {
+    let batch: Vec<Ray<f32>> = rays
+        .iter()
+        .map(|&(o, d)| Ray::new(o.as_vec3(), d.as_vec3()))
+        .collect();
+    let mut hits = vec![None; batch.len()];
+    // Compile the pipeline before the clock starts.
+    gs.closest_hit_with(n, &[], 0.0, f32::MAX, &mut [])
+        .map_err(super::render::gpu_error)?;
+    let start = std::time::Instant::now();
+    gs.closest_hit_with(n, &batch, 0.0, f32::MAX, &mut hits)
+        .map_err(super::render::gpu_error)?;
+    let secs = start.elapsed().as_secs_f64();
+    let out = hits
+        .iter()
+        .map(|h| h.map(|h| (f64::from(h.t), h.point.as_dvec3(), f64::from(h.t_error))))
+        .collect();
+    Ok((out, secs))
+}
+
 fn row<F: Prec>(
     scene: &Scene<F>,
     rays: &[(DVec3, DVec3)],
@@ -157,6 +217,19 @@ fn row<F: Prec>(
     diag: f64,
 ) -> Result<Row> {
     let (res, secs) = trace_all(scene, rays, n)?;
+    Ok(row_of(F::PRECISION, false, &res, secs, reference, n, diag))
+}
+
+/// The statistics of one run's results `res` (taking `secs`) against the reference.
+fn row_of(
+    precision: Precision,
+    gpu: bool,
+    res: &[Option<Traced>],
+    secs: f64,
+    reference: &[Option<Ref>],
+    n: usize,
+    diag: f64,
+) -> Row {
     let mut errs = Vec::new();
     let mut terr = 0.0;
     let mut holds = 0usize;
@@ -177,8 +250,9 @@ fn row<F: Prec>(
     let hits = errs.len();
     let mean = errs.iter().sum::<f64>() / hits.max(1) as f64;
     errs.sort_by(f64::total_cmp);
-    Ok(Row {
-        precision: F::PRECISION,
+    Row {
+        precision,
+        gpu,
         iterations: n,
         hits,
         max: errs.last().copied().unwrap_or(0.0),
@@ -187,12 +261,18 @@ fn row<F: Prec>(
         mean_t_error: terr / hits.max(1) as f64,
         bound_holds: holds as f64 / hits.max(1) as f64,
         disagreements: dis,
-        ns_per_ray: secs * 1e9 / rays.len().max(1) as f64,
-    })
+        ns_per_ray: secs * 1e9 / res.len().max(1) as f64,
+    }
 }
 
 /// Runs the sweep over [`BUDGETS`] in f32 and f64 on the camera rays of `cam`.
 pub fn sweep(mesh: &Mesh, cam: &Camera) -> Result<Study> {
+    sweep_with(mesh, cam, None)
+}
+
+/// [`sweep`], with the GPU kernel's rows (f32, after the CPU's at each budget) when `gpu` is
+/// given.
+pub fn sweep_with(mesh: &Mesh, cam: &Camera, gpu: Option<&Arc<Gpu>>) -> Result<Study> {
     let (lo, hi) = mesh.bounds();
     let diag = (hi - lo).length().max(f64::MIN_POSITIVE);
     let s32 = Scene::<f32>::build(mesh)?;
@@ -206,10 +286,26 @@ pub fn sweep(mesh: &Mesh, cam: &Camera) -> Result<Study> {
     let rays = rays(cam);
     let (rf, _) = trace_all(&s64, &rays, REFERENCE_N)?;
     let reference: Vec<Option<Ref>> = rf.iter().map(|r| r.map(|(t, p, _)| Ref { t, p })).collect();
+    let gs = match gpu {
+        Some(g) => Some(GpuScene::smooth(g, &s32.bvh()).map_err(super::render::gpu_error)?),
+        None => None,
+    };
     let mut rows = Vec::new();
     for &n in &BUDGETS {
         rows.push(row(&s32, &rays, &reference, n, diag)?);
         rows.push(row(&s64, &rays, &reference, n, diag)?);
+        if let Some(gs) = &gs {
+            let (res, secs) = trace_gpu(gs, &rays, n)?;
+            rows.push(row_of(
+                Precision::F32,
+                true,
+                &res,
+                secs,
+                &reference,
+                n,
+                diag,
+            ));
+        }
     }
     Ok(Study {
         rays: rays.len(),
@@ -242,7 +338,7 @@ impl Study {
             let _ = writeln!(
                 s,
                 "{:>4} {:>3} {:>6} {:>10.2e} {:>10.2e} {:>10.2e} {:>12.2e} {:>7.2}% {:>9} {:>9.0}",
-                r.precision,
+                r.label(),
                 r.iterations,
                 r.hits,
                 r.max,
@@ -268,7 +364,7 @@ impl Study {
             let _ = writeln!(
                 s,
                 "{},{},{},{},{},{},{},{},{},{}",
-                r.precision,
+                r.label(),
                 r.iterations,
                 r.hits,
                 r.max,
@@ -311,23 +407,32 @@ impl Study {
                 .y_label_formatter(&|v| format!("{v:.0e}"))
                 .draw()
                 .map_err(|e| err(&e))?;
-            let series = [
-                (Precision::F32, false, RGBColor(220, 80, 30)),
-                (Precision::F64, false, RGBColor(30, 90, 200)),
-                (Precision::F32, true, RGBColor(240, 160, 120)),
-                (Precision::F64, true, RGBColor(120, 160, 230)),
+            let mut series = vec![
+                (Precision::F32, false, false, RGBColor(220, 80, 30)),
+                (Precision::F64, false, false, RGBColor(30, 90, 200)),
+                (Precision::F32, false, true, RGBColor(240, 160, 120)),
+                (Precision::F64, false, true, RGBColor(120, 160, 230)),
             ];
-            for (prec, p999, color) in series {
+            if self.rows.iter().any(|r| r.gpu) {
+                series.push((Precision::F32, true, false, RGBColor(40, 150, 60)));
+                series.push((Precision::F32, true, true, RGBColor(140, 210, 150)));
+            }
+            for (prec, gpu, p999, color) in series {
                 let pts: Vec<(f64, f64)> = self
                     .rows
                     .iter()
-                    .filter(|r| r.precision == prec)
+                    .filter(|r| r.precision == prec && r.gpu == gpu)
                     .map(|r| {
                         let v = if p999 { r.p999 } else { r.max };
                         (r.iterations as f64, v.max(floor))
                     })
                     .collect();
-                let label = format!("{prec} {}", if p999 { "99.9th pct" } else { "max" });
+                let name = if gpu {
+                    "gpu f32".to_string()
+                } else {
+                    prec.to_string()
+                };
+                let label = format!("{name} {}", if p999 { "99.9th pct" } else { "max" });
                 let style = if p999 {
                     ShapeStyle::from(&color).stroke_width(1)
                 } else {
@@ -358,6 +463,17 @@ impl Study {
 /// against the f64 N = 40 reference (bottom; log scale 1e-12 … 1e-1 of the diagonal; magenta
 /// where hit and miss disagree).
 pub fn strip(mesh: &Mesh, view: (f64, f64), w: u32, h: u32) -> Result<Image> {
+    strip_with(mesh, view, w, h, None)
+}
+
+/// [`strip`], the f32 renders on the GPU kernel when `gpu` is given.
+pub fn strip_with(
+    mesh: &Mesh,
+    view: (f64, f64),
+    w: u32,
+    h: u32,
+    gpu: Option<&Arc<Gpu>>,
+) -> Result<Image> {
     let cam = Camera::for_mesh(mesh, view.0, view.1, w, h);
     let diag = mesh.diagonal().max(f64::MIN_POSITIVE);
     let s32 = Scene::<f32>::build(mesh)?;
@@ -377,7 +493,12 @@ pub fn strip(mesh: &Mesh, view: (f64, f64), w: u32, h: u32) -> Result<Image> {
         [255, 255, 255],
     );
     for (k, &n) in BUDGETS.iter().enumerate() {
-        let r = crate::renderer::render(&s32, &cam, tracer::<f32>(Mode::Smooth, n)?, diag, false);
+        let r = match gpu {
+            Some(g) => super::render::render_gpu(g, &s32, &cam, Mode::Smooth, n, diag)?,
+            None => {
+                crate::renderer::render(&s32, &cam, tracer::<f32>(Mode::Smooth, n)?, diag, false)
+            }
+        };
         let x0 = (k as u32 * (w + gap)) as i64;
         img.blit(&r.image, x0, top as i64);
         let mut hm = Image::new(w, h, [0, 0, 0]);
@@ -405,7 +526,11 @@ pub fn strip(mesh: &Mesh, view: (f64, f64), w: u32, h: u32) -> Result<Image> {
         img.fill(62 + i, ly - 1, 1, 9, c);
     }
     img.label(
-        "1E-1 OF DIAGONAL; F32 VS F64 N=40",
+        if gpu.is_some() {
+            "1E-1 OF DIAGONAL; GPU F32 VS F64 N=40"
+        } else {
+            "1E-1 OF DIAGONAL; F32 VS F64 N=40"
+        },
         266,
         ly,
         1,

@@ -1,10 +1,17 @@
 //! `smoothtri render`: a mesh (default: the built-in torus) to a PNG, one mode or smooth, flat
-//! and phong side by side.
+//! and phong side by side; on the CPU, or with `--gpu` on the GPU kernel ([`render_gpu`]).
+
+use std::sync::Arc;
+
+use glam::Vec3;
+use smoothtri::{Hit, Ray};
+use smoothtri_gpu::{Gpu, GpuScene};
 
 use crate::camera::{Camera, Up};
 use crate::error::{DemoError, Result};
 use crate::image::Image;
 use crate::mesh::Mesh;
+use crate::renderer::{PixelHit, Rendered, light_dir};
 use crate::tracer::{Mode, Prec, Precision, Scene, tracer};
 
 use super::MeshSource;
@@ -34,6 +41,8 @@ pub struct RenderOptions {
     pub up: Option<Up>,
     /// Also write the primary-hit mask as a plain PBM.
     pub mask: Option<String>,
+    /// Trace on the GPU (`smoothtri-gpu`, f32) instead of the CPU.
+    pub gpu: bool,
 }
 
 /// One rendered panel and its primary-hit mask.
@@ -102,6 +111,178 @@ fn render_panel<F: Prec>(
     })
 }
 
+/// Opens the GPU for `--gpu`: its error (no adapter, no device) becomes the one-line message
+/// the command exits with.
+pub fn open_gpu() -> Result<Arc<Gpu>> {
+    Gpu::new().map_err(gpu_error)
+}
+
+/// A GPU failure as the demo's error (one line).
+pub fn gpu_error(e: smoothtri_gpu::GpuError) -> DemoError {
+    DemoError::Usage(format!("--gpu: {e}"))
+}
+
+/// [`render_panel`] on the GPU (f32).
+fn render_panel_gpu(
+    gpu: &Arc<Gpu>,
+    mesh: &Mesh,
+    cam: &Camera,
+    mode: Mode,
+    n: usize,
+    note: bool,
+) -> Result<Panel> {
+    let scene = Scene::<f32>::build(mesh)?;
+    if let Some(text) = scene.rejected_note().filter(|_| note) {
+        eprintln!("{text}");
+    }
+    let r = render_gpu(gpu, &scene, cam, mode, n, mesh.diagonal())?;
+    Ok(Panel {
+        image: r.image,
+        rays: r.rays,
+        seconds: r.seconds,
+        mask: r.hits,
+    })
+}
+
+/// Background colour at row `y` of `h` (as the CPU renderer's).
+fn background(y: u32, h: u32) -> [u8; 3] {
+    let s = y as f64 / h.max(1) as f64;
+    [
+        (48.0 - 24.0 * s) as u8,
+        (54.0 - 26.0 * s) as u8,
+        (66.0 - 30.0 * s) as u8,
+    ]
+}
+
+fn to_u8(x: f64) -> u8 {
+    (x.clamp(0.0, 1.0).powf(1.0 / 2.2) * 255.0 + 0.5) as u8
+}
+
+/// Renders `scene` through `cam` on the GPU, as [`crate::renderer::render`] does on the CPU
+/// (the same rays, shading, light and shadow-ray offsets): all primary rays in one batch of
+/// [`GpuScene::closest_hit_with`], then the shadow rays of the lit pixels in one batch of
+/// [`GpuScene::any_hit_with`]. `Mode::Smooth` traces the patches with budget `n`; `Flat` and
+/// `Phong` their flat triangles (Phong interpolates the vertex normals on the host). `diag`
+/// is the scene's bounding-box diagonal. The time excludes the upload and the pipelines'
+/// compilation.
+pub fn render_gpu(
+    gpu: &Arc<Gpu>,
+    scene: &Scene<f32>,
+    cam: &Camera,
+    mode: Mode,
+    n: usize,
+    diag: f64,
+) -> Result<Rendered> {
+    let bvh = scene.bvh();
+    let gs = match mode {
+        Mode::Smooth => GpuScene::smooth(gpu, &bvh),
+        Mode::Flat | Mode::Phong => GpuScene::flat(gpu, &bvh),
+    }
+    .map_err(gpu_error)?;
+    // Compile both pipelines before the clock starts.
+    gs.closest_hit_with(n, &[], 0.0, f32::MAX, &mut [])
+        .and_then(|()| gs.any_hit_with(n, &[], 0.0, f32::MAX, &mut []))
+        .map_err(gpu_error)?;
+    let start = std::time::Instant::now();
+    let light = light_dir(cam);
+    let eps = diag * 2e-4;
+    let (w, h) = (cam.width, cam.height);
+    let mut primary = Vec::with_capacity(w as usize * h as usize);
+    let mut dirs = Vec::with_capacity(primary.capacity());
+    for y in 0..h {
+        for x in 0..w {
+            let (o, d) = cam.pixel_ray(x, y);
+            primary.push(Ray::<f32>::new(o.as_vec3(), d.as_vec3()));
+            dirs.push(d);
+        }
+    }
+    let mut hits: Vec<Option<Hit<f32>>> = vec![None; primary.len()];
+    gs.closest_hit_with(n, &primary, 0.0, f32::MAX, &mut hits)
+        .map_err(gpu_error)?;
+    // Shading normals, Lambert terms and the shadow rays of the lit pixels.
+    let mut lit: Vec<(usize, f64)> = Vec::new();
+    let mut shadow = Vec::new();
+    for (i, (hit, &d)) in hits.iter().zip(&dirs).enumerate() {
+        let Some(hit) = hit else { continue };
+        let normal = if mode == Mode::Phong {
+            phong_normal(scene, hit)
+        } else {
+            hit.normal
+        };
+        let p = hit.point.as_dvec3();
+        let mut nn = normal.as_dvec3();
+        if nn.dot(d) > 0.0 {
+            nn = -nn;
+        }
+        let lambert = nn.dot(light).max(0.0);
+        if lambert > 0.0 {
+            shadow.push(Ray::<f32>::new((p - d * eps).as_vec3(), light.as_vec3()));
+        }
+        lit.push((i, lambert));
+    }
+    let mut occluded = vec![false; shadow.len()];
+    gs.any_hit_with(n, &shadow, eps as f32, f32::MAX, &mut occluded)
+        .map_err(gpu_error)?;
+    let mut image = Image::new(w, h, [0, 0, 0]);
+    for y in 0..h {
+        let bg = background(y, h);
+        for x in 0..w {
+            image.put(i64::from(x), i64::from(y), bg);
+        }
+    }
+    let mut mask = vec![PixelHit::default(); primary.len()];
+    let mut next_shadow = occluded.iter();
+    for (i, lambert) in lit {
+        let Some(hit) = hits.get(i).copied().flatten() else {
+            continue;
+        };
+        let vis = if lambert > 0.0 && next_shadow.next() == Some(&false) {
+            1.0
+        } else {
+            0.0
+        };
+        let albedo = if hit.front_face {
+            [0.85, 0.50, 0.22]
+        } else {
+            [0.25, 0.45, 0.80]
+        };
+        let ambient = 0.12;
+        let shade = ambient + (1.0 - ambient) * lambert * vis;
+        let (x, y) = (i as u32 % w, i as u32 / w);
+        image.put(i64::from(x), i64::from(y), albedo.map(|a| to_u8(a * shade)));
+        if let Some(m) = mask.get_mut(i) {
+            *m = PixelHit {
+                hit: true,
+                point: hit.point.as_dvec3(),
+                triangle: scene
+                    .tri_ids
+                    .get(hit.patch as usize)
+                    .copied()
+                    .unwrap_or(u32::MAX),
+            };
+        }
+    }
+    Ok(Rendered {
+        image,
+        hits: mask,
+        rays: (primary.len() + shadow.len()) as u64,
+        seconds: start.elapsed().as_secs_f64(),
+    })
+}
+
+/// The Phong shading normal of a flat hit: the vertex normals interpolated at its
+/// barycentrics (the face normal where they cancel), as the CPU's `flat_hit`.
+fn phong_normal(scene: &Scene<f32>, hit: &Hit<f32>) -> Vec3 {
+    let Some(p) = scene.patches.get(hit.patch as usize) else {
+        return hit.normal;
+    };
+    let [n0, n1, n2] = p.normals();
+    let w0 = 1.0 - hit.w1 - hit.w2;
+    (n0 * w0 + n1 * hit.w1 + n2 * hit.w2)
+        .try_normalize()
+        .unwrap_or(hit.normal)
+}
+
 /// Renders [`RenderOptions::source`] (the torus when unset) to a PNG and reports the ray rate
 /// and the crack count on stdout (stderr when the PNG goes to stdout).
 pub fn run(a: RenderOptions) -> Result<()> {
@@ -111,6 +292,16 @@ pub fn run(a: RenderOptions) -> Result<()> {
         ));
     }
     tracer::<f32>(Mode::Smooth, a.iterations)?;
+    let gpu = if a.gpu {
+        if a.precision != Precision::F32 {
+            return Err(DemoError::Usage(
+                "--gpu traces in f32: leave --precision out or set it to f32".into(),
+            ));
+        }
+        Some(open_gpu()?)
+    } else {
+        None
+    };
     let (_, mesh, _) = a.source.load_upright(true, a.up)?;
     let cam = Camera::for_mesh(&mesh, a.view.0, a.view.1, a.width, a.height);
     let modes: Vec<Mode> = if a.compare {
@@ -119,15 +310,12 @@ pub fn run(a: RenderOptions) -> Result<()> {
         vec![a.mode]
     };
     let mut panels = Vec::new();
+    let panel = |m: Mode, n: usize, note: bool| match &gpu {
+        Some(g) => render_panel_gpu(g, &mesh, &cam, m, n, note),
+        None => render_panel_in(a.precision, &mesh, &cam, m, n, note),
+    };
     for (k, &m) in modes.iter().enumerate() {
-        panels.push(render_panel_in(
-            a.precision,
-            &mesh,
-            &cam,
-            m,
-            a.iterations,
-            k == 0,
-        )?);
+        panels.push(panel(m, a.iterations, k == 0)?);
     }
     let prec = a.precision;
     let image = if a.compare {
@@ -161,7 +349,7 @@ pub fn run(a: RenderOptions) -> Result<()> {
         let flat_mask = if a.compare {
             None
         } else {
-            Some(render_panel_in(a.precision, &mesh, &cam, Mode::Flat, 0, false)?.mask)
+            Some(panel(Mode::Flat, 0, false)?.mask)
         };
         let flat = flat_mask
             .as_deref()
@@ -177,8 +365,16 @@ pub fn run(a: RenderOptions) -> Result<()> {
     } else {
         a.mode.name().to_string()
     };
+    let device = match &gpu {
+        Some(g) if g.is_software() => format!(
+            ", GPU kernel on {} (software Vulkan: a correctness run, not a GPU timing)",
+            g.adapter_name()
+        ),
+        Some(g) => format!(", GPU kernel on {}", g.adapter_name()),
+        None => String::new(),
+    };
     let msg = format!(
-        "wrote {} ({}x{}, {mode_s}, {prec}, iterations N = {}): {rays} rays in {:.3} s = {:.0} rays/s",
+        "wrote {} ({}x{}, {mode_s}, {prec}, iterations N = {}{device}): {rays} rays in {:.3} s = {:.0} rays/s",
         a.out,
         image.width,
         image.height,

@@ -1,0 +1,1114 @@
+// smoothtri's bounded-work ray kernel in WGSL: one invocation per ray, closest hit or any hit,
+// BVH traversal with a fixed-size stack. The mathematics is the CPU kernel's (docs/METHOD.md
+// §2–§8; core/src/kernel/): clip to the patch's box, re-base the ray at the box interval's
+// middle, local ray, slab and shell clip (exact wall quadratics), bracketing at 8 points,
+// exactly ITERATIONS refinement steps of 8 points each, the rounding allowance 16 ε L / |f′|,
+// then the exact surface normal once for the closest hit (forward-mode derivatives written out
+// below: value and two partials for the surface, value and two t-derivatives for the edge
+// curves; no finite differences).
+//
+// Work per patch test is fixed by WGSL constants: 8 + 8·ITERATIONS height evaluations at most,
+// every loop of the kernel has a constant trip count (a loop may stop early, never run longer).
+// The traversal visits each node at most once (a budget of node_count visits), tests each index
+// of `order` at most once (a budget of order_count tests) and keeps at most STACK pending nodes;
+// anything else is reported through `status`, never a loop without end. Every buffer index is
+// checked against the buffer's length before use.
+//
+// f32 throughout. Finiteness is tested on the bits (`fin`), so that no test depends on how the
+// compiler treats NaN or infinity.
+
+// Refinement steps (docs/METHOD.md §8; the CPU's `N`), set when the pipeline is created.
+override ITERATIONS: u32 = 4u;
+// 0: smooth patches; 1: flat triangles (Möller–Trumbore on the same traversal: the baseline).
+override FLAT: u32 = 0u;
+// 0: closest hit; 1: any hit (shadow rays).
+override ANY_HIT: u32 = 0u;
+
+// Interior bracketing samples K (the CPU's DEFAULT_SAMPLES): K + 2 = 8 points.
+const SAMPLES: u32 = 6u;
+// Traversal stack entries (the CPU's bvh::MAX_DEPTH).
+const STACK: u32 = 64u;
+// f32 machine epsilon.
+const EPS: f32 = 1.1920929e-7;
+// vec4s per smooth patch record and per flat triangle record (see lib.rs, `PATCH_VEC4`).
+const PATCH_VEC4: u32 = 25u;
+const FLAT_VEC4: u32 = 3u;
+// Refinement parameters (the CPU's kernel/refine.rs).
+const RHO_START: f32 = 0.0625;
+const RHO_GROWTH: f32 = 4.0;
+const RHO_MAX: f32 = 0.25;
+const INNER: f32 = 0.125;
+// Status bits.
+const STATUS_CORRUPT: u32 = 1u;
+const STATUS_STACK: u32 = 2u;
+
+struct Params {
+    ray_count: u32,
+    node_count: u32,
+    order_count: u32,
+    patch_count: u32,
+}
+
+struct RayIn {
+    o: vec3<f32>,
+    t_min: f32,
+    d: vec3<f32>,
+    t_max: f32,
+}
+
+struct HitOut {
+    t: f32,
+    t_error: f32,
+    w1: f32,
+    w2: f32,
+    point: vec3<f32>,
+    patch_id: u32,
+    normal: vec3<f32>,
+    flags: u32,
+}
+
+struct Node {
+    lo: vec3<f32>,
+    first: u32,
+    hi: vec3<f32>,
+    count: u32,
+}
+
+@group(0) @binding(0) var<uniform> params: Params;
+@group(0) @binding(1) var<storage, read> patches: array<vec4<f32>>;
+@group(0) @binding(2) var<storage, read> nodes: array<Node>;
+@group(0) @binding(3) var<storage, read> order: array<u32>;
+@group(0) @binding(4) var<storage, read> rays: array<RayIn>;
+@group(0) @binding(5) var<storage, read_write> hits: array<HitOut>;
+@group(0) @binding(6) var<storage, read_write> status: array<atomic<u32>>;
+
+fn fin(x: f32) -> bool {
+    return (bitcast<u32>(x) & 0x7f800000u) != 0x7f800000u;
+}
+
+fn fin3(v: vec3<f32>) -> bool {
+    return fin(v.x) && fin(v.y) && fin(v.z);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Patch records
+
+// One edge j (from A = Pj to B = Pj+1) with the CPU's per-patch precomputation (Prepared /
+// EdgePrep in core/src/kernel/height.rs), computed once on the host at upload.
+struct Edge {
+    a: vec2<f32>,   // A (local z = 0)
+    da: vec2<f32>,  // dA (local z = 1)
+    e: vec2<f32>,   // e = B − A (z = 0)
+    gd: vec2<f32>,  // gd = dB − dA (z = 0)
+    na: vec3<f32>,  // unit normal at A
+    nb: vec3<f32>,  // unit normal at B
+    k1: f32,        // κ(S¹): anchor A, axis nA
+    k2: f32,        // κ(S²): anchor B, axis nB
+    ee: f32,        // |e|²
+    eg0: f32,       // e·g(t) = eg0 + t·eg1
+    eg1: f32,
+    gg0: f32,       // |g(t)|² = gg0 + t·(gg1 + t·gg2)
+    gg1: f32,
+    gg2: f32,
+    ma: vec3<f32>,  // [dA·nA, gd·nA, e·nA]
+    mb: vec3<f32>,  // [dA·nB, gd·nB, e·nB]
+}
+
+struct Patch {
+    origin: vec3<f32>,
+    scale: f32,     // 4 × longest edge + |origin|: the rounding allowance's L
+    ex: vec3<f32>,
+    ey: vec3<f32>,
+    ez: vec3<f32>,
+    sig_lo: f32,
+    sig_hi: f32,
+    p1x: f32,
+    p2x: f32,
+    p2y: f32,
+    n0: vec3<f32>,
+    n1: vec3<f32>,
+    n2: vec3<f32>,
+    d0: vec2<f32>,
+    d1: vec2<f32>,
+    d2: vec2<f32>,
+    e0: Edge,
+    e1: Edge,
+    e2: Edge,
+}
+
+fn load_edge(base: u32, a: vec2<f32>, da: vec2<f32>, na: vec3<f32>, nb: vec3<f32>) -> Edge {
+    let v0 = patches[base];
+    let v1 = patches[base + 1u];
+    let v2 = patches[base + 2u];
+    let v3 = patches[base + 3u];
+    let v4 = patches[base + 4u];
+    return Edge(a, da, v0.xy, v0.zw, na, nb, v1.x, v1.y, v1.z, v1.w, v2.x, v2.y, v2.z, v2.w,
+        v3.xyz, v4.xyz);
+}
+
+// The caller has checked id < patch_count (so every index below is inside the buffer).
+fn load_patch(id: u32) -> Patch {
+    let b = id * PATCH_VEC4;
+    let v0 = patches[b];
+    let v1 = patches[b + 1u];
+    let v2 = patches[b + 2u];
+    let v3 = patches[b + 3u];
+    let v4 = patches[b + 4u];
+    let v5 = patches[b + 5u];
+    let v6 = patches[b + 6u];
+    let v7 = patches[b + 7u];
+    let v8 = patches[b + 8u];
+    let v9 = patches[b + 9u];
+    let p0 = vec2<f32>(0.0, 0.0);
+    let p1 = vec2<f32>(v3.w, 0.0);
+    let p2 = vec2<f32>(v4.w, v5.w);
+    let d0 = vec2<f32>(v6.w, v7.w);
+    let d1 = vec2<f32>(v8.w, v9.x);
+    let d2 = vec2<f32>(v9.y, v9.z);
+    let e0 = load_edge(b + 10u, p0, d0, v6.xyz, v7.xyz);
+    let e1 = load_edge(b + 15u, p1, d1, v7.xyz, v8.xyz);
+    let e2 = load_edge(b + 20u, p2, d2, v8.xyz, v6.xyz);
+    return Patch(v0.xyz, v0.w, v1.xyz, v2.xyz, v3.xyz, v1.w, v2.w, v3.w, v4.w, v5.w,
+        v6.xyz, v7.xyz, v8.xyz, d0, d1, d2, e0, e1, e2);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Boxes
+
+struct Span {
+    a: f32,
+    b: f32,
+    ok: bool,
+}
+
+// The interval of t in [t_min, t_max] inside the box (the CPU's Aabb::ray_interval, with
+// inv = 1/d per component; a zero component keeps the range when the origin is between the
+// slabs and rejects it otherwise).
+fn box_span(lo: vec3<f32>, hi: vec3<f32>, o: vec3<f32>, d: vec3<f32>, inv: vec3<f32>,
+    t_min: f32, t_max: f32) -> Span {
+    var a = t_min;
+    var b = t_max;
+    for (var k = 0u; k < 3u; k++) {
+        if (d[k] == 0.0) {
+            if (o[k] < lo[k] || o[k] > hi[k]) {
+                return Span(0.0, 0.0, false);
+            }
+        } else {
+            let t1 = (lo[k] - o[k]) * inv[k];
+            let t2 = (hi[k] - o[k]) * inv[k];
+            a = max(a, min(t1, t2));
+            b = min(b, max(t1, t2));
+        }
+    }
+    return Span(a, b, a <= b && fin(a) && fin(b));
+}
+
+// ---------------------------------------------------------------------------------------------
+// The height evaluation f(τ) = z − σS(X) (core/src/kernel/height.rs, one point per call)
+
+struct Root {
+    s: f32,
+    q: f32,
+    sq: f32,
+    ok: bool,
+}
+
+// Root nearest 0 of qa s² + 2 qb s + qc = 0, c = (qa, qb, qc) (sphere::nearest_root's stable
+// form and double-root test; the axis may be scaled, m2 = |m|²).
+fn root(c: vec3<f32>, k: f32, w2: f32, g2: f32, m2: f32) -> Root {
+    let disc = c.y * c.y - c.x * c.z;
+    let sq = sqrt(select(0.0, disc, disc > 0.0));
+    let q = select(-c.y - sq, sq - c.y, c.y < 0.0);
+    let tol = EPS * 16.0;
+    let tol2 = tol * tol;
+    let kk = k * k;
+    let c_scale = 2.0 * (kk * w2 * w2 + 4.0 * w2 * m2);
+    let b_scale = 2.0 * (kk * w2 * g2 + g2 * m2);
+    let noise = (c.z * c.z <= tol2 * c_scale) && (c.y * c.y <= tol2 * b_scale);
+    let s = c.z / select(1.0, q, q != 0.0);
+    let ok = !noise && q != 0.0 && fin(s);
+    return Root(select(0.0, s, ok), select(0.0, q, ok), sq, ok);
+}
+
+// Derivative s′ of a root from the coefficients' derivatives dc (forward mode; the square root
+// has derivative 0 where the discriminant is clamped).
+fn root_derivative(r: Root, c: vec3<f32>, dc: vec3<f32>) -> f32 {
+    let ddisc = 2.0 * c.y * dc.y - dc.x * c.z - c.x * dc.z;
+    let dsq = select(0.0, ddisc / select(1.0, 2.0 * r.sq, r.sq > 0.0), r.sq > 0.0);
+    let dq = select(-dc.y - dsq, dsq - dc.y, c.y < 0.0);
+    let ds = (dc.z - r.s * dq) / select(1.0, r.q, r.ok);
+    return select(0.0, ds, r.ok && fin(ds));
+}
+
+struct PointNormal {
+    c: vec3<f32>,
+    n: vec3<f32>,
+}
+
+// Conjugation point c(t) of an edge and its normal n*(t) scaled by |c′|² (eq. (3)).
+fn edge_point_normal(ep: Edge, t: f32) -> PointNormal {
+    let u = t - 1.0;
+    let e = vec3<f32>(ep.e, 0.0);
+    let gd = vec3<f32>(ep.gd, 0.0);
+    let g = vec3<f32>(ep.da.x + t * gd.x, ep.da.y + t * gd.y, 1.0);
+    let gg = ep.gg0 + t * (ep.gg1 + t * ep.gg2);
+    let dgg = ep.gg1 + 2.0 * t * ep.gg2;
+    let eg = ep.eg0 + t * ep.eg1;
+    // S¹: anchor A, w = t·e.
+    let w2a = t * t * ep.ee;
+    let ca = vec3<f32>(ep.k1 * gg, ep.k1 * t * eg - (ep.ma.x + t * ep.ma.y),
+        t * (ep.k1 * t * ep.ee - 2.0 * ep.ma.z));
+    let dca = vec3<f32>(ep.k1 * dgg, ep.k1 * (eg + t * ep.eg1) - ep.ma.y,
+        2.0 * (ep.k1 * t * ep.ee - ep.ma.z));
+    let r1 = root(ca, ep.k1, w2a, gg, 1.0);
+    let ds1 = root_derivative(r1, ca, dca);
+    // S²: anchor B, w = (t − 1)·e.
+    let w2b = u * u * ep.ee;
+    let cb = vec3<f32>(ep.k2 * gg, ep.k2 * u * eg - (ep.mb.x + t * ep.mb.y),
+        u * (ep.k2 * u * ep.ee - 2.0 * ep.mb.z));
+    let dcb = vec3<f32>(ep.k2 * dgg, ep.k2 * (eg + u * ep.eg1) - ep.mb.y,
+        2.0 * (ep.k2 * u * ep.ee - ep.mb.z));
+    let r2 = root(cb, ep.k2, w2b, gg, 1.0);
+    let ds2 = root_derivative(r2, cb, dcb);
+    let s = t * r2.s - u * r1.s;
+    let ds = t * ds2 - u * ds1 + (r2.s - r1.s);
+    let cpt = vec3<f32>(ep.a, 0.0) + e * t + g * s;
+    // c′ = e + g′·s + g·s′.
+    let tng = e + gd * s + g * ds;
+    let tt = dot(tng, tng);
+    let n = g * tt - tng * dot(tng, g);
+    let good = tt > 0.0 && dot(n, n) > 0.0;
+    return PointNormal(cpt, select(g, n, good));
+}
+
+// The term of vertex i in eq. (5): ½ (Xi·s¹ + ((1 − Xi)/2)·s²), for the line base + s·dir.
+fn vertex_term(ep: Edge, pi: vec3<f32>, ni: vec3<f32>, xi: f32, xa: f32, xb: f32,
+    base: vec3<f32>, dir: vec3<f32>, dd: f32) -> f32 {
+    let den = xa + xb;
+    let t = select(0.5, xb / select(1.0, den, den > EPS), den > EPS);
+    let en = edge_point_normal(ep, t);
+    // Ŝ¹: anchor Pi, unit axis ni, through c; Ŝ²: anchor c, axis n* (scaled), through Pi.
+    let wc = en.c - pi;
+    let l2 = dot(wc, wc);
+    let has = l2 > 0.0;
+    let inv = 2.0 / select(1.0, l2, has);
+    let k1 = select(0.0, dot(wc, ni) * inv, has);
+    let k2 = select(0.0, -(dot(wc, en.n) * inv), has);
+    let wa = base - pi;
+    let wa2 = dot(wa, wa);
+    let r1 = root(vec3<f32>(k1 * dd, k1 * dot(wa, dir) - dot(dir, ni), k1 * wa2 - 2.0 * dot(wa, ni)),
+        k1, wa2, dd, 1.0);
+    let wb = base - en.c;
+    let wb2 = dot(wb, wb);
+    let r2 = root(vec3<f32>(k2 * dd, k2 * dot(wb, dir) - dot(dir, en.n),
+        k2 * wb2 - 2.0 * dot(wb, en.n)), k2, wb2, dd, dot(en.n, en.n));
+    return 0.5 * xi * r1.s + 0.25 * (1.0 - xi) * r2.s;
+}
+
+// Barycentrics of the local point x in the cross-section at its height, projected onto the
+// triangle (negative or non-finite components 0, renormalised; the centroid if all vanish).
+fn bary(pt: Patch, x: vec3<f32>) -> vec3<f32> {
+    let s = x.z;
+    let a0x = pt.d0.x * s - x.x;
+    let a0y = pt.d0.y * s - x.y;
+    let a1x = pt.p1x + pt.d1.x * s - x.x;
+    let a1y = pt.d1.y * s - x.y;
+    let a2x = pt.p2x + pt.d2.x * s - x.x;
+    let a2y = pt.p2y + pt.d2.y * s - x.y;
+    let n1 = a2x * a0y - a2y * a0x;
+    let n2 = a0x * a1y - a0y * a1x;
+    let n0 = a1x * a2y - a1y * a2x;
+    let area = n0 + n1 + n2;
+    let ar = select(1.0, area, area != 0.0);
+    let w1 = select(0.0, n1 / ar, area != 0.0);
+    let w2 = select(0.0, n2 / ar, area != 0.0);
+    let w0 = 1.0 - w1 - w2;
+    let a = select(0.0, w0, fin(w0) && w0 > 0.0);
+    let b = select(0.0, w1, fin(w1) && w1 > 0.0);
+    let c = select(0.0, w2, fin(w2) && w2 > 0.0);
+    let m = max(max(a, b), c);
+    if (!(m > 0.0) || !fin(m)) {
+        return vec3<f32>(1.0 / 3.0, 1.0 / 3.0, 1.0 / 3.0);
+    }
+    let an = a / m;
+    let bn = b / m;
+    let cn = c / m;
+    let inv = 1.0 / (an + bn + cn);
+    return vec3<f32>(an * inv, bn * inv, cn * inv);
+}
+
+// Height σS(X) at barycentrics x (summing to one, inside the triangle).
+fn height_at(pt: Patch, x: vec3<f32>) -> f32 {
+    let base = vec3<f32>(x.y * pt.p1x + x.z * pt.p2x, x.z * pt.p2y, 0.0);
+    let dir = vec3<f32>(x.x * pt.d0.x + x.y * pt.d1.x + x.z * pt.d2.x,
+        x.x * pt.d0.y + x.y * pt.d1.y + x.z * pt.d2.y, x.x + x.y + x.z);
+    let dd = dot(dir, dir);
+    let p0 = vec3<f32>(0.0, 0.0, 0.0);
+    let p1 = vec3<f32>(pt.p1x, 0.0, 0.0);
+    let p2 = vec3<f32>(pt.p2x, pt.p2y, 0.0);
+    return vertex_term(pt.e1, p0, pt.n0, x.x, x.y, x.z, base, dir, dd)
+        + vertex_term(pt.e2, p1, pt.n1, x.y, x.z, x.x, base, dir, dd)
+        + vertex_term(pt.e0, p2, pt.n2, x.z, x.x, x.y, base, dir, dd);
+}
+
+// f(τ) at the local point lo + τ·lr.
+fn f_at(pt: Patch, lo: vec3<f32>, lr: vec3<f32>, tau: f32) -> f32 {
+    let x = lo + lr * tau;
+    return x.z - height_at(pt, bary(pt, x));
+}
+
+// ---------------------------------------------------------------------------------------------
+// The shell clip (core/src/kernel/clip.rs)
+
+fn cross2(a: vec2<f32>, b: vec2<f32>) -> f32 {
+    return a.x * b.y - a.y * b.x;
+}
+
+fn cross2_poly(u0: vec2<f32>, u1: vec2<f32>, v0: vec2<f32>, v1: vec2<f32>) -> vec3<f32> {
+    return vec3<f32>(cross2(u0, v0), cross2(u0, v1) + cross2(u1, v0), cross2(u1, v1));
+}
+
+struct Roots {
+    r: vec2<f32>,
+    ok: vec2<bool>,
+}
+
+// Real roots of c0 + c1·x + c2·x² (numerically careful, up to two).
+fn quadratic_roots(c: vec3<f32>) -> Roots {
+    let none = Roots(vec2<f32>(0.0, 0.0), vec2<bool>(false, false));
+    let scale = max(abs(c.y), abs(c.x));
+    if (abs(c.z) <= EPS * 1e-3 * scale || c.z == 0.0) {
+        if (c.y != 0.0) {
+            let x = -c.x / c.y;
+            return Roots(vec2<f32>(x, 0.0), vec2<bool>(fin(x), false));
+        }
+        return none;
+    }
+    let disc = c.y * c.y - 4.0 * c.z * c.x;
+    if (!(disc >= 0.0) || !fin(disc)) {
+        return none;
+    }
+    let sq = sqrt(disc);
+    let q = select(-0.5 * (c.y + sq), -0.5 * (c.y - sq), c.y < 0.0);
+    let r1 = q / c.z;
+    let r2 = select(r1, c.x / select(1.0, q, q != 0.0), q != 0.0);
+    return Roots(vec2<f32>(r1, r2), vec2<bool>(fin(r1), fin(r2)));
+}
+
+fn inside(polys: array<vec3<f32>, 3>, tau: f32) -> bool {
+    var ok_all = true;
+    for (var k = 0u; k < 3u; k++) {
+        let c = polys[k];
+        ok_all = ok_all && (c.x + tau * (c.y + tau * c.z) >= 0.0);
+    }
+    return ok_all;
+}
+
+// [τa, τb]: the hull of the sub-intervals of [τ_lo, τ_hi] inside all three walls (at most 8
+// breakpoints, a fixed sorting network, 7 midpoint tests).
+fn shell_interval(pt: Patch, o: vec3<f32>, r: vec3<f32>, tau_lo: f32, tau_hi: f32) -> Span {
+    // a_i(τ) − q(τ) = (p_i + o.z·d_i − o) + τ (r.z·d_i − r), in the xy-plane.
+    let u0 = vec2<f32>(0.0, 0.0) + pt.d0 * o.z - o.xy;
+    let u1 = vec2<f32>(pt.p1x, 0.0) + pt.d1 * o.z - o.xy;
+    let u2 = vec2<f32>(pt.p2x, pt.p2y) + pt.d2 * o.z - o.xy;
+    let v0 = pt.d0 * r.z - r.xy;
+    let v1 = pt.d1 * r.z - r.xy;
+    let v2 = pt.d2 * r.z - r.xy;
+    let polys = array<vec3<f32>, 3>(cross2_poly(u1, v1, u2, v2), cross2_poly(u2, v2, u0, v0),
+        cross2_poly(u0, v0, u1, v1));
+    var brk = array<f32, 8>(tau_lo, tau_hi, tau_hi, tau_hi, tau_hi, tau_hi, tau_hi, tau_hi);
+    var count = 1u;
+    for (var k = 0u; k < 3u; k++) {
+        let rs = quadratic_roots(polys[k]);
+        for (var m = 0u; m < 2u; m++) {
+            let x = rs.r[m];
+            if (rs.ok[m] && x > tau_lo && x < tau_hi && count < 8u) {
+                brk[count] = x;
+                count += 1u;
+            }
+        }
+    }
+    // Fixed insertion network over all slots (unused slots hold τ_hi, which sorts last).
+    for (var i = 1u; i < 8u; i++) {
+        for (var j = i; j >= 1u; j--) {
+            let x = brk[j - 1u];
+            let y = brk[j];
+            if (y < x) {
+                brk[j - 1u] = y;
+                brk[j] = x;
+            }
+        }
+    }
+    var first = 0.0;
+    var last = 0.0;
+    var has = false;
+    for (var k = 0u; k < 7u; k++) {
+        let a = brk[k];
+        let b = brk[k + 1u];
+        if (b > a && inside(polys, 0.5 * (a + b))) {
+            if (!has) {
+                first = a;
+            }
+            has = true;
+            last = b;
+        }
+    }
+    if (has) {
+        return Span(first, last, true);
+    }
+    // A ray that only touches the shell at a point can still cross the surface there.
+    if (tau_hi <= tau_lo && inside(polys, tau_lo)) {
+        return Span(tau_lo, tau_lo, true);
+    }
+    return Span(0.0, 0.0, false);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Bracketing and refinement (core/src/kernel/refine.rs)
+
+struct Bracket {
+    a: f32,
+    b: f32,
+    fa: f32,
+    fb: f32,
+}
+
+// Regula falsi point of the bracket, clamped inside it (the midpoint if degenerate).
+fn estimate(br: Bracket) -> f32 {
+    if (br.fa == 0.0) {
+        return br.a;
+    }
+    if (br.fb == 0.0) {
+        return br.b;
+    }
+    let den = br.fb - br.fa;
+    let x = (br.fb * br.a - br.fa * br.b) / select(1.0, den, den != 0.0);
+    if (den != 0.0 && fin(x) && x >= br.a && x <= br.b) {
+        return x;
+    }
+    return 0.5 * (br.a + br.b);
+}
+
+struct Crossing {
+    ok: bool,
+    t: f32,
+    t_error: f32,
+    bary: vec3<f32>,
+}
+
+fn no_crossing() -> Crossing {
+    return Crossing(false, 0.0, 0.0, vec3<f32>(0.0, 0.0, 0.0));
+}
+
+// The search part of the kernel for one patch (clip, bracket, refine): where the ray crosses
+// it in [t_min, t_max].
+fn smooth_crossing(id: u32, o: vec3<f32>, d: vec3<f32>, inv: vec3<f32>, t_min: f32,
+    t_max: f32) -> Crossing {
+    let b = id * PATCH_VEC4;
+    let bx = box_span(patches[b + 4u].xyz, patches[b + 5u].xyz, o, d, inv, t_min, t_max);
+    if (!bx.ok) {
+        return no_crossing();
+    }
+    let pt = load_patch(id);
+    // Local ray re-based at the middle of the box interval.
+    let t0 = 0.5 * (bx.a + bx.b);
+    let w = o + d * t0 - pt.origin;
+    let lo = vec3<f32>(dot(w, pt.ex), dot(w, pt.ey), dot(w, pt.ez));
+    let lr = vec3<f32>(dot(d, pt.ex), dot(d, pt.ey), dot(d, pt.ez));
+    // Slab σmin ≤ σ ≤ σmax.
+    var a = bx.a - t0;
+    var bb = bx.b - t0;
+    if (lr.z != 0.0) {
+        let iz = 1.0 / lr.z;
+        let u = (pt.sig_lo - lo.z) * iz;
+        let v = (pt.sig_hi - lo.z) * iz;
+        a = max(a, min(u, v));
+        bb = min(bb, max(u, v));
+    } else if (lo.z < pt.sig_lo || lo.z > pt.sig_hi) {
+        return no_crossing();
+    }
+    if (!(a <= bb) || !fin(a) || !fin(bb)) {
+        return no_crossing();
+    }
+    let shell = shell_interval(pt, lo, lr, a, bb);
+    if (!shell.ok || !(shell.b >= shell.a)) {
+        return no_crossing();
+    }
+    // Bracketing: the ends and SAMPLES interior points, the first sign change.
+    let stp = (shell.b - shell.a) / f32(SAMPLES + 1u);
+    var found = false;
+    var br = Bracket(0.0, 0.0, 0.0, 0.0);
+    var x0 = shell.a;
+    var f0 = 0.0;
+    for (var j = 0u; j < SAMPLES + 2u; j++) {
+        let x1 = select(shell.a + stp * f32(j), shell.b, j >= SAMPLES + 1u);
+        let f1 = f_at(pt, lo, lr, x1);
+        if (f1 == 0.0) {
+            br = Bracket(x1, x1, f1, f1);
+            found = true;
+            break;
+        }
+        if (j > 0u && (f1 > 0.0) != (f0 > 0.0)) {
+            br = Bracket(x0, x1, f0, f1);
+            found = true;
+            break;
+        }
+        x0 = x1;
+        f0 = f1;
+    }
+    if (!found) {
+        return no_crossing();
+    }
+    let first = br;
+    // Refinement: exactly ITERATIONS steps of 8 points (fewer only once the bracket has
+    // collapsed onto an exact zero).
+    var rho = RHO_START;
+    for (var it = 0u; it < ITERATIONS; it++) {
+        if (br.fa == 0.0 || br.fb == 0.0 || !(br.b > br.a)) {
+            break;
+        }
+        let wd = br.b - br.a;
+        let x = estimate(br);
+        let delta = rho * wd;
+        let neg_a = br.fa < 0.0;
+        var nb = br.b;
+        var fnb = br.fb;
+        var xs: array<f32, 8>;
+        var fs: array<f32, 8>;
+        for (var k = 0u; k < 8u; k++) {
+            var xk: f32;
+            switch k {
+                case 0u, 1u, 2u, 3u: {
+                    xk = br.a + wd * (0.2 * f32(k + 1u));
+                }
+                case 4u: {
+                    xk = x - delta;
+                }
+                case 5u: {
+                    xk = x - delta * INNER;
+                }
+                case 6u: {
+                    xk = x + delta * INNER;
+                }
+                default: {
+                    xk = x + delta;
+                }
+            }
+            xk = min(max(xk, br.a), br.b);
+            let fk = f_at(pt, lo, lr, xk);
+            xs[k] = xk;
+            fs[k] = fk;
+            // b′: the smallest point whose sign differs from f(a)'s (or is zero).
+            if ((fk == 0.0 || (fk < 0.0) != neg_a) && xk < nb) {
+                nb = xk;
+                fnb = fk;
+            }
+        }
+        // a′: the largest point below b′ (all of them have f(a)'s sign).
+        var na = br.a;
+        var fna = br.fa;
+        for (var k = 0u; k < 8u; k++) {
+            if (xs[k] < nb && xs[k] > na) {
+                na = xs[k];
+                fna = fs[k];
+            }
+        }
+        let caught = na >= x - delta && nb <= x + delta;
+        if (caught) {
+            rho = max(rho * ((nb - na) / wd), EPS);
+        } else {
+            rho = min(rho * RHO_GROWTH, RHO_MAX);
+        }
+        if (fnb == 0.0) {
+            br = Bracket(nb, nb, fnb, fnb);
+        } else {
+            br = Bracket(na, nb, fna, fnb);
+        }
+    }
+    let tau = estimate(br);
+    let bc = bary(pt, lo + lr * tau);
+    // Re-basing can round the hit an ulp outside the caller's range: clamp it.
+    let t = min(max(t0 + tau, t_min), t_max);
+    // Rounding allowance 16 ε L / |f′|, f′ the smaller of the sampling bracket's and the final
+    // bracket's secants (near convergence the final bracket's end values are rounding noise and
+    // its secant alone can be far too steep), as on the CPU.
+    var slope: f32 = 0.0;
+    var s_first: f32 = 0.0;
+    if (first.b > first.a) {
+        s_first = abs(first.fb - first.fa) / (first.b - first.a);
+    }
+    if (br.b > br.a) {
+        let s_fin = abs(br.fb - br.fa) / (br.b - br.a);
+        slope = select(s_fin, min(s_fin, s_first), first.b > first.a);
+    } else {
+        slope = s_first;
+    }
+    var rounding = 16.0 * EPS * pt.scale / select(1.0, slope, slope > 0.0);
+    if (!(slope > 0.0) || !fin(rounding)) {
+        rounding = 0.0;
+    }
+    let t_error = (br.b - br.a) + rounding;
+    if (fin(t) && fin(t_error)) {
+        return Crossing(true, t, t_error, bc);
+    }
+    return no_crossing();
+}
+
+// ---------------------------------------------------------------------------------------------
+// The exact surface normal (docs/METHOD.md §5; core/src/surface.rs point_derivs_local and
+// normal_local), by forward-mode derivatives written out: a "G" value is vec3(value, ∂/∂w1,
+// ∂/∂w2) with w0 = 1 − w1 − w2; a GV is a vector with its two partials. The edge curve enters
+// through its parameter t(X): c and n* need c(t), c′(t) (for n*) and c″(t) (for n*′), carried
+// as "J" values vec3(value, d/dt, d²/dt²).
+
+fn g_mul(a: vec3<f32>, b: vec3<f32>) -> vec3<f32> {
+    return vec3<f32>(a.x * b.x, a.yz * b.x + a.x * b.yz);
+}
+
+fn g_div(a: vec3<f32>, b: vec3<f32>) -> vec3<f32> {
+    let q = a.x / b.x;
+    return vec3<f32>(q, (a.yz - q * b.yz) / b.x);
+}
+
+fn g_sqrt0(a: vec3<f32>) -> vec3<f32> {
+    if (a.x > 0.0) {
+        let r = sqrt(a.x);
+        if (r > 0.0) {
+            return vec3<f32>(r, a.yz / (r + r));
+        }
+    }
+    return vec3<f32>(0.0, 0.0, 0.0);
+}
+
+struct GV {
+    v: vec3<f32>,
+    d1: vec3<f32>,
+    d2: vec3<f32>,
+}
+
+fn gv_const(v: vec3<f32>) -> GV {
+    return GV(v, vec3<f32>(0.0), vec3<f32>(0.0));
+}
+
+fn gv_sub(a: GV, b: GV) -> GV {
+    return GV(a.v - b.v, a.d1 - b.d1, a.d2 - b.d2);
+}
+
+fn gv_dot(a: GV, b: GV) -> vec3<f32> {
+    return vec3<f32>(dot(a.v, b.v), dot(a.d1, b.v) + dot(a.v, b.d1), dot(a.d2, b.v) + dot(a.v, b.d2));
+}
+
+// Root nearest 0 of the line base + s·g (w = base − anchor) and the sphere with axis m
+// (|m|² = m2, value only: the double-root test's scale) and curvature kappa.
+fn root_g(w: GV, g: GV, m: GV, m2: f32, kappa: vec3<f32>) -> vec3<f32> {
+    let zero = vec3<f32>(0.0);
+    let g2 = gv_dot(g, g);
+    let w2 = gv_dot(w, w);
+    let qa = g_mul(kappa, g2);
+    let qb = g_mul(kappa, gv_dot(w, g)) - gv_dot(g, m);
+    let qc = g_mul(kappa, w2) - 2.0 * gv_dot(w, m);
+    var disc = g_mul(qb, qb) - g_mul(qa, qc);
+    if (!(disc.x > 0.0)) {
+        disc = zero;
+    }
+    let sq = g_sqrt0(disc);
+    let q = select(-qb - sq, sq - qb, qb.x < 0.0);
+    let tol = EPS * 16.0;
+    let kk = kappa.x * kappa.x;
+    let c_scale = 2.0 * (kk * w2.x * w2.x + 4.0 * w2.x * m2);
+    let b_scale = 2.0 * (kk * w2.x * g2.x + g2.x * m2);
+    if ((qc.x * qc.x <= tol * tol * c_scale && qb.x * qb.x <= tol * tol * b_scale) || q.x == 0.0) {
+        return zero;
+    }
+    let s = g_div(qc, q);
+    if (fin3(s)) {
+        return s;
+    }
+    return zero;
+}
+
+fn j_mul(a: vec3<f32>, b: vec3<f32>) -> vec3<f32> {
+    return vec3<f32>(a.x * b.x, a.y * b.x + a.x * b.y, a.z * b.x + 2.0 * a.y * b.y + a.x * b.z);
+}
+
+fn j_div(a: vec3<f32>, b: vec3<f32>) -> vec3<f32> {
+    let q = a.x / b.x;
+    let q1 = (a.y - q * b.y) / b.x;
+    let q2 = (a.z - 2.0 * q1 * b.y - q * b.z) / b.x;
+    return vec3<f32>(q, q1, q2);
+}
+
+fn j_sqrt0(a: vec3<f32>) -> vec3<f32> {
+    if (a.x > 0.0) {
+        let r = sqrt(a.x);
+        if (r > 0.0) {
+            let r1 = a.y / (r + r);
+            let r2 = (a.z - 2.0 * r1 * r1) / (r + r);
+            return vec3<f32>(r, r1, r2);
+        }
+    }
+    return vec3<f32>(0.0, 0.0, 0.0);
+}
+
+struct JV {
+    v: vec3<f32>,
+    d: vec3<f32>,
+    dd: vec3<f32>,
+}
+
+fn jv_dot(a: JV, b: JV) -> vec3<f32> {
+    return vec3<f32>(dot(a.v, b.v), dot(a.d, b.v) + dot(a.v, b.d),
+        dot(a.dd, b.v) + 2.0 * dot(a.d, b.d) + dot(a.v, b.dd));
+}
+
+fn jv_dot_c(a: JV, m: vec3<f32>) -> vec3<f32> {
+    return vec3<f32>(dot(a.v, m), dot(a.d, m), dot(a.dd, m));
+}
+
+// Edge-sphere root with its first two t-derivatives (unit axis m, constant curvature kappa).
+fn root_j(w: JV, g: JV, m: vec3<f32>, kappa: f32) -> vec3<f32> {
+    let zero = vec3<f32>(0.0);
+    let g2 = jv_dot(g, g);
+    let w2 = jv_dot(w, w);
+    let qa = kappa * g2;
+    let qb = kappa * jv_dot(w, g) - jv_dot_c(g, m);
+    let qc = kappa * w2 - 2.0 * jv_dot_c(w, m);
+    var disc = j_mul(qb, qb) - j_mul(qa, qc);
+    if (!(disc.x > 0.0)) {
+        disc = zero;
+    }
+    let sq = j_sqrt0(disc);
+    let q = select(-qb - sq, sq - qb, qb.x < 0.0);
+    let tol = EPS * 16.0;
+    let kk = kappa * kappa;
+    let c_scale = 2.0 * (kk * w2.x * w2.x + 4.0 * w2.x);
+    let b_scale = 2.0 * (kk * w2.x * g2.x + g2.x);
+    if ((qc.x * qc.x <= tol * tol * c_scale && qb.x * qb.x <= tol * tol * b_scale) || q.x == 0.0) {
+        return zero;
+    }
+    let s = j_div(qc, q);
+    if (fin3(s)) {
+        return s;
+    }
+    return zero;
+}
+
+struct EdgeJet {
+    c: vec3<f32>,   // c(t)
+    dc: vec3<f32>,  // c′(t)
+    n: vec3<f32>,   // n*(t) scaled by |c′|²
+    dn: vec3<f32>,  // its t-derivative
+}
+
+fn edge_jet(ep: Edge, t: f32) -> EdgeJet {
+    let zero = vec3<f32>(0.0);
+    let e = vec3<f32>(ep.e, 0.0);
+    let gd = vec3<f32>(ep.gd, 0.0);
+    let g = JV(vec3<f32>(ep.da, 1.0) + gd * t, gd, zero);
+    let w1 = JV(e * t, e, zero);
+    let w2 = JV(e * (t - 1.0), e, zero);
+    let s1 = root_j(w1, g, ep.na, ep.k1);
+    let s2 = root_j(w2, g, ep.nb, ep.k2);
+    let s = j_mul(vec3<f32>(1.0 - t, -1.0, 0.0), s1) + j_mul(vec3<f32>(t, 1.0, 0.0), s2);
+    let c = vec3<f32>(ep.a, 0.0) + e * t + g.v * s.x;
+    let tng = e + gd * s.x + g.v * s.y;
+    let dtan = 2.0 * gd * s.y + g.v * s.z;
+    let tt = dot(tng, tng);
+    let dtt = 2.0 * dot(tng, dtan);
+    let tg = dot(tng, g.v);
+    let n = g.v * tt - tng * tg;
+    let dn = gd * tt + g.v * dtt - dtan * tg - tng * (dot(dtan, g.v) + dot(tng, gd));
+    if (tt > 0.0 && dot(n, n) > 0.0) {
+        return EdgeJet(c, tng, n, dn);
+    }
+    return EdgeJet(c, tng, g.v, gd);
+}
+
+fn vertex_term_g(ep: Edge, pi: vec3<f32>, ni: vec3<f32>, xi: vec3<f32>, xa: vec3<f32>,
+    xb: vec3<f32>, base: GV, dir: GV) -> vec3<f32> {
+    let den = xa + xb;
+    var t = vec3<f32>(0.5, 0.0, 0.0);
+    if (den.x > EPS) {
+        t = g_div(xb, den);
+    }
+    let ej = edge_jet(ep, t.x);
+    let c = GV(ej.c, ej.dc * t.y, ej.dc * t.z);
+    let nc = GV(ej.n, ej.dn * t.y, ej.dn * t.z);
+    let wc = gv_sub(c, gv_const(pi));
+    let l2 = gv_dot(wc, wc);
+    var k1 = vec3<f32>(0.0);
+    var k2 = vec3<f32>(0.0);
+    if (l2.x > 0.0) {
+        k1 = g_div(2.0 * gv_dot(wc, gv_const(ni)), l2);
+        k2 = g_div(-2.0 * gv_dot(wc, nc), l2);
+    }
+    let s1 = root_g(gv_sub(base, gv_const(pi)), dir, gv_const(ni), 1.0, k1);
+    let s2 = root_g(gv_sub(base, c), dir, nc, dot(nc.v, nc.v), k2);
+    return 0.5 * g_mul(xi, s1) + 0.25 * g_mul(vec3<f32>(1.0, 0.0, 0.0) - xi, s2);
+}
+
+fn try_normalize(v: vec3<f32>) -> vec4<f32> {
+    let l = length(v);
+    if (l > 0.0 && fin(l)) {
+        let u = v * (1.0 / l);
+        if (fin3(u)) {
+            return vec4<f32>(u, 1.0);
+        }
+    }
+    return vec4<f32>(0.0);
+}
+
+// Unit surface normal (local frame) at the projected barycentrics x, oriented like the vertex
+// normals; the normalised interpolated vertex normal where the derivatives degenerate.
+fn normal_local(pt: Patch, x: vec3<f32>) -> vec3<f32> {
+    let x0 = vec3<f32>(x.x, -1.0, -1.0);
+    let x1 = vec3<f32>(x.y, 1.0, 0.0);
+    let x2 = vec3<f32>(x.z, 0.0, 1.0);
+    let p0 = vec3<f32>(0.0, 0.0, 0.0);
+    let p1 = vec3<f32>(pt.p1x, 0.0, 0.0);
+    let p2 = vec3<f32>(pt.p2x, pt.p2y, 0.0);
+    let d0 = vec3<f32>(pt.d0, 1.0);
+    let d1 = vec3<f32>(pt.d1, 1.0);
+    let d2 = vec3<f32>(pt.d2, 1.0);
+    let base = GV(p0 * x.x + p1 * x.y + p2 * x.z, p1 - p0, p2 - p0);
+    let dir = GV(d0 * x.x + d1 * x.y + d2 * x.z, d1 - d0, d2 - d0);
+    let h = vertex_term_g(pt.e1, p0, pt.n0, x0, x1, x2, base, dir)
+        + vertex_term_g(pt.e2, p1, pt.n1, x1, x2, x0, base, dir)
+        + vertex_term_g(pt.e0, p2, pt.n2, x2, x0, x1, base, dir);
+    let du1 = base.d1 + dir.d1 * h.x + dir.v * h.y;
+    let du2 = base.d2 + dir.d2 * h.x + dir.v * h.z;
+    let phong = pt.n0 * x.x + pt.n1 * x.y + pt.n2 * x.z;
+    var fallback = vec3<f32>(0.0, 0.0, 1.0);
+    let fb = try_normalize(phong);
+    if (fb.w > 0.0) {
+        fallback = fb.xyz;
+    }
+    let n = try_normalize(cross(du1, du2));
+    if (n.w > 0.0) {
+        return select(n.xyz, -n.xyz, dot(n.xyz, phong) < 0.0);
+    }
+    return fallback;
+}
+
+// ---------------------------------------------------------------------------------------------
+// The flat baseline: Möller–Trumbore on the record's three world vertices
+// (core/src/kernel/flat.rs).
+
+fn flat_crossing(id: u32, o: vec3<f32>, d: vec3<f32>, t_min: f32, t_max: f32) -> Crossing {
+    let b = id * FLAT_VEC4;
+    let p0 = patches[b].xyz;
+    let p1 = patches[b + 1u].xyz;
+    let p2 = patches[b + 2u].xyz;
+    let e1 = p1 - p0;
+    let e2 = p2 - p0;
+    let pv = cross(d, e2);
+    let det = dot(e1, pv);
+    if (det == 0.0 || !fin(det)) {
+        return no_crossing();
+    }
+    let inv = 1.0 / det;
+    let tv = o - p0;
+    let u = dot(tv, pv) * inv;
+    if (!(u >= 0.0 && u <= 1.0)) {
+        return no_crossing();
+    }
+    let qv = cross(tv, e1);
+    let v = dot(d, qv) * inv;
+    if (!(v >= 0.0 && u + v <= 1.0)) {
+        return no_crossing();
+    }
+    let t = dot(e2, qv) * inv;
+    if (t >= t_min && t <= t_max && fin(t)) {
+        return Crossing(true, t, 0.0, vec3<f32>(1.0 - u - v, u, v));
+    }
+    return no_crossing();
+}
+
+// ---------------------------------------------------------------------------------------------
+// Traversal (core/src/bvh.rs `traverse`, nearest child first, pending far children on a stack)
+
+fn miss(i: u32) {
+    hits[i] = HitOut(0.0, 0.0, 0.0, 0.0, vec3<f32>(0.0), 0u, vec3<f32>(0.0), 0u);
+}
+
+@compute @workgroup_size(64)
+fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let i = gid.x;
+    if (i >= params.ray_count || i >= arrayLength(&rays) || i >= arrayLength(&hits)) {
+        return;
+    }
+    let ray = rays[i];
+    let o = ray.o;
+    let d = ray.d;
+    let t_min = ray.t_min;
+    let t_max = ray.t_max;
+    // The host marks rays that the CPU rejects (non-finite, zero direction, NaN or reversed
+    // range) with t_min > t_max; the checks here only repeat that.
+    if (!(t_min <= t_max) || !fin3(o) || !fin3(d) || !fin(t_min) || !fin(t_max)
+        || dot(d, d) == 0.0) {
+        miss(i);
+        return;
+    }
+    let node_count = min(params.node_count, arrayLength(&nodes));
+    let order_count = min(params.order_count, arrayLength(&order));
+    var patch_count = min(params.patch_count, arrayLength(&patches) / PATCH_VEC4);
+    if (FLAT != 0u) {
+        patch_count = min(params.patch_count, arrayLength(&patches) / FLAT_VEC4);
+    }
+    if (node_count == 0u) {
+        miss(i);
+        return;
+    }
+    let inv = vec3<f32>(select(0.0, 1.0 / d.x, d.x != 0.0), select(0.0, 1.0 / d.y, d.y != 0.0),
+        select(0.0, 1.0 / d.z, d.z != 0.0));
+    var tmax = t_max;
+    var found = false;
+    var best = no_crossing();
+    var best_id = 0u;
+    var err = 0u;
+    var stack: array<u32, STACK>;
+    var sp = 0u;
+    let root = nodes[0];
+    if (!box_span(root.lo, root.hi, o, d, inv, t_min, tmax).ok) {
+        miss(i);
+        return;
+    }
+    var current = 0u;
+    var budget = node_count;
+    var tests = order_count;
+    loop {
+        if (budget == 0u || current >= node_count) {
+            err |= STATUS_CORRUPT;
+            break;
+        }
+        budget -= 1u;
+        let node = nodes[current];
+        if (node.count > 0u) {
+            if (node.first > order_count || node.count > order_count - node.first
+                || node.count > tests) {
+                err |= STATUS_CORRUPT;
+                break;
+            }
+            tests -= node.count;
+            var stop = false;
+            for (var k = 0u; k < node.count; k++) {
+                let id = order[node.first + k];
+                if (id >= patch_count) {
+                    err |= STATUS_CORRUPT;
+                    stop = true;
+                    break;
+                }
+                // Each patch is tested over the caller's whole range (the first sign change
+                // depends on the interval), then compared with the best so far.
+                var c: Crossing;
+                if (FLAT != 0u) {
+                    c = flat_crossing(id, o, d, t_min, t_max);
+                } else {
+                    c = smooth_crossing(id, o, d, inv, t_min, t_max);
+                }
+                if (c.ok && (!found || c.t < tmax)) {
+                    tmax = c.t;
+                    best = c;
+                    best_id = id;
+                    found = true;
+                    if (ANY_HIT != 0u) {
+                        stop = true;
+                        break;
+                    }
+                }
+            }
+            if (stop) {
+                break;
+            }
+        } else {
+            if (node.first >= node_count - 1u) {
+                err |= STATUS_CORRUPT;
+                break;
+            }
+            let l = node.first;
+            let r = node.first + 1u;
+            let nl = nodes[l];
+            let nr = nodes[r];
+            let tl = box_span(nl.lo, nl.hi, o, d, inv, t_min, tmax);
+            let tr = box_span(nr.lo, nr.hi, o, d, inv, t_min, tmax);
+            if (tl.ok && tr.ok) {
+                if (sp >= STACK) {
+                    err |= STATUS_STACK;
+                    break;
+                }
+                if (tl.a <= tr.a) {
+                    stack[sp] = r;
+                    current = l;
+                } else {
+                    stack[sp] = l;
+                    current = r;
+                }
+                sp += 1u;
+                continue;
+            }
+            if (tl.ok) {
+                current = l;
+                continue;
+            }
+            if (tr.ok) {
+                current = r;
+                continue;
+            }
+        }
+        // Pop the next node still worth visiting (pushed indices were checked above).
+        var next = false;
+        for (var k = 0u; k < STACK; k++) {
+            if (sp == 0u) {
+                break;
+            }
+            sp -= 1u;
+            let c = stack[sp];
+            let nc = nodes[c];
+            if (box_span(nc.lo, nc.hi, o, d, inv, t_min, tmax).ok) {
+                current = c;
+                next = true;
+                break;
+            }
+        }
+        if (!next) {
+            break;
+        }
+    }
+    if (err != 0u) {
+        atomicOr(&status[0], err);
+        miss(i);
+        return;
+    }
+    if (!found) {
+        miss(i);
+        return;
+    }
+    if (ANY_HIT != 0u) {
+        hits[i] = HitOut(best.t, best.t_error, best.bary.y, best.bary.z, vec3<f32>(0.0),
+            best_id, vec3<f32>(0.0), 1u);
+        return;
+    }
+    // The normal, once, for the closest crossing.
+    var normal: vec3<f32>;
+    if (FLAT != 0u) {
+        let b = best_id * FLAT_VEC4;
+        let p0 = patches[b].xyz;
+        let face = try_normalize(cross(patches[b + 1u].xyz - p0, patches[b + 2u].xyz - p0));
+        if (face.w == 0.0) {
+            miss(i);
+            return;
+        }
+        normal = face.xyz;
+    } else {
+        let pt = load_patch(best_id);
+        let nl = normal_local(pt, best.bary);
+        normal = pt.ex * nl.x + pt.ey * nl.y + pt.ez * nl.z;
+        if (!fin3(normal)) {
+            miss(i);
+            return;
+        }
+    }
+    let front = dot(normal, d) < 0.0;
+    hits[i] = HitOut(best.t, best.t_error, best.bary.y, best.bary.z, o + d * best.t, best_id,
+        normal, select(1u, 3u, front));
+}

@@ -1,0 +1,879 @@
+//! # smoothtri-gpu
+//!
+//! smoothtri's bounded-work ray kernel as a WGSL compute shader (wgpu, Vulkan backend): the
+//! patches and the BVH of a scene go to the GPU as storage buffers, and a batch of rays is traced
+//! with one invocation per ray, in `f32`, with the mathematics of the CPU kernel
+//! (docs/METHOD.md §2–§8): box and shell clip, bracketing at 8 points, exactly `N` refinement
+//! steps of 8 points each, the certified `t_error` (final bracket plus the rounding allowance
+//! `16 ε L / |f′|`), and the exact surface normal once per ray (forward-mode derivatives written
+//! out in the shader, no finite differences).
+//!
+//! The host API mirrors the CPU one: [`GpuScene::closest_hit`] fills a slice of
+//! [`Option<Hit>`](smoothtri::Hit) for a slice of [`Ray`]s (the CPU's
+//! [`Bvh::closest_hit`](smoothtri::Bvh::closest_hit) per ray), [`GpuScene::any_hit`] a slice of
+//! `bool` (shadow rays), with the iteration budget `N` a compile-time constant of the pipeline.
+//! Every failure is a [`GpuError`]: no adapter, buffers over the device's limits, a corrupt tree
+//! (detected by the shader, which never reads outside a buffer), a lost device. Nothing here
+//! panics on bad input.
+//!
+//! # Bounded work
+//! Per patch test at most `8 + 8·N` height evaluations ([`SAMPLES`]` + 2` bracketing points,
+//! `N` steps of 8), every loop of the kernel with a constant trip count; per ray at most one
+//! visit per BVH node, one test per index of the tree's order, and [`STACK`] pending nodes.
+//!
+//! ```no_run
+//! use glam::Vec3;
+//! use smoothtri::{Bvh, BvhNode, Patch, Ray};
+//! use smoothtri_gpu::{Gpu, GpuScene};
+//!
+//! let p = [Vec3::X, Vec3::Y, Vec3::Z];
+//! let patches = [Patch::<f32>::new(p, p).unwrap()];
+//! let mut nodes = [BvhNode::default(); 1];
+//! let mut order = [0u32; 1];
+//! let bvh = Bvh::build(&patches, &mut nodes, &mut order).unwrap();
+//! let gpu = Gpu::new()?; // GpuError::NoAdapter without a Vulkan device
+//! let scene = GpuScene::smooth(&gpu, &bvh)?;
+//! let rays = [Ray::new(Vec3::splat(2.0), -Vec3::ONE)];
+//! let mut hits = [None; 1];
+//! scene.closest_hit::<4>(&rays, 0.0, f32::INFINITY, &mut hits)?;
+//! assert!((hits[0].unwrap().point.length() - 1.0).abs() < 1e-5);
+//! # Ok::<(), smoothtri_gpu::GpuError>(())
+//! ```
+#![forbid(unsafe_code)]
+#![deny(missing_docs)]
+
+use std::collections::HashMap;
+use std::fmt;
+use std::sync::{Arc, Mutex};
+
+use glam::Vec3;
+use smoothtri::{Bvh, Hit, PatchData, Ray};
+use wgpu::util::DeviceExt;
+
+/// The shader (WGSL), as compiled by [`Gpu::new`].
+pub const SHADER: &str = include_str!("kernel.wgsl");
+
+/// Interior bracketing samples `K` of the shader (the CPU's `DEFAULT_SAMPLES`): `K + 2 = 8`
+/// points.
+pub const SAMPLES: usize = 6;
+/// Entries of the shader's traversal stack (the CPU's `bvh::MAX_DEPTH`).
+pub const STACK: usize = 64;
+/// The refinement budget the demo uses by default on the GPU.
+pub const DEFAULT_ITERATIONS: usize = 4;
+/// Largest refinement budget a pipeline is built for.
+pub const MAX_ITERATIONS: usize = 64;
+/// `vec4<f32>` per smooth patch record: 400 bytes (the patch data of
+/// [`PatchData`] and the CPU kernel's per-patch precomputation).
+pub const PATCH_VEC4: usize = 25;
+/// `vec4<f32>` per flat triangle record (the three world vertices).
+pub const FLAT_VEC4: usize = 3;
+/// Bytes per ray uploaded (`origin, t_min, dir, t_max`).
+pub const RAY_BYTES: usize = 32;
+/// Bytes per hit read back.
+pub const HIT_BYTES: usize = 48;
+/// Invocations per workgroup.
+const WORKGROUP: u32 = 64;
+/// Largest batch of rays per dispatch.
+const MAX_CHUNK: usize = 1 << 20;
+
+/// Why a GPU query could not run. Every failure of this crate is one of these.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum GpuError {
+    /// No Vulkan adapter (GPU, or a software one such as Mesa's lavapipe) was found.
+    NoAdapter,
+    /// The adapter refused to create a device.
+    RequestDevice(String),
+    /// The shader or a pipeline failed to compile or validate on this device.
+    Shader(String),
+    /// A buffer would exceed the device's limits.
+    TooLarge {
+        /// Which buffer.
+        what: &'static str,
+        /// Bytes needed.
+        bytes: u64,
+        /// The device's limit.
+        limit: u64,
+    },
+    /// The output slice's length differs from the ray slice's.
+    LengthMismatch {
+        /// Rays given.
+        rays: usize,
+        /// Output slots given.
+        out: usize,
+    },
+    /// An iteration budget above [`MAX_ITERATIONS`].
+    Iterations(usize),
+    /// The shader found a node or patch index outside the uploaded buffers, a node reached more
+    /// often than the tree has nodes, or a leaf longer than the order (storage not made by
+    /// [`Bvh::build`]). The affected rays were reported as misses.
+    CorruptTree,
+    /// The traversal stack would have overflowed (only possible with a tree deeper than
+    /// [`STACK`], i.e. storage not made by [`Bvh::build`]).
+    StackOverflow,
+    /// A device error while tracing (validation, out of memory, lost device, mapping).
+    Device(String),
+}
+
+impl fmt::Display for GpuError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            GpuError::NoAdapter => f.write_str(
+                "no GPU adapter: no Vulkan device found (install a driver, or Mesa's software \
+                 Vulkan, Debian package mesa-vulkan-drivers)",
+            ),
+            GpuError::RequestDevice(m) => write!(f, "the GPU adapter refused a device: {m}"),
+            GpuError::Shader(m) => write!(f, "the GPU kernel failed to compile: {m}"),
+            GpuError::TooLarge { what, bytes, limit } => write!(
+                f,
+                "the {what} buffer needs {bytes} bytes, over the device's limit of {limit}"
+            ),
+            GpuError::LengthMismatch { rays, out } => {
+                write!(f, "{rays} rays but {out} output slots")
+            }
+            GpuError::Iterations(n) => write!(
+                f,
+                "iteration budget {n} is above the largest supported, {MAX_ITERATIONS}"
+            ),
+            GpuError::CorruptTree => f.write_str(
+                "the BVH uploaded to the GPU is corrupt (an index outside the storage, or a \
+                 node reached twice)",
+            ),
+            GpuError::StackOverflow => f.write_str("GPU BVH traversal stack overflow"),
+            GpuError::Device(m) => write!(f, "GPU device error: {m}"),
+        }
+    }
+}
+
+impl std::error::Error for GpuError {}
+
+/// A GPU device with the kernel's shader compiled: create one per process with [`Gpu::new`]
+/// and share it (`Arc`) between scenes.
+pub struct Gpu {
+    device: wgpu::Device,
+    queue: wgpu::Queue,
+    info: wgpu::AdapterInfo,
+    limits: wgpu::Limits,
+    layout: wgpu::BindGroupLayout,
+    pipeline_layout: wgpu::PipelineLayout,
+    module: wgpu::ShaderModule,
+    pipelines: Mutex<HashMap<(u32, bool, bool), wgpu::ComputePipeline>>,
+    uncaptured: Arc<Mutex<Option<String>>>,
+}
+
+impl fmt::Debug for Gpu {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("Gpu")
+            .field("adapter", &self.info.name)
+            .field("backend", &self.info.backend)
+            .finish()
+    }
+}
+
+/// Ranks adapters: discrete GPUs first, software ones last.
+fn rank(t: wgpu::DeviceType) -> u8 {
+    match t {
+        wgpu::DeviceType::DiscreteGpu => 0,
+        wgpu::DeviceType::IntegratedGpu => 1,
+        wgpu::DeviceType::VirtualGpu => 2,
+        wgpu::DeviceType::Other => 3,
+        wgpu::DeviceType::Cpu => 4,
+    }
+}
+
+/// Runs `f` inside validation and out-of-memory error scopes; the first captured error is
+/// returned as `wrap(message)`.
+fn scoped<T>(
+    device: &wgpu::Device,
+    wrap: fn(String) -> GpuError,
+    f: impl FnOnce() -> T,
+) -> Result<T, GpuError> {
+    let oom = device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
+    let val = device.push_error_scope(wgpu::ErrorFilter::Validation);
+    let out = f();
+    let v = pollster::block_on(val.pop());
+    let o = pollster::block_on(oom.pop());
+    match v.or(o) {
+        Some(e) => Err(wrap(e.to_string())),
+        None => Ok(out),
+    }
+}
+
+impl Gpu {
+    /// Opens the best Vulkan adapter (a discrete GPU before an integrated, virtual or software
+    /// one), creates a device with the adapter's own limits and compiles the shader.
+    ///
+    /// Returns [`GpuError::NoAdapter`] when there is none (no driver, no Mesa), so callers can
+    /// say so and stop.
+    pub fn new() -> Result<Arc<Gpu>, GpuError> {
+        let mut desc = wgpu::InstanceDescriptor::new_without_display_handle();
+        desc.backends = wgpu::Backends::VULKAN;
+        desc.flags = wgpu::InstanceFlags::empty();
+        let instance = wgpu::Instance::new(desc);
+        let adapters = pollster::block_on(instance.enumerate_adapters(wgpu::Backends::VULKAN));
+        let adapter = adapters
+            .into_iter()
+            .min_by_key(|a| rank(a.get_info().device_type))
+            .ok_or(GpuError::NoAdapter)?;
+        let info = adapter.get_info();
+        let limits = adapter.limits();
+        let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
+            label: Some("smoothtri"),
+            required_features: wgpu::Features::empty(),
+            required_limits: limits.clone(),
+            ..Default::default()
+        }))
+        .map_err(|e| GpuError::RequestDevice(e.to_string()))?;
+        // Errors outside a scope are recorded, never a panic (wgpu's default handler panics).
+        let uncaptured = Arc::new(Mutex::new(None));
+        let sink = Arc::clone(&uncaptured);
+        device.on_uncaptured_error(Arc::new(move |e: wgpu::Error| {
+            if let Ok(mut slot) = sink.lock() {
+                slot.get_or_insert_with(|| e.to_string());
+            }
+        }));
+        let entry = |binding: u32, ty: wgpu::BufferBindingType| wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: wgpu::ShaderStages::COMPUTE,
+            ty: wgpu::BindingType::Buffer {
+                ty,
+                has_dynamic_offset: false,
+                min_binding_size: None,
+            },
+            count: None,
+        };
+        let ro = wgpu::BufferBindingType::Storage { read_only: true };
+        let rw = wgpu::BufferBindingType::Storage { read_only: false };
+        let (layout, pipeline_layout, module) = scoped(&device, GpuError::Shader, || {
+            let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("smoothtri"),
+                entries: &[
+                    entry(0, wgpu::BufferBindingType::Uniform),
+                    entry(1, ro),
+                    entry(2, ro),
+                    entry(3, ro),
+                    entry(4, ro),
+                    entry(5, rw),
+                    entry(6, rw),
+                ],
+            });
+            let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("smoothtri"),
+                bind_group_layouts: &[Some(&layout)],
+                immediate_size: 0,
+            });
+            let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some("smoothtri kernel"),
+                source: wgpu::ShaderSource::Wgsl(SHADER.into()),
+            });
+            (layout, pipeline_layout, module)
+        })?;
+        Ok(Arc::new(Gpu {
+            device,
+            queue,
+            info,
+            limits,
+            layout,
+            pipeline_layout,
+            module,
+            pipelines: Mutex::new(HashMap::new()),
+            uncaptured,
+        }))
+    }
+
+    /// The adapter's name and driver, e.g. `llvmpipe (LLVM 15.0.6, 256 bits) (Mesa 22.3.6)`.
+    pub fn adapter_name(&self) -> String {
+        if self.info.driver_info.is_empty() {
+            self.info.name.clone()
+        } else {
+            format!("{} ({})", self.info.name, self.info.driver_info)
+        }
+    }
+
+    /// `true` for a software adapter (a CPU implementation of Vulkan, such as lavapipe): its
+    /// timings say nothing about GPUs.
+    pub fn is_software(&self) -> bool {
+        self.info.device_type == wgpu::DeviceType::Cpu
+    }
+
+    /// The pipeline for budget `n`, flat or smooth, closest or any hit (compiled once).
+    fn pipeline(&self, n: usize, flat: bool, any: bool) -> Result<wgpu::ComputePipeline, GpuError> {
+        if n > MAX_ITERATIONS {
+            return Err(GpuError::Iterations(n));
+        }
+        let key = (n as u32, flat, any);
+        let mut map = self
+            .pipelines
+            .lock()
+            .map_err(|_| GpuError::Device("pipeline cache poisoned".into()))?;
+        if let Some(p) = map.get(&key) {
+            return Ok(p.clone());
+        }
+        let constants = [
+            ("ITERATIONS", n as f64),
+            ("FLAT", f64::from(u8::from(flat))),
+            ("ANY_HIT", f64::from(u8::from(any))),
+        ];
+        let p = scoped(&self.device, GpuError::Shader, || {
+            self.device
+                .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                    label: Some("smoothtri kernel"),
+                    layout: Some(&self.pipeline_layout),
+                    module: &self.module,
+                    entry_point: Some("main"),
+                    compilation_options: wgpu::PipelineCompilationOptions {
+                        constants: &constants,
+                        zero_initialize_workgroup_memory: false,
+                    },
+                    cache: None,
+                })
+        })?;
+        map.insert(key, p.clone());
+        Ok(p)
+    }
+
+    /// A storage buffer with `bytes` (at least 16 bytes: an empty slice gets one zero record,
+    /// ignored through the counts), checked against the device's limits.
+    fn storage(&self, what: &'static str, mut bytes: Vec<u8>) -> Result<wgpu::Buffer, GpuError> {
+        let limit = self
+            .limits
+            .max_storage_buffer_binding_size
+            .min(self.limits.max_buffer_size);
+        if bytes.len() as u64 > limit {
+            return Err(GpuError::TooLarge {
+                what,
+                bytes: bytes.len() as u64,
+                limit,
+            });
+        }
+        if bytes.len() < 32 {
+            bytes.resize(32, 0);
+        }
+        scoped(&self.device, GpuError::Device, || {
+            self.device
+                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some(what),
+                    contents: &bytes,
+                    usage: wgpu::BufferUsages::STORAGE,
+                })
+        })
+    }
+
+    /// Rays per dispatch: bounded by the device's buffer and dispatch limits.
+    fn chunk(&self) -> usize {
+        let limit = self
+            .limits
+            .max_storage_buffer_binding_size
+            .min(self.limits.max_buffer_size);
+        let by_buffer = (limit / HIT_BYTES as u64).min(usize::MAX as u64) as usize;
+        let by_dispatch =
+            self.limits.max_compute_workgroups_per_dimension as usize * WORKGROUP as usize;
+        MAX_CHUNK.min(by_buffer).min(by_dispatch).max(1)
+    }
+}
+
+/// One BVH node as the shader reads it (32 bytes): the box, and either two children (`count`
+/// 0, children `first` and `first + 1`) or a leaf of `count` patches (`order[first..]`), as
+/// [`smoothtri::BvhNode`].
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct GpuNode {
+    /// Minimum corner.
+    pub lo: [f32; 3],
+    /// First child, or start of the leaf's range in the order.
+    pub first: u32,
+    /// Maximum corner.
+    pub hi: [f32; 3],
+    /// Patches of a leaf; 0 for an interior node.
+    pub count: u32,
+}
+
+impl GpuNode {
+    /// The node of a CPU BVH.
+    pub fn from_node(n: &smoothtri::BvhNode<f32>) -> Self {
+        let b = n.bounds();
+        GpuNode {
+            lo: b.min().to_array(),
+            first: n.first(),
+            hi: b.max().to_array(),
+            count: n.count(),
+        }
+    }
+}
+
+/// What a scene's records are.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SceneKind {
+    /// The smooth patches (the kernel).
+    Smooth,
+    /// The patches' flat triangles (Möller–Trumbore, the baseline), on the same traversal.
+    Flat,
+}
+
+/// A scene uploaded to the GPU: patch records, BVH nodes and order.
+pub struct GpuScene {
+    gpu: Arc<Gpu>,
+    kind: SceneKind,
+    patches: wgpu::Buffer,
+    nodes: wgpu::Buffer,
+    order: wgpu::Buffer,
+    counts: [u32; 3],
+    bytes: u64,
+}
+
+impl fmt::Debug for GpuScene {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("GpuScene")
+            .field("kind", &self.kind)
+            .field("patches", &self.counts[2])
+            .field("nodes", &self.counts[0])
+            .finish()
+    }
+}
+
+fn dot(a: [f32; 3], b: [f32; 3]) -> f32 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+fn sub(a: [f32; 3], b: [f32; 3]) -> [f32; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+/// The smooth record of one patch: its data and the CPU kernel's per-patch precomputation
+/// (`core/src/kernel/height.rs`, `Prepared`), in `f32` with the CPU's arithmetic; layout in
+/// `kernel.wgsl` (`load_patch`).
+pub fn smooth_record(pd: &PatchData<f32>) -> [f32; PATCH_VEC4 * 4] {
+    let [p0, p1, p2] = pd.p;
+    let [n0, n1, n2] = pd.n;
+    let [d0, d1, d2] = pd.d;
+    let longest = dot(sub(p1, p0), sub(p1, p0))
+        .max(dot(sub(p2, p1), sub(p2, p1)))
+        .max(dot(sub(p0, p2), sub(p0, p2)))
+        .sqrt();
+    let scale = longest * 4.0 + dot(pd.origin, pd.origin).sqrt();
+    let [ex, ey, ez] = pd.axes;
+    let [s_lo, s_hi] = pd.sigma;
+    let mut r = [0.0f32; PATCH_VEC4 * 4];
+    let head: [[f32; 4]; 10] = [
+        [pd.origin[0], pd.origin[1], pd.origin[2], scale],
+        [ex[0], ex[1], ex[2], s_lo],
+        [ey[0], ey[1], ey[2], s_hi],
+        [ez[0], ez[1], ez[2], p1[0]],
+        [pd.bbox_min[0], pd.bbox_min[1], pd.bbox_min[2], p2[0]],
+        [pd.bbox_max[0], pd.bbox_max[1], pd.bbox_max[2], p2[1]],
+        [n0[0], n0[1], n0[2], d0[0]],
+        [n1[0], n1[1], n1[2], d0[1]],
+        [n2[0], n2[1], n2[2], d1[0]],
+        [d1[1], d2[0], d2[1], 0.0],
+    ];
+    let ends = [(0usize, 1usize), (1, 2), (2, 0)];
+    let mut edges = [[[0.0f32; 4]; 5]; 3];
+    for (j, (slot, (i, k))) in edges.iter_mut().zip(ends).enumerate() {
+        let (a, b, da, db, na, nb) = (pd.p[i], pd.p[k], pd.d[i], pd.d[k], pd.n[i], pd.n[k]);
+        let [k1, k2] = pd.k[j];
+        let e = sub(b, a);
+        let gd = sub(db, da);
+        let gg = [dot(da, da), 2.0 * dot(da, gd), dot(gd, gd)];
+        let eg = [dot(e, da), dot(e, gd)];
+        let ee = dot(e, e);
+        *slot = [
+            [e[0], e[1], gd[0], gd[1]],
+            [k1, k2, ee, eg[0]],
+            [eg[1], gg[0], gg[1], gg[2]],
+            [dot(da, na), dot(gd, na), dot(e, na), 0.0],
+            [dot(da, nb), dot(gd, nb), dot(e, nb), 0.0],
+        ];
+    }
+    let all = head.iter().chain(edges.iter().flatten());
+    for (dst, src) in r.chunks_exact_mut(4).zip(all) {
+        dst.copy_from_slice(src);
+    }
+    r
+}
+
+/// The flat record of one patch: its triangle's world vertices.
+pub fn flat_record(pd: &PatchData<f32>) -> [f32; FLAT_VEC4 * 4] {
+    let mut r = [0.0f32; FLAT_VEC4 * 4];
+    let [ex, ey, ez] = pd.axes;
+    for (dst, p) in r.chunks_exact_mut(4).zip(pd.p) {
+        // The CPU's local_to_world: origin + ex·x + ey·y + ez·z.
+        for (c, slot) in dst.iter_mut().take(3).enumerate() {
+            *slot = pd.origin[c] + ex[c] * p[0] + ey[c] * p[1] + ez[c] * p[2];
+        }
+    }
+    r
+}
+
+fn f32_bytes(v: impl IntoIterator<Item = f32>) -> Vec<u8> {
+    v.into_iter().flat_map(f32::to_ne_bytes).collect()
+}
+
+/// One traced ray as the shader wrote it.
+#[derive(Clone, Copy, Debug, Default)]
+struct Raw {
+    t: f32,
+    t_error: f32,
+    w1: f32,
+    w2: f32,
+    point: [f32; 3],
+    patch: u32,
+    normal: [f32; 3],
+    flags: u32,
+}
+
+fn parse_hit(b: &[u8]) -> Raw {
+    let w = |k: usize| -> [u8; 4] {
+        let mut a = [0u8; 4];
+        if let Some(s) = b.get(4 * k..4 * k + 4) {
+            a.copy_from_slice(s);
+        }
+        a
+    };
+    let f = |k: usize| f32::from_ne_bytes(w(k));
+    let u = |k: usize| u32::from_ne_bytes(w(k));
+    Raw {
+        t: f(0),
+        t_error: f(1),
+        w1: f(2),
+        w2: f(3),
+        point: [f(4), f(5), f(6)],
+        patch: u(7),
+        normal: [f(8), f(9), f(10)],
+        flags: u(11),
+    }
+}
+
+impl GpuScene {
+    /// Uploads the smooth patches and the BVH of `bvh`.
+    pub fn smooth(gpu: &Arc<Gpu>, bvh: &Bvh<'_, f32>) -> Result<GpuScene, GpuError> {
+        let data: Vec<PatchData<f32>> = bvh.patches().iter().map(|p| p.data()).collect();
+        let nodes: Vec<GpuNode> = bvh.nodes().iter().map(GpuNode::from_node).collect();
+        Self::from_parts(gpu, SceneKind::Smooth, &data, &nodes, bvh.order())
+    }
+
+    /// Uploads the flat triangles of `bvh`'s patches (their world vertices) with the same BVH:
+    /// the baseline on the same traversal code.
+    pub fn flat(gpu: &Arc<Gpu>, bvh: &Bvh<'_, f32>) -> Result<GpuScene, GpuError> {
+        let data: Vec<PatchData<f32>> = bvh.patches().iter().map(|p| p.data()).collect();
+        let nodes: Vec<GpuNode> = bvh.nodes().iter().map(GpuNode::from_node).collect();
+        Self::from_parts(gpu, SceneKind::Flat, &data, &nodes, bvh.order())
+    }
+
+    /// Uploads arbitrary parts: patch data, nodes and order (node 0 the root). Storage not
+    /// made by [`Bvh::build`] is traced without any read outside the buffers: queries then
+    /// return [`GpuError::CorruptTree`] or [`GpuError::StackOverflow`] where the shader notices,
+    /// misses or wrong answers otherwise, never a panic or a device loss.
+    pub fn from_parts(
+        gpu: &Arc<Gpu>,
+        kind: SceneKind,
+        patches: &[PatchData<f32>],
+        nodes: &[GpuNode],
+        order: &[u32],
+    ) -> Result<GpuScene, GpuError> {
+        let too_many = |what: &'static str, n: usize| GpuError::TooLarge {
+            what,
+            bytes: n as u64,
+            limit: u32::MAX as u64,
+        };
+        let count = |what, n: usize| u32::try_from(n).map_err(|_| too_many(what, n));
+        let counts = [
+            count("node", nodes.len())?,
+            count("order", order.len())?,
+            count("patch", patches.len())?,
+        ];
+        let records = match kind {
+            SceneKind::Smooth => f32_bytes(patches.iter().flat_map(smooth_record)),
+            SceneKind::Flat => f32_bytes(patches.iter().flat_map(flat_record)),
+        };
+        let node_bytes: Vec<u8> = nodes
+            .iter()
+            .flat_map(|n| {
+                let mut b = Vec::with_capacity(32);
+                for x in n.lo {
+                    b.extend_from_slice(&x.to_ne_bytes());
+                }
+                b.extend_from_slice(&n.first.to_ne_bytes());
+                for x in n.hi {
+                    b.extend_from_slice(&x.to_ne_bytes());
+                }
+                b.extend_from_slice(&n.count.to_ne_bytes());
+                b
+            })
+            .collect();
+        let order_bytes: Vec<u8> = order.iter().flat_map(|i| i.to_ne_bytes()).collect();
+        let bytes = (records.len() + node_bytes.len() + order_bytes.len()) as u64;
+        Ok(GpuScene {
+            gpu: Arc::clone(gpu),
+            kind,
+            patches: gpu.storage("patch", records)?,
+            nodes: gpu.storage("node", node_bytes)?,
+            order: gpu.storage("order", order_bytes)?,
+            counts,
+            bytes,
+        })
+    }
+
+    /// Whether the records are smooth patches or flat triangles.
+    pub fn kind(&self) -> SceneKind {
+        self.kind
+    }
+
+    /// Bytes uploaded (records, nodes, order).
+    pub fn memory_bytes(&self) -> u64 {
+        self.bytes
+    }
+
+    /// The device.
+    pub fn gpu(&self) -> &Arc<Gpu> {
+        &self.gpu
+    }
+
+    /// Closest hits of `rays` in `[t_min, t_max]` with `N` refinement steps, one per slot of
+    /// `hits` (`hit.patch` is the index of the patch in the uploaded order of patches, as
+    /// the CPU's [`Bvh::closest_hit`]). Rays that the CPU rejects (non-finite, zero direction,
+    /// NaN or reversed range) are misses; `t_max` may be infinite.
+    ///
+    /// # Accuracy
+    /// As the CPU kernel's in `f32`: `|t − t_true| ≤ hit.t_error` for the crossing inside the
+    /// final bracket (tested against analytic spheres and the CPU kernel: `gpu/tests/`).
+    pub fn closest_hit<const N: usize>(
+        &self,
+        rays: &[Ray<f32>],
+        t_min: f32,
+        t_max: f32,
+        hits: &mut [Option<Hit<f32>>],
+    ) -> Result<(), GpuError> {
+        self.closest_hit_with(N, rays, t_min, t_max, hits)
+    }
+
+    /// [`GpuScene::closest_hit`] with the budget chosen at run time (at most
+    /// [`MAX_ITERATIONS`]; each budget is its own pipeline, compiled once).
+    pub fn closest_hit_with(
+        &self,
+        iterations: usize,
+        rays: &[Ray<f32>],
+        t_min: f32,
+        t_max: f32,
+        hits: &mut [Option<Hit<f32>>],
+    ) -> Result<(), GpuError> {
+        if rays.len() != hits.len() {
+            return Err(GpuError::LengthMismatch {
+                rays: rays.len(),
+                out: hits.len(),
+            });
+        }
+        self.run(iterations, false, rays, t_min, t_max, &mut |i, raw| {
+            if let Some(slot) = hits.get_mut(i) {
+                *slot = (raw.flags & 1 != 0).then(|| Hit {
+                    t: raw.t,
+                    t_error: raw.t_error,
+                    point: Vec3::from_array(raw.point),
+                    normal: Vec3::from_array(raw.normal),
+                    w1: raw.w1,
+                    w2: raw.w2,
+                    front_face: raw.flags & 2 != 0,
+                    patch: raw.patch,
+                });
+            }
+        })
+    }
+
+    /// Whether anything is hit in `[t_min, t_max]` along each ray (shadow rays), with `N`
+    /// refinement steps; the traversal stops at the first hit.
+    pub fn any_hit<const N: usize>(
+        &self,
+        rays: &[Ray<f32>],
+        t_min: f32,
+        t_max: f32,
+        occluded: &mut [bool],
+    ) -> Result<(), GpuError> {
+        self.any_hit_with(N, rays, t_min, t_max, occluded)
+    }
+
+    /// [`GpuScene::any_hit`] with the budget chosen at run time.
+    pub fn any_hit_with(
+        &self,
+        iterations: usize,
+        rays: &[Ray<f32>],
+        t_min: f32,
+        t_max: f32,
+        occluded: &mut [bool],
+    ) -> Result<(), GpuError> {
+        if rays.len() != occluded.len() {
+            return Err(GpuError::LengthMismatch {
+                rays: rays.len(),
+                out: occluded.len(),
+            });
+        }
+        self.run(iterations, true, rays, t_min, t_max, &mut |i, raw| {
+            if let Some(slot) = occluded.get_mut(i) {
+                *slot = raw.flags & 1 != 0;
+            }
+        })
+    }
+
+    /// Traces `rays` in chunks; calls `out(index, hit)` for every ray.
+    fn run(
+        &self,
+        iterations: usize,
+        any: bool,
+        rays: &[Ray<f32>],
+        t_min: f32,
+        t_max: f32,
+        out: &mut dyn FnMut(usize, Raw),
+    ) -> Result<(), GpuError> {
+        let gpu = &self.gpu;
+        let pipeline = gpu.pipeline(iterations, self.kind == SceneKind::Flat, any)?;
+        if rays.is_empty() {
+            return Ok(());
+        }
+        let chunk = gpu.chunk().min(rays.len());
+        let device = &gpu.device;
+        let (ray_buf, hit_buf, status_buf, params_buf, read_buf) =
+            scoped(device, GpuError::Device, || {
+                let buf = |label, size: usize, usage| {
+                    device.create_buffer(&wgpu::BufferDescriptor {
+                        label: Some(label),
+                        size: size as u64,
+                        usage,
+                        mapped_at_creation: false,
+                    })
+                };
+                use wgpu::BufferUsages as U;
+                (
+                    buf("rays", chunk * RAY_BYTES, U::STORAGE | U::COPY_DST),
+                    buf("hits", chunk * HIT_BYTES, U::STORAGE | U::COPY_SRC),
+                    buf("status", 16, U::STORAGE | U::COPY_SRC | U::COPY_DST),
+                    buf("params", 16, U::UNIFORM | U::COPY_DST),
+                    buf(
+                        "readback",
+                        chunk * HIT_BYTES + 16,
+                        U::MAP_READ | U::COPY_DST,
+                    ),
+                )
+            })?;
+        let bind = scoped(device, GpuError::Device, || {
+            fn e(binding: u32, b: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
+                wgpu::BindGroupEntry {
+                    binding,
+                    resource: b.as_entire_binding(),
+                }
+            }
+            device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("smoothtri"),
+                layout: &gpu.layout,
+                entries: &[
+                    e(0, &params_buf),
+                    e(1, &self.patches),
+                    e(2, &self.nodes),
+                    e(3, &self.order),
+                    e(4, &ray_buf),
+                    e(5, &hit_buf),
+                    e(6, &status_buf),
+                ],
+            })
+        })?;
+        let mut status = 0u32;
+        for (c, part) in rays.chunks(chunk).enumerate() {
+            let n = part.len();
+            let mut bytes = Vec::with_capacity(n * RAY_BYTES);
+            for r in part {
+                for x in upload_ray(r, t_min, t_max) {
+                    bytes.extend_from_slice(&x.to_ne_bytes());
+                }
+            }
+            let [nodes, order, patches] = self.counts;
+            let params: Vec<u8> = [n as u32, nodes, order, patches]
+                .iter()
+                .flat_map(|x| x.to_ne_bytes())
+                .collect();
+            let data = scoped(device, GpuError::Device, || {
+                gpu.queue.write_buffer(&ray_buf, 0, &bytes);
+                gpu.queue.write_buffer(&params_buf, 0, &params);
+                gpu.queue.write_buffer(&status_buf, 0, &[0u8; 16]);
+                let mut enc = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                    label: Some("smoothtri"),
+                });
+                {
+                    let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                        label: Some("smoothtri"),
+                        timestamp_writes: None,
+                    });
+                    pass.set_pipeline(&pipeline);
+                    pass.set_bind_group(0, &bind, &[]);
+                    pass.dispatch_workgroups((n as u32).div_ceil(WORKGROUP), 1, 1);
+                }
+                let hit_bytes = (n * HIT_BYTES) as u64;
+                enc.copy_buffer_to_buffer(&hit_buf, 0, &read_buf, 0, hit_bytes);
+                enc.copy_buffer_to_buffer(&status_buf, 0, &read_buf, hit_bytes, 16);
+                gpu.queue.submit([enc.finish()]);
+                let done = Arc::new(Mutex::new(None));
+                let flag = Arc::clone(&done);
+                let range = 0..hit_bytes + 16;
+                read_buf.map_async(wgpu::MapMode::Read, range.clone(), move |r| {
+                    if let Ok(mut slot) = flag.lock() {
+                        *slot = Some(r);
+                    }
+                });
+                let polled = device.poll(wgpu::PollType::wait_indefinitely());
+                let mapped = done.lock().ok().and_then(|mut s| s.take());
+                match (polled, mapped) {
+                    (Err(e), _) => Err(GpuError::Device(e.to_string())),
+                    (_, Some(Ok(()))) => {
+                        let view = read_buf
+                            .get_mapped_range(range)
+                            .map_err(|e| GpuError::Device(e.to_string()))?;
+                        let v = view.to_vec();
+                        drop(view);
+                        read_buf.unmap();
+                        Ok(v)
+                    }
+                    (_, Some(Err(e))) => Err(GpuError::Device(e.to_string())),
+                    (_, None) => Err(GpuError::Device("the readback was never mapped".into())),
+                }
+            })??;
+            if let Ok(mut slot) = gpu.uncaptured.lock()
+                && let Some(msg) = slot.take()
+            {
+                return Err(GpuError::Device(msg));
+            }
+            let (Some(hits), Some(tail)) = (
+                data.get(..n * HIT_BYTES),
+                data.get(n * HIT_BYTES..n * HIT_BYTES + 4),
+            ) else {
+                return Err(GpuError::Device("short readback".into()));
+            };
+            let mut s = [0u8; 4];
+            s.copy_from_slice(tail);
+            status |= u32::from_ne_bytes(s);
+            for (k, h) in hits.chunks_exact(HIT_BYTES).enumerate() {
+                out(c * chunk + k, parse_hit(h));
+            }
+        }
+        if status & 1 != 0 {
+            return Err(GpuError::CorruptTree);
+        }
+        if status & 2 != 0 {
+            return Err(GpuError::StackOverflow);
+        }
+        Ok(())
+    }
+}
+
+/// The 8 floats of one ray as the shader reads them: `origin, t_min, dir, t_max`. Rays the CPU
+/// rejects are marked with `t_min > t_max` (and zeroed); infinite bounds become ±`f32::MAX`
+/// (the same intervals: every box is finite).
+fn upload_ray(r: &Ray<f32>, t_min: f32, t_max: f32) -> [f32; 8] {
+    let (o, d) = (r.origin, r.dir);
+    let valid = o.is_finite()
+        && d.is_finite()
+        && d.length_squared() != 0.0
+        && !t_min.is_nan()
+        && !t_max.is_nan()
+        && t_max >= t_min;
+    if !valid {
+        return [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0];
+    }
+    let lo = t_min.clamp(-f32::MAX, f32::MAX);
+    let hi = t_max.clamp(-f32::MAX, f32::MAX);
+    [o.x, o.y, o.z, lo, d.x, d.y, d.z, hi]
+}

@@ -1,0 +1,273 @@
+//! Adversarial input: degenerate rays, an empty scene, corrupt trees (node, leaf and patch
+//! indices outside the storage, cycles, a tree deeper than the stack), non-finite scene data.
+//! Every case gives misses or a typed error, and the device keeps working afterwards (no
+//! device loss): each test ends by tracing a sphere correctly.
+
+mod common;
+use common::*;
+use glam::Vec3;
+use smoothtri::{Patch, PatchData, Ray};
+use smoothtri_demo::scenes::icosphere;
+use smoothtri_gpu::{Gpu, GpuError, GpuNode, GpuScene, MAX_ITERATIONS, SceneKind};
+use std::sync::Arc;
+
+/// A correct trace after the adversarial ones: the device is alive.
+fn still_works(gpu: &Arc<Gpu>) {
+    let patches = patches32(&icosphere(1, 1.0));
+    let tree = Tree::new(&patches);
+    let scene = GpuScene::smooth(gpu, &tree.bvh(&patches)).expect("upload");
+    let rays = [Ray::new(
+        Vec3::new(0.0, 0.0, 5.0),
+        Vec3::new(0.0, 0.0, -1.0),
+    )];
+    let mut hits = [None];
+    scene
+        .closest_hit::<4>(&rays, 0.0, f32::INFINITY, &mut hits)
+        .expect("trace");
+    let h = hits[0].expect("hit");
+    assert!(
+        (h.t - 4.0).abs() < 1e-5 && (h.normal - Vec3::Z).length() < 1e-5,
+        "{h:?}"
+    );
+}
+
+fn unit_patch() -> Patch {
+    let p = [Vec3::X, Vec3::Y, Vec3::Z];
+    Patch::new(p, p).expect("patch")
+}
+
+#[test]
+fn degenerate_rays_are_misses() {
+    let Some(gpu) = gpu() else { return };
+    let patches = [unit_patch()];
+    let tree = Tree::new(&patches);
+    let bvh = tree.bvh(&patches);
+    let scene = GpuScene::smooth(&gpu, &bvh).expect("upload");
+    let o = Vec3::splat(2.0);
+    let toward = -Vec3::ONE;
+    let nan = f32::NAN;
+    let inf = f32::INFINITY;
+    let cases: Vec<(Ray, f32, f32)> = vec![
+        (Ray::new(o, Vec3::ZERO), 0.0, inf),
+        (Ray::new(o, Vec3::NAN), 0.0, inf),
+        (Ray::new(Vec3::new(nan, 0.0, 0.0), toward), 0.0, inf),
+        (Ray::new(o, Vec3::new(inf, -1.0, -1.0)), 0.0, inf),
+        (Ray::new(Vec3::splat(inf), toward), 0.0, inf),
+        (Ray::new(o, toward), 5.0, 1.0),
+        (Ray::new(o, toward), nan, 1.0),
+        (Ray::new(o, toward), 0.0, nan),
+        (Ray::new(o, -toward), 0.0, inf),
+        (Ray::new(o, toward), -inf, -1.0),
+    ];
+    for (ray, a, b) in cases {
+        let mut hit = [None];
+        scene
+            .closest_hit::<4>(&[ray], a, b, &mut hit)
+            .expect("trace");
+        assert!(hit[0].is_none(), "{ray:?} [{a}, {b}]: {:?}", hit[0]);
+        assert!(bvh.closest_hit::<4>(&ray, a, b).expect("cpu").is_none());
+        let mut occ = [true];
+        scene.any_hit::<4>(&[ray], a, b, &mut occ).expect("trace");
+        assert!(!occ[0], "{ray:?}");
+    }
+    // Extreme but finite rays: finite answers or misses.
+    let extreme = [
+        Ray::new(Vec3::splat(1e30), Vec3::splat(-1.0)),
+        Ray::new(Vec3::splat(2.0), Vec3::splat(-1e-30)),
+        Ray::new(Vec3::splat(2.0), Vec3::new(-1e30, -1e30, -1e30)),
+        Ray::new(Vec3::splat(-3e38), Vec3::splat(3e38)),
+        Ray::new(Vec3::splat(2.0), Vec3::new(-1.0, -1.0, -1e-40)),
+    ];
+    let mut hits = vec![None; extreme.len()];
+    scene
+        .closest_hit::<4>(&extreme, 0.0, f32::INFINITY, &mut hits)
+        .expect("trace");
+    for h in hits.iter().flatten() {
+        assert!(
+            h.t.is_finite() && h.point.is_finite() && h.normal.is_finite(),
+            "{h:?}"
+        );
+    }
+    // Slices of different lengths, budgets out of range: typed errors.
+    let mut two = [None, None];
+    assert_eq!(
+        scene.closest_hit::<4>(&[Ray::new(o, toward)], 0.0, inf, &mut two),
+        Err(GpuError::LengthMismatch { rays: 1, out: 2 })
+    );
+    let mut one = [None];
+    assert_eq!(
+        scene.closest_hit_with(
+            MAX_ITERATIONS + 1,
+            &[Ray::new(o, toward)],
+            0.0,
+            inf,
+            &mut one
+        ),
+        Err(GpuError::Iterations(MAX_ITERATIONS + 1))
+    );
+    // No rays: nothing to do.
+    scene
+        .closest_hit::<4>(&[], 0.0, inf, &mut [])
+        .expect("empty batch");
+    still_works(&gpu);
+}
+
+#[test]
+fn empty_scene_gives_misses() {
+    let Some(gpu) = gpu() else { return };
+    for kind in [SceneKind::Smooth, SceneKind::Flat] {
+        let scene = GpuScene::from_parts(&gpu, kind, &[], &[], &[]).expect("upload");
+        let rays = [Ray::new(Vec3::splat(2.0), -Vec3::ONE); 3];
+        let mut hits = [None; 3];
+        scene
+            .closest_hit::<4>(&rays, 0.0, f32::INFINITY, &mut hits)
+            .expect("trace");
+        assert!(hits.iter().all(Option::is_none));
+    }
+    still_works(&gpu);
+}
+
+fn leaf(lo: Vec3, hi: Vec3, first: u32, count: u32) -> GpuNode {
+    GpuNode {
+        lo: lo.to_array(),
+        first,
+        hi: hi.to_array(),
+        count,
+    }
+}
+
+fn inner(lo: Vec3, hi: Vec3, first: u32) -> GpuNode {
+    leaf(lo, hi, first, 0)
+}
+
+/// Traces one ray through the unit patch's box with the given tree.
+fn trace(
+    gpu: &Arc<Gpu>,
+    data: &[PatchData<f32>],
+    nodes: &[GpuNode],
+    order: &[u32],
+) -> Result<Vec<Option<smoothtri::Hit>>, GpuError> {
+    let scene = GpuScene::from_parts(gpu, SceneKind::Smooth, data, nodes, order)?;
+    let rays = [Ray::new(Vec3::splat(2.0), -Vec3::ONE); 100];
+    let mut hits = vec![None; rays.len()];
+    scene.closest_hit::<4>(&rays, 0.0, f32::INFINITY, &mut hits)?;
+    Ok(hits)
+}
+
+#[test]
+fn corrupt_trees_are_typed_errors() {
+    let Some(gpu) = gpu() else { return };
+    let p = unit_patch();
+    let data = [p.data()];
+    let (lo, hi) = (p.bounds().min(), p.bounds().max());
+    // A correct one-leaf tree hits.
+    let ok = trace(&gpu, &data, &[leaf(lo, hi, 0, 1)], &[0]).expect("valid tree");
+    assert!(ok.iter().all(Option::is_some));
+    let cases: Vec<(&str, Vec<GpuNode>, Vec<u32>, GpuError)> = vec![
+        (
+            "child index outside the nodes",
+            vec![inner(lo, hi, 1000)],
+            vec![0],
+            GpuError::CorruptTree,
+        ),
+        (
+            "last node as first child",
+            vec![inner(lo, hi, 0)],
+            vec![0],
+            GpuError::CorruptTree,
+        ),
+        (
+            "u32::MAX child",
+            vec![inner(lo, hi, u32::MAX)],
+            vec![0],
+            GpuError::CorruptTree,
+        ),
+        (
+            "leaf range outside the order",
+            vec![leaf(lo, hi, 0, 5)],
+            vec![0],
+            GpuError::CorruptTree,
+        ),
+        (
+            "leaf start outside the order",
+            vec![leaf(lo, hi, 7, 1)],
+            vec![0],
+            GpuError::CorruptTree,
+        ),
+        (
+            "leaf range overflowing u32",
+            vec![leaf(lo, hi, u32::MAX, 2)],
+            vec![0],
+            GpuError::CorruptTree,
+        ),
+        (
+            "patch index outside the patches",
+            vec![leaf(lo, hi, 0, 1)],
+            vec![9],
+            GpuError::CorruptTree,
+        ),
+        (
+            "a cycle (a node is its own child)",
+            vec![inner(lo, hi, 0), leaf(lo, hi, 0, 1)],
+            vec![0],
+            GpuError::CorruptTree,
+        ),
+    ];
+    for (what, nodes, order, want) in cases {
+        assert_eq!(trace(&gpu, &data, &nodes, &order), Err(want), "{what}");
+    }
+    // Deeper than the stack: every level pushes its far child (all boxes equal).
+    let depth = 70u32;
+    let mut nodes = Vec::new();
+    for k in 0..depth {
+        nodes.push(inner(lo, hi, 2 * k + 1));
+        if k > 0 {
+            nodes.push(leaf(lo, hi, 0, 1));
+        }
+    }
+    nodes.push(leaf(lo, hi, 0, 1));
+    nodes.push(leaf(lo, hi, 0, 1));
+    assert_eq!(
+        trace(&gpu, &data, &nodes, &[0]),
+        Err(GpuError::StackOverflow),
+        "a chain of {depth} levels"
+    );
+    // Non-finite scene data: answers (of any kind) or typed errors, never a lost device.
+    let mut bad = p.data();
+    bad.sigma = [f32::NAN, f32::INFINITY];
+    bad.k[1] = [f32::NAN, -f32::INFINITY];
+    bad.axes[0] = [f32::NAN; 3];
+    let nan = Vec3::NAN;
+    for nodes in [
+        vec![leaf(lo, hi, 0, 1)],
+        vec![leaf(nan, nan, 0, 1)],
+        vec![inner(nan, hi, 0)],
+    ] {
+        if let Ok(hits) = trace(&gpu, &[bad], &nodes, &[0]) {
+            assert_eq!(hits.len(), 100);
+        }
+    }
+    still_works(&gpu);
+}
+
+/// More rays than one dispatch takes (2^20): the chunks line up with the rays.
+#[test]
+fn batches_larger_than_a_dispatch() {
+    let Some(gpu) = gpu() else { return };
+    let patches = [unit_patch()];
+    let tree = Tree::new(&patches);
+    let scene = GpuScene::smooth(&gpu, &tree.bvh(&patches)).expect("upload");
+    let n = (1 << 20) + 1000;
+    let toward = Ray::new(Vec3::splat(2.0), -Vec3::ONE);
+    let away = Ray::new(Vec3::splat(2.0), Vec3::ONE);
+    let rays: Vec<Ray> = (0..n)
+        .map(|i| if i % 997 == 0 { toward } else { away })
+        .collect();
+    let mut occluded = vec![false; n];
+    scene
+        .any_hit::<1>(&rays, 0.0, f32::INFINITY, &mut occluded)
+        .expect("trace");
+    for (i, &o) in occluded.iter().enumerate() {
+        assert_eq!(o, i % 997 == 0, "ray {i}");
+    }
+}
