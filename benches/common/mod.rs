@@ -140,7 +140,9 @@ pub fn camera_tiles(w: usize, h: usize) -> Vec<[Ray; 8]> {
     let mut tiles = Vec::with_capacity(w * h / 8);
     for ty in (0..h).step_by(2) {
         for tx in (0..w).step_by(4) {
-            tiles.push(core::array::from_fn(|i| rays[(ty + i / 4) * w + tx + i % 4]));
+            tiles.push(core::array::from_fn(|i| {
+                rays[(ty + i / 4) * w + tx + i % 4]
+            }));
         }
     }
     tiles
