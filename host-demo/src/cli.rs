@@ -63,8 +63,9 @@ struct RenderArgs {
     /// Render smooth, flat and phong side by side, labelled.
     #[arg(long)]
     compare: bool,
-    /// Iteration budget of the smooth kernel (0..=40).
-    #[arg(long, default_value_t = 8)]
+    /// Refinement steps of the smooth kernel, eight evaluations each (0..=40; f32 reaches its
+    /// rounding floor from about 3).
+    #[arg(long, default_value_t = 4)]
     iterations: usize,
     /// Kernel precision.
     #[arg(long, value_enum, default_value = "f32")]
@@ -131,8 +132,8 @@ struct TraceArgs {
     /// Rays CSV with header ox,oy,oz,dx,dy,dz (`-` for stdin).
     #[arg(long)]
     rays: String,
-    /// Iteration budget (0..=40).
-    #[arg(long, default_value_t = 8)]
+    /// Refinement steps, eight evaluations each (0..=40).
+    #[arg(long, default_value_t = 4)]
     iterations: usize,
     /// Kernel precision.
     #[arg(long, value_enum, default_value = "f32")]

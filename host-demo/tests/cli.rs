@@ -251,7 +251,7 @@ fn render_default_writes_png_and_reports() {
     let r = ok(d.path(), &["render", "--width", "48", "--height", "36"]);
     assert!(r.out.contains("smoothtri.png"), "{}", r.out);
     assert!(r.out.contains("rays/s"), "{}", r.out);
-    assert!(r.out.contains("N = 8"), "{}", r.out);
+    assert!(r.out.contains("N = 4"), "{}", r.out);
     let bytes = std::fs::read(d.path().join("smoothtri.png")).expect("png");
     assert_eq!(&bytes[1..4], b"PNG");
 }

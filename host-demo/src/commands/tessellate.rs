@@ -219,14 +219,14 @@ fn picture(a: &TessellateOptions, mesh: &Mesh, t: &Tessellation, path: &str) -> 
     let (mesh, tess) = (up.mesh_to_z_up(mesh), up.mesh_to_z_up(&t.mesh));
     let (w, h) = a.size;
     let cam = Camera::for_mesh(&mesh, a.view.0, a.view.1, w, h);
-    let smooth = super::render::render_panel_in(a.precision, &mesh, &cam, Mode::Smooth, 8, false)?;
+    let smooth = super::render::render_panel_in(a.precision, &mesh, &cam, Mode::Smooth, 4, false)?;
     let flat = super::render::render_panel_in(a.precision, &tess, &cam, Mode::Flat, 0, false)?;
     let label = match a.level {
         Level::Uniform(l) => format!("TESSELLATED L={l}, FLAT"),
         Level::MaxError { max_error, .. } => format!("TESSELLATED E={max_error:e}, FLAT"),
     };
     let img = super::render::side_by_side(&[
-        (&smooth.image, "TRACED SMOOTH N=8".to_string()),
+        (&smooth.image, "TRACED SMOOTH N=4".to_string()),
         (&flat.image, label),
     ]);
     img.write_png(path)
