@@ -36,7 +36,7 @@ pub struct Rendered {
 }
 
 /// Background colour at row `y` of `h`.
-fn background(y: u32, h: u32) -> [u8; 3] {
+pub fn background(y: u32, h: u32) -> [u8; 3] {
     let s = y as f64 / h.max(1) as f64;
     [
         (48.0 - 24.0 * s) as u8,
@@ -52,6 +52,19 @@ pub fn light_dir(cam: &Camera) -> DVec3 {
 
 fn to_u8(x: f64) -> u8 {
     (x.clamp(0.0, 1.0).powf(1.0 / 2.2) * 255.0 + 0.5) as u8
+}
+
+/// The colour of a hit: orange front faces, blue back faces, ambient plus Lambert times the
+/// light's visibility (`vis`, 0 or 1).
+pub fn shade(front_face: bool, lambert: f64, vis: f64) -> [u8; 3] {
+    let albedo: [f64; 3] = if front_face {
+        [0.85, 0.50, 0.22]
+    } else {
+        [0.25, 0.45, 0.80]
+    };
+    let ambient = 0.12;
+    let s = ambient + (1.0 - ambient) * lambert * vis;
+    albedo.map(|a| to_u8(a * s))
 }
 
 /// Renders `scene` through `cam` with `tracer`; `diag` is the scene's bounding-box diagonal
@@ -108,14 +121,7 @@ pub fn render<F: Prec>(
                         vis = 1.0;
                     }
                 }
-                let albedo = if hit.front_face {
-                    [0.85, 0.50, 0.22]
-                } else {
-                    [0.25, 0.45, 0.80]
-                };
-                let ambient = 0.12;
-                let shade = ambient + (1.0 - ambient) * lambert * vis;
-                px.extend(albedo.iter().map(|a| to_u8(a * shade)));
+                px.extend(shade(hit.front_face, lambert, vis));
                 hits.push(PixelHit {
                     hit: true,
                     point: p,

@@ -144,20 +144,6 @@ fn render_panel_gpu(
     })
 }
 
-/// Background colour at row `y` of `h` (as the CPU renderer's).
-fn background(y: u32, h: u32) -> [u8; 3] {
-    let s = y as f64 / h.max(1) as f64;
-    [
-        (48.0 - 24.0 * s) as u8,
-        (54.0 - 26.0 * s) as u8,
-        (66.0 - 30.0 * s) as u8,
-    ]
-}
-
-fn to_u8(x: f64) -> u8 {
-    (x.clamp(0.0, 1.0).powf(1.0 / 2.2) * 255.0 + 0.5) as u8
-}
-
 /// Renders `scene` through `cam` on the GPU, as [`crate::renderer::render`] does on the CPU
 /// (the same rays, shading, light and shadow-ray offsets): all primary rays in one batch of
 /// [`GpuScene::closest_hit_with`], then the shadow rays of the lit pixels in one batch of
@@ -225,7 +211,7 @@ pub fn render_gpu(
         .map_err(gpu_error)?;
     let mut image = Image::new(w, h, [0, 0, 0]);
     for y in 0..h {
-        let bg = background(y, h);
+        let bg = crate::renderer::background(y, h);
         for x in 0..w {
             image.put(i64::from(x), i64::from(y), bg);
         }
@@ -241,15 +227,12 @@ pub fn render_gpu(
         } else {
             0.0
         };
-        let albedo = if hit.front_face {
-            [0.85, 0.50, 0.22]
-        } else {
-            [0.25, 0.45, 0.80]
-        };
-        let ambient = 0.12;
-        let shade = ambient + (1.0 - ambient) * lambert * vis;
         let (x, y) = (i as u32 % w, i as u32 / w);
-        image.put(i64::from(x), i64::from(y), albedo.map(|a| to_u8(a * shade)));
+        image.put(
+            i64::from(x),
+            i64::from(y),
+            crate::renderer::shade(hit.front_face, lambert, vis),
+        );
         if let Some(m) = mask.get_mut(i) {
             *m = PixelHit {
                 hit: true,
