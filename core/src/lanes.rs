@@ -20,14 +20,16 @@ use crate::real::Float;
 /// Number of lanes of every [`Lane`] type.
 pub const LANES: usize = 8;
 
-/// An 8-wide vector of the scalar [`Lane::F`] (see the module documentation).
+/// The arithmetic the kernel's height evaluation is written over: lanes of a scalar (or, for
+/// the exact normal, a scalar with its derivatives), with comparisons into masks and selects
+/// instead of branches.
 ///
-/// Comparisons are IEEE (false for NaN operands); masks combine with [`Lane::and`],
-/// [`Lane::or`], [`Lane::not`] and choose values with [`Lane::select`].
+/// Comparisons are IEEE (false for NaN operands); masks combine with [`LaneOps::and`],
+/// [`LaneOps::or`], [`LaneOps::not`] and choose values with [`LaneOps::select`].
 ///
 /// # Panics
 /// No method panics.
-pub trait Lane:
+pub trait LaneOps:
     Copy
     + Add<Output = Self>
     + Sub<Output = Self>
@@ -41,10 +43,6 @@ pub trait Lane:
     type Mask: Copy;
     /// Every lane `x`.
     fn splat(x: Self::F) -> Self;
-    /// From the eight lane values.
-    fn from_array(a: [Self::F; LANES]) -> Self;
-    /// The eight lane values.
-    fn to_array(self) -> [Self::F; LANES];
     /// Square root per lane (correctly rounded; NaN for negative lanes).
     fn sqrt(self) -> Self;
     /// Absolute value per lane.
@@ -67,6 +65,17 @@ pub trait Lane:
     fn or(a: Self::Mask, b: Self::Mask) -> Self::Mask;
     /// Lane-wise not.
     fn not(a: Self::Mask) -> Self::Mask;
+}
+
+/// An 8-wide vector of the scalar [`LaneOps::F`] (see the module documentation).
+///
+/// # Panics
+/// No method panics.
+pub trait Lane: LaneOps {
+    /// From the eight lane values.
+    fn from_array(a: [Self::F; LANES]) -> Self;
+    /// The eight lane values.
+    fn to_array(self) -> [Self::F; LANES];
     /// Whether any lane of `m` is set.
     fn any(m: Self::Mask) -> bool;
     /// The lanes of `m` as booleans.
@@ -76,12 +85,6 @@ pub trait Lane:
 macro_rules! impl_wide {
     ($l:ty, $f:ty) => {
         impl Lane for $l {
-            type F = $f;
-            type Mask = $l;
-            #[inline(always)]
-            fn splat(x: $f) -> Self {
-                <$l>::splat(x)
-            }
             #[inline(always)]
             fn from_array(a: [$f; LANES]) -> Self {
                 <$l>::new(a)
@@ -89,6 +92,23 @@ macro_rules! impl_wide {
             #[inline(always)]
             fn to_array(self) -> [$f; LANES] {
                 <$l>::to_array(self)
+            }
+            #[inline(always)]
+            fn any(m: Self) -> bool {
+                m.any()
+            }
+            #[inline(always)]
+            fn mask_array(m: Self) -> [bool; LANES] {
+                let bits = m.to_bitmask();
+                core::array::from_fn(|i| bits & (1 << i) != 0)
+            }
+        }
+        impl LaneOps for $l {
+            type F = $f;
+            type Mask = $l;
+            #[inline(always)]
+            fn splat(x: $f) -> Self {
+                <$l>::splat(x)
             }
             #[inline(always)]
             fn sqrt(self) -> Self {
@@ -133,15 +153,6 @@ macro_rules! impl_wide {
             #[inline(always)]
             fn not(a: Self) -> Self {
                 !a
-            }
-            #[inline(always)]
-            fn any(m: Self) -> bool {
-                m.any()
-            }
-            #[inline(always)]
-            fn mask_array(m: Self) -> [bool; LANES] {
-                let bits = m.to_bitmask();
-                core::array::from_fn(|i| bits & (1 << i) != 0)
             }
         }
     };
@@ -198,12 +209,6 @@ impl<F: Float> Neg for Lanes8<F> {
 }
 
 impl<F: Float> Lane for Lanes8<F> {
-    type F = F;
-    type Mask = [bool; LANES];
-    #[inline(always)]
-    fn splat(x: F) -> Self {
-        Lanes8([x; LANES])
-    }
     #[inline(always)]
     fn from_array(a: [F; LANES]) -> Self {
         Lanes8(a)
@@ -211,6 +216,23 @@ impl<F: Float> Lane for Lanes8<F> {
     #[inline(always)]
     fn to_array(self) -> [F; LANES] {
         self.0
+    }
+    #[inline(always)]
+    fn any(m: [bool; LANES]) -> bool {
+        m.iter().any(|&x| x)
+    }
+    #[inline(always)]
+    fn mask_array(m: [bool; LANES]) -> [bool; LANES] {
+        m
+    }
+}
+
+impl<F: Float> LaneOps for Lanes8<F> {
+    type F = F;
+    type Mask = [bool; LANES];
+    #[inline(always)]
+    fn splat(x: F) -> Self {
+        Lanes8([x; LANES])
     }
     #[inline(always)]
     fn sqrt(self) -> Self {
@@ -269,13 +291,5 @@ impl<F: Float> Lane for Lanes8<F> {
     #[inline(always)]
     fn not(a: [bool; LANES]) -> [bool; LANES] {
         a.map(|x| !x)
-    }
-    #[inline(always)]
-    fn any(m: [bool; LANES]) -> bool {
-        m.iter().any(|&x| x)
-    }
-    #[inline(always)]
-    fn mask_array(m: [bool; LANES]) -> [bool; LANES] {
-        m
     }
 }

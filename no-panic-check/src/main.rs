@@ -124,7 +124,7 @@ fn scalars<F: Float>() -> u32 {
 /// Everything above the scalar layer, in precision `F`.
 /// Every method of the lane type of `F` (the kernel's eight-wide evaluation) and the work bound.
 fn lanes<F: Float>() -> u32 {
-    use smoothtri::lanes::{LANES, Lane};
+    use smoothtri::lanes::{LANES, Lane, LaneOps};
     let a = F::L8::from_array(core::array::from_fn(|i| c::<F>(i as f64 - 3.5)));
     let b = black_box(F::L8::splat(c::<F>(0.5)));
     let x = ((a + b) * b - a / b).abs().sqrt() + (-a);

@@ -23,7 +23,7 @@
 //! [`KERNEL_HEIGHT_VS_SURFACE`](crate::accuracy::KERNEL_HEIGHT_VS_SURFACE) of the triangle's
 //! size on random patches (the unit test below).
 
-use crate::lanes::Lane;
+use crate::lanes::LaneOps;
 use crate::patch::Patch;
 use crate::real::Float;
 use crate::vec::V3;
@@ -105,7 +105,7 @@ struct L3<L> {
     z: L,
 }
 
-impl<L: Lane> L3<L> {
+impl<L: LaneOps> L3<L> {
     #[inline(always)]
     fn splat(v: V3<L::F>) -> Self {
         L3 {
@@ -153,7 +153,7 @@ impl<L: Lane> L3<L> {
 }
 
 #[inline(always)]
-fn c<L: Lane>(x: f64) -> L {
+fn c<L: LaneOps>(x: f64) -> L {
     L::splat(L::F::from_f64(x))
 }
 
@@ -163,7 +163,7 @@ fn c<L: Lane>(x: f64) -> L {
 /// noise scales. Returns `(s, q, sq, ok)`: `s = qc/q` where `ok`, else 0.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
-fn root<L: Lane>(qa: L, qb: L, qc: L, k: L, w2: L, g2: L, m2: L) -> (L, L, L, L::Mask) {
+fn root<L: LaneOps>(qa: L, qb: L, qc: L, k: L, w2: L, g2: L, m2: L) -> (L, L, L, L::Mask) {
     let zero = L::splat(L::F::ZERO);
     let disc = qb * qb - qa * qc;
     let sq = L::select(disc.gt(zero), disc, zero).sqrt();
@@ -186,7 +186,7 @@ fn root<L: Lane>(qa: L, qb: L, qc: L, k: L, w2: L, g2: L, m2: L) -> (L, L, L, L:
 /// square root has derivative 0 where the discriminant is clamped).
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
-fn root_derivative<L: Lane>(
+fn root_derivative<L: LaneOps>(
     s: L,
     q: L,
     sq: L,
@@ -206,7 +206,7 @@ fn root_derivative<L: Lane>(
 /// Conjugation point `c(t)` of an edge and its normal `n*(t)` scaled by `|c′|² > 0`
 /// (eq. (3)), at eight edge parameters.
 #[inline(always)]
-fn edge_point_normal<L: Lane>(ep: &EdgePrep<L::F>, t: L) -> (L3<L>, L3<L>) {
+fn edge_point_normal<L: LaneOps>(ep: &EdgePrep<L::F>, t: L) -> (L3<L>, L3<L>) {
     let one = c::<L>(1.0);
     let two = c::<L>(2.0);
     let zero = L::splat(L::F::ZERO);
@@ -263,7 +263,7 @@ fn edge_point_normal<L: Lane>(ep: &EdgePrep<L::F>, t: L) -> (L3<L>, L3<L>) {
 /// `base + s·dir` (`dd = |dir|²`).
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
-fn vertex_term<L: Lane>(
+fn vertex_term<L: LaneOps>(
     ep: &EdgePrep<L::F>,
     pi: L3<L>,
     ni: V3<L::F>,
@@ -318,7 +318,7 @@ fn vertex_term<L: Lane>(
 /// `Pi + z·di`), negative or non-finite components set to 0, renormalised (the centroid if all
 /// vanish).
 #[inline(always)]
-fn bary<L: Lane>(pr: &Prepared<L::F>, x: L3<L>) -> [L; 3] {
+fn bary<L: LaneOps>(pr: &Prepared<L::F>, x: L3<L>) -> [L; 3] {
     let zero = L::splat(L::F::ZERO);
     let one = c::<L>(1.0);
     let [p1x, p2x, p2y] = pr.p.map(L::splat);
@@ -352,7 +352,7 @@ fn bary<L: Lane>(pr: &Prepared<L::F>, x: L3<L>) -> [L; 3] {
 trait MaxOf {
     fn max_of(self, o: Self) -> Self;
 }
-impl<L: Lane> MaxOf for L {
+impl<L: LaneOps> MaxOf for L {
     #[inline(always)]
     fn max_of(self, o: Self) -> Self {
         L::select(self.gt(o), self, o)
@@ -362,7 +362,7 @@ impl<L: Lane> MaxOf for L {
 /// `f(τ) = z − σS(X)` at the local points `o + τ·r` of eight parameters `tau` (one ray: `o`
 /// and `r` splatted; a packet: one ray per lane), with the projected barycentrics `X`.
 #[inline(always)]
-pub(crate) fn f_lanes<L: Lane>(pr: &Prepared<L::F>, o: [L; 3], r: [L; 3], tau: L) -> L {
+pub(crate) fn f_lanes<L: LaneOps>(pr: &Prepared<L::F>, o: [L; 3], r: [L; 3], tau: L) -> L {
     let [ox, oy, oz] = o;
     let [rx, ry, rz] = r;
     let x = L3 {
@@ -375,7 +375,7 @@ pub(crate) fn f_lanes<L: Lane>(pr: &Prepared<L::F>, o: [L; 3], r: [L; 3], tau: L
 
 /// Height `σS(X)` at eight barycentric triples (summing to one, inside the triangle).
 #[inline(always)]
-pub(crate) fn height_at<L: Lane>(pr: &Prepared<L::F>, [x0, x1, x2]: [L; 3]) -> L {
+pub(crate) fn height_at<L: LaneOps>(pr: &Prepared<L::F>, [x0, x1, x2]: [L; 3]) -> L {
     let zero = L::splat(L::F::ZERO);
     let [p1x, p2x, p2y] = pr.p.map(L::splat);
     let [d0, d1, d2] = pr.d;
@@ -411,6 +411,167 @@ pub(crate) fn height_at<L: Lane>(pr: &Prepared<L::F>, [x0, x1, x2]: [L; 3]) -> L
     vertex_term(e1, p0, n0, x0, x1, x2, base, dir, dd)
         + vertex_term(e2, p1, n1, x1, x2, x0, base, dir, dd)
         + vertex_term(e0, p2, n2, x2, x0, x1, base, dir, dd)
+}
+
+/// A scalar with its two partial derivatives (forward mode): the height evaluation over it
+/// gives `σS` and `∂σS/∂X1`, `∂σS/∂X2` for the exact normal of a hit, in one pass (no nested
+/// dual numbers: the edge tangents inside are already derivatives written out).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Jet<F> {
+    /// Value.
+    pub v: F,
+    /// Partial derivatives.
+    pub d: [F; 2],
+}
+
+impl<F: Float> core::ops::Add for Jet<F> {
+    type Output = Self;
+    #[inline(always)]
+    fn add(self, o: Self) -> Self {
+        Jet {
+            v: self.v + o.v,
+            d: [self.d[0] + o.d[0], self.d[1] + o.d[1]],
+        }
+    }
+}
+impl<F: Float> core::ops::Sub for Jet<F> {
+    type Output = Self;
+    #[inline(always)]
+    fn sub(self, o: Self) -> Self {
+        Jet {
+            v: self.v - o.v,
+            d: [self.d[0] - o.d[0], self.d[1] - o.d[1]],
+        }
+    }
+}
+impl<F: Float> core::ops::Mul for Jet<F> {
+    type Output = Self;
+    #[inline(always)]
+    fn mul(self, o: Self) -> Self {
+        Jet {
+            v: self.v * o.v,
+            d: [
+                self.d[0] * o.v + self.v * o.d[0],
+                self.d[1] * o.v + self.v * o.d[1],
+            ],
+        }
+    }
+}
+impl<F: Float> core::ops::Div for Jet<F> {
+    type Output = Self;
+    #[inline(always)]
+    fn div(self, o: Self) -> Self {
+        let v = self.v / o.v;
+        Jet {
+            v,
+            d: [
+                (self.d[0] - v * o.d[0]) / o.v,
+                (self.d[1] - v * o.d[1]) / o.v,
+            ],
+        }
+    }
+}
+impl<F: Float> core::ops::Neg for Jet<F> {
+    type Output = Self;
+    #[inline(always)]
+    fn neg(self) -> Self {
+        Jet {
+            v: -self.v,
+            d: [-self.d[0], -self.d[1]],
+        }
+    }
+}
+
+impl<F: Float> LaneOps for Jet<F> {
+    type F = F;
+    type Mask = bool;
+    #[inline(always)]
+    fn splat(x: F) -> Self {
+        Jet {
+            v: x,
+            d: [F::ZERO; 2],
+        }
+    }
+    /// The square root; its derivative is 0 where the value is not positive (as the dual
+    /// numbers' `sqrt0`: the kernel only takes roots of clamped discriminants).
+    #[inline(always)]
+    fn sqrt(self) -> Self {
+        if self.v > F::ZERO {
+            let r = self.v.sqrt();
+            let k = F::ONE / (r + r);
+            Jet {
+                v: r,
+                d: [self.d[0] * k, self.d[1] * k],
+            }
+        } else {
+            Jet {
+                v: F::ZERO,
+                d: [F::ZERO; 2],
+            }
+        }
+    }
+    #[inline(always)]
+    fn abs(self) -> Self {
+        if self.v < F::ZERO { -self } else { self }
+    }
+    #[inline(always)]
+    fn lt(self, o: Self) -> bool {
+        self.v < o.v
+    }
+    #[inline(always)]
+    fn le(self, o: Self) -> bool {
+        self.v <= o.v
+    }
+    #[inline(always)]
+    fn gt(self, o: Self) -> bool {
+        self.v > o.v
+    }
+    #[inline(always)]
+    fn eq(self, o: Self) -> bool {
+        self.v == o.v
+    }
+    #[inline(always)]
+    fn finite(self) -> bool {
+        self.v.is_fin() && self.d[0].is_fin() && self.d[1].is_fin()
+    }
+    #[inline(always)]
+    fn select(m: bool, a: Self, b: Self) -> Self {
+        if m { a } else { b }
+    }
+    #[inline(always)]
+    fn and(a: bool, b: bool) -> bool {
+        a && b
+    }
+    #[inline(always)]
+    fn or(a: bool, b: bool) -> bool {
+        a || b
+    }
+    #[inline(always)]
+    fn not(a: bool) -> bool {
+        !a
+    }
+}
+
+/// Local-frame surface derivatives `∂pS/∂X1`, `∂pS/∂X2` at barycentrics `x` (with
+/// `X0 = 1 − X1 − X2`), from one evaluation of the height over [`Jet`]s:
+/// `∂pS/∂Xk = (Pk − P0) + σ·(dk − d0) + (∂σ/∂Xk)·D`.
+#[inline(always)]
+pub(crate) fn derivatives<F: Float>(
+    patch: &crate::patch::Patch<F>,
+    pr: &Prepared<F>,
+    [x0, x1, x2]: [F; 3],
+) -> [V3<F>; 2] {
+    let (one, zero) = (F::ONE, F::ZERO);
+    let j = |v: F, a: F, b: F| Jet { v, d: [a, b] };
+    let s = height_at(pr, [j(x0, -one, -one), j(x1, one, zero), j(x2, zero, one)]);
+    let [p0, p1, p2] = patch.p;
+    let [d0, d1, d2] = patch.d;
+    let dir = d0 * x0 + d1 * x1 + d2 * x2;
+    let [s1, s2] = s.d;
+    [
+        p1 - p0 + (d1 - d0) * s.v + dir * s1,
+        p2 - p0 + (d2 - d0) * s.v + dir * s2,
+    ]
 }
 
 #[cfg(test)]
@@ -475,5 +636,36 @@ mod tests {
             worst < crate::accuracy::KERNEL_HEIGHT_VS_SURFACE,
             "worst {worst:e}"
         );
+    }
+
+    #[test]
+    fn jet_derivatives_equal_the_dual_number_derivatives() {
+        let mut rng = Rng(11);
+        let mut worst = 0.0f64;
+        let mut tested = 0;
+        for _ in 0..300 {
+            let p = [rng.vec() * 3.0, rng.vec() * 3.0, rng.vec() * 3.0];
+            let nf = (p[1] - p[0]).cross(p[2] - p[0]).normalize_or_zero();
+            let n = [0, 1, 2].map(|_| (nf + rng.vec() * 0.6).normalize_or_zero());
+            let Ok(patch) = Patch::<f64>::new(p, n) else {
+                continue;
+            };
+            tested += 1;
+            let pr = Prepared::new(&patch);
+            let size = (p[1] - p[0]).length().max((p[2] - p[0]).length());
+            for i in 0..=8 {
+                for j in 0..=(8 - i) {
+                    let (w1, w2) = (i as f64 / 8.0, j as f64 / 8.0);
+                    let x = [1.0 - w1 - w2, w1, w2];
+                    let [a1, a2] = derivatives(&patch, &pr, x);
+                    let [_, b1, b2] = surface::point_derivs_local(&patch, x);
+                    let d = (a1 - b1).length().max((a2 - b2).length());
+                    worst = worst.max(d / size);
+                }
+            }
+        }
+        assert!(tested > 200, "{tested}");
+        // Same derivatives of the same surface, different rounding (exact either way).
+        assert!(worst < 1e-9, "worst {worst:e}");
     }
 }

@@ -29,7 +29,7 @@ use crate::lanes::Lane;
 use crate::patch::Patch;
 use crate::ray::{Hit, Ray};
 use crate::real::Float;
-use crate::surface::{normal_local, point_derivs_local, project_bary};
+use crate::surface::{normal_local, project_bary};
 use crate::vec::V3;
 use clip::{LocalRay, bary_numerators, shell_interval};
 use height::{Prepared, f_lanes};
@@ -181,7 +181,7 @@ impl<F: Float> Patch<F> {
         let (a, b) = (cl.a, cl.b);
         stats.shell_width = (b - a).to_f64();
         let prep = Prepared::new(self);
-        let sp = <F::L8 as Lane>::splat;
+        let sp = <F::L8 as crate::lanes::LaneOps>::splat;
         let (o, r) = (cl.lray.o, cl.lray.r);
         let (o8, r8) = ([sp(o.x), sp(o.y), sp(o.z)], [sp(r.x), sp(r.y), sp(r.z)]);
         let mut f = |taus: [F; crate::lanes::LANES]| {
@@ -237,13 +237,13 @@ impl<F: Float> Patch<F> {
     }
 
     /// Completes a [`Crossing`] of this patch into a [`Hit`]: the exact surface normal (one
-    /// point-and-derivatives evaluation) and the world hit point. `None` if the normal is not
+    /// height evaluation over value-and-two-derivatives jets, `height::derivatives`) and the world hit point. `None` if the normal is not
     /// finite (never for an accepted patch).
     #[inline(always)]
     pub(crate) fn finish(&self, ray: &Ray<F>, c: &Crossing<F>) -> Option<Hit<F>> {
         let o = F::from_glam(ray.origin);
         let d = F::from_glam(ray.dir);
-        let [_, du1, du2] = point_derivs_local(self, c.bary);
+        let [du1, du2] = height::derivatives(self, &Prepared::new(self), c.bary);
         let normal = self.local_dir_to_world(normal_local(self, c.bary, du1, du2));
         let [_, w1, w2] = c.bary;
         if !normal.all_finite() {
