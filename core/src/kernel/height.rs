@@ -361,7 +361,9 @@ impl<L: LaneOps> MaxOf for L {
 
 /// `f(τ) = z − σS(X)` at the local points `o + τ·r` of eight parameters `tau` (one ray: `o`
 /// and `r` splatted; a packet: one ray per lane), with the projected barycentrics `X`.
-#[inline(always)]
+// Not inlined: one lane call is ~2 000 instructions, so the call costs nothing, and a single
+// copy per lane type keeps builds (and the freestanding link proof's LTO) fast.
+#[inline(never)]
 pub(crate) fn f_lanes<L: LaneOps>(pr: &Prepared<L::F>, o: [L; 3], r: [L; 3], tau: L) -> L {
     let [ox, oy, oz] = o;
     let [rx, ry, rz] = r;
