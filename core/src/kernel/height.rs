@@ -598,21 +598,26 @@ mod tests {
         }
     }
 
-    #[test]
-    fn equals_the_generic_height_within_rounding() {
-        let mut rng = Rng(7);
-        let mut worst = 0.0f64;
-        let mut tested = 0;
-        for _ in 0..400 {
+    /// The accepted patches among `count` random triangles (size ~3, normals up to ~30° from
+    /// the face), with their longest edge from `P0`.
+    fn random_patches(seed: u64, count: usize) -> impl Iterator<Item = (Patch<f64>, f64)> {
+        let mut rng = Rng(seed);
+        (0..count).filter_map(move |_| {
             let p = [rng.vec() * 3.0, rng.vec() * 3.0, rng.vec() * 3.0];
             let nf = (p[1] - p[0]).cross(p[2] - p[0]).normalize_or_zero();
             let n = [0, 1, 2].map(|_| (nf + rng.vec() * 0.6).normalize_or_zero());
-            let Ok(patch) = Patch::<f64>::new(p, n) else {
-                continue;
-            };
+            let size = (p[1] - p[0]).length().max((p[2] - p[0]).length());
+            Patch::<f64>::new(p, n).ok().map(|patch| (patch, size))
+        })
+    }
+
+    #[test]
+    fn equals_the_generic_height_within_rounding() {
+        let mut worst = 0.0f64;
+        let mut tested = 0;
+        for (patch, size) in random_patches(7, 400) {
             tested += 1;
             let pr = Prepared::new(&patch);
-            let size = (p[1] - p[0]).length().max((p[2] - p[0]).length());
             let mut xs = [[0.0; 3]; 66];
             let grid = (0..=10).flat_map(|i| (0..=(10 - i)).map(move |j| (i, j)));
             for (slot, (i, j)) in xs.iter_mut().zip(grid) {
@@ -642,19 +647,11 @@ mod tests {
 
     #[test]
     fn jet_derivatives_equal_the_dual_number_derivatives() {
-        let mut rng = Rng(11);
         let mut worst = 0.0f64;
         let mut tested = 0;
-        for _ in 0..300 {
-            let p = [rng.vec() * 3.0, rng.vec() * 3.0, rng.vec() * 3.0];
-            let nf = (p[1] - p[0]).cross(p[2] - p[0]).normalize_or_zero();
-            let n = [0, 1, 2].map(|_| (nf + rng.vec() * 0.6).normalize_or_zero());
-            let Ok(patch) = Patch::<f64>::new(p, n) else {
-                continue;
-            };
+        for (patch, size) in random_patches(11, 300) {
             tested += 1;
             let pr = Prepared::new(&patch);
-            let size = (p[1] - p[0]).length().max((p[2] - p[0]).length());
             for i in 0..=8 {
                 for j in 0..=(8 - i) {
                     let (w1, w2) = (i as f64 / 8.0, j as f64 / 8.0);

@@ -97,18 +97,31 @@ fn render_panel<F: Prec>(
     n: usize,
     note: bool,
 ) -> Result<Panel> {
+    let scene = build_scene::<F>(mesh, note)?;
+    let t = tracer::<F>(mode, n)?;
+    let r = crate::renderer::render(&scene, cam, t, mesh.diagonal(), true);
+    Ok(Panel::from(r))
+}
+
+/// The scene of `mesh` in precision `F`; `note` prints its note about skipped or clamped
+/// triangles.
+fn build_scene<F: Prec>(mesh: &Mesh, note: bool) -> Result<Scene<F>> {
     let scene = Scene::<F>::build(mesh)?;
     if let Some(text) = scene.rejected_note().filter(|_| note) {
         eprintln!("{text}");
     }
-    let t = tracer::<F>(mode, n)?;
-    let r = crate::renderer::render(&scene, cam, t, mesh.diagonal(), true);
-    Ok(Panel {
-        image: r.image,
-        rays: r.rays,
-        seconds: r.seconds,
-        mask: r.hits,
-    })
+    Ok(scene)
+}
+
+impl From<crate::renderer::Rendered> for Panel {
+    fn from(r: crate::renderer::Rendered) -> Self {
+        Panel {
+            image: r.image,
+            rays: r.rays,
+            seconds: r.seconds,
+            mask: r.hits,
+        }
+    }
 }
 
 /// Opens the GPU for `--gpu`: its error (no adapter, no device) becomes the one-line message
@@ -131,17 +144,9 @@ fn render_panel_gpu(
     n: usize,
     note: bool,
 ) -> Result<Panel> {
-    let scene = Scene::<f32>::build(mesh)?;
-    if let Some(text) = scene.rejected_note().filter(|_| note) {
-        eprintln!("{text}");
-    }
+    let scene = build_scene::<f32>(mesh, note)?;
     let r = render_gpu(gpu, &scene, cam, mode, n, mesh.diagonal())?;
-    Ok(Panel {
-        image: r.image,
-        rays: r.rays,
-        seconds: r.seconds,
-        mask: r.hits,
-    })
+    Ok(Panel::from(r))
 }
 
 /// Renders `scene` through `cam` on the GPU, as [`crate::renderer::render`] does on the CPU
