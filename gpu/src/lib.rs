@@ -73,6 +73,8 @@ pub const RAY_BYTES: usize = 32;
 pub const HIT_BYTES: usize = 48;
 /// Invocations per workgroup.
 const WORKGROUP: u32 = 64;
+/// Two resolved timestamp queries (begin and end of the compute pass), 8 bytes each.
+const TIMESTAMP_BYTES: usize = 16;
 /// Largest batch of rays per dispatch.
 const MAX_CHUNK: usize = 1 << 20;
 
@@ -158,6 +160,8 @@ pub struct Gpu {
     module: wgpu::ShaderModule,
     pipelines: Mutex<HashMap<(u32, bool, bool), wgpu::ComputePipeline>>,
     uncaptured: Arc<Mutex<Option<String>>>,
+    /// The device was created with timestamp queries (kernel timings for benchmarks).
+    timestamps: bool,
 }
 
 impl fmt::Debug for Gpu {
@@ -216,9 +220,17 @@ impl Gpu {
             .ok_or(GpuError::NoAdapter)?;
         let info = adapter.get_info();
         let limits = adapter.limits();
+        // Timestamp queries only time the kernel for benchmarks ([`GpuScene::closest_hit_timed`]);
+        // adapters without them work the same.
+        let timestamps = adapter.features().contains(wgpu::Features::TIMESTAMP_QUERY);
+        let features = if timestamps {
+            wgpu::Features::TIMESTAMP_QUERY
+        } else {
+            wgpu::Features::empty()
+        };
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("smoothtri"),
-            required_features: wgpu::Features::empty(),
+            required_features: features,
             required_limits: limits.clone(),
             ..Default::default()
         }))
@@ -277,6 +289,7 @@ impl Gpu {
             module,
             pipelines: Mutex::new(HashMap::new()),
             uncaptured,
+            timestamps,
         }))
     }
 
@@ -655,26 +668,63 @@ impl GpuScene {
         t_max: f32,
         hits: &mut [Option<Hit<f32>>],
     ) -> Result<(), GpuError> {
+        self.closest_hit_impl(iterations, rays, t_min, t_max, hits, None)
+    }
+
+    /// [`GpuScene::closest_hit_with`], also returning the GPU's own execution time of the
+    /// kernel's compute passes in seconds (timestamp queries, summed over the dispatches:
+    /// without the ray upload and the readback), or `None` when the adapter has no timestamp
+    /// queries. For benchmarks; the hits are the same as [`GpuScene::closest_hit_with`]'s.
+    pub fn closest_hit_timed(
+        &self,
+        iterations: usize,
+        rays: &[Ray<f32>],
+        t_min: f32,
+        t_max: f32,
+        hits: &mut [Option<Hit<f32>>],
+    ) -> Result<Option<f64>, GpuError> {
+        let mut seconds = 0.0;
+        self.closest_hit_impl(iterations, rays, t_min, t_max, hits, Some(&mut seconds))?;
+        Ok(self.gpu.timestamps.then_some(seconds))
+    }
+
+    fn closest_hit_impl(
+        &self,
+        iterations: usize,
+        rays: &[Ray<f32>],
+        t_min: f32,
+        t_max: f32,
+        hits: &mut [Option<Hit<f32>>],
+        seconds: Option<&mut f64>,
+    ) -> Result<(), GpuError> {
         if rays.len() != hits.len() {
             return Err(GpuError::LengthMismatch {
                 rays: rays.len(),
                 out: hits.len(),
             });
         }
-        self.run(iterations, false, rays, t_min, t_max, &mut |i, raw| {
-            if let Some(slot) = hits.get_mut(i) {
-                *slot = (raw.flags & 1 != 0).then(|| Hit {
-                    t: raw.t,
-                    t_error: raw.t_error,
-                    point: Vec3::from_array(raw.point),
-                    normal: Vec3::from_array(raw.normal),
-                    w1: raw.w1,
-                    w2: raw.w2,
-                    front_face: raw.flags & 2 != 0,
-                    patch: raw.patch,
-                });
-            }
-        })
+        self.run(
+            iterations,
+            false,
+            rays,
+            t_min,
+            t_max,
+            seconds,
+            &mut |i, raw| {
+                if let Some(slot) = hits.get_mut(i) {
+                    *slot = (raw.flags & 1 != 0).then(|| Hit {
+                        t: raw.t,
+                        t_error: raw.t_error,
+                        point: Vec3::from_array(raw.point),
+                        normal: Vec3::from_array(raw.normal),
+                        w1: raw.w1,
+                        w2: raw.w2,
+                        front_face: raw.flags & 2 != 0,
+                        patch: raw.patch,
+                    });
+                }
+            },
+        )
     }
 
     /// Whether anything is hit in `[t_min, t_max]` along each ray (shadow rays), with `N`
@@ -704,7 +754,7 @@ impl GpuScene {
                 out: occluded.len(),
             });
         }
-        self.run(iterations, true, rays, t_min, t_max, &mut |i, raw| {
+        self.run(iterations, true, rays, t_min, t_max, None, &mut |i, raw| {
             if let Some(slot) = occluded.get_mut(i) {
                 *slot = raw.flags & 1 != 0;
             }
@@ -719,6 +769,7 @@ impl GpuScene {
         rays: &[Ray<f32>],
         t_min: f32,
         t_max: f32,
+        mut seconds: Option<&mut f64>,
         out: &mut dyn FnMut(usize, Raw),
     ) -> Result<(), GpuError> {
         let gpu = &self.gpu;
@@ -746,11 +797,28 @@ impl GpuScene {
                     buf("params", 16, U::UNIFORM | U::COPY_DST),
                     buf(
                         "readback",
-                        chunk * HIT_BYTES + 16,
+                        chunk * HIT_BYTES + 16 + TIMESTAMP_BYTES,
                         U::MAP_READ | U::COPY_DST,
                     ),
                 )
             })?;
+        let timing = match (&seconds, gpu.timestamps) {
+            (Some(_), true) => Some(scoped(device, GpuError::Device, || {
+                let set = device.create_query_set(&wgpu::QuerySetDescriptor {
+                    label: Some("smoothtri kernel time"),
+                    ty: wgpu::QueryType::Timestamp,
+                    count: 2,
+                });
+                let resolve = device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some("timestamps"),
+                    size: TIMESTAMP_BYTES as u64,
+                    usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+                    mapped_at_creation: false,
+                });
+                (set, resolve)
+            })?),
+            _ => None,
+        };
         let bind = scoped(device, GpuError::Device, || {
             fn e(binding: u32, b: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
                 wgpu::BindGroupEntry {
@@ -796,7 +864,13 @@ impl GpuScene {
                 {
                     let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
                         label: Some("smoothtri"),
-                        timestamp_writes: None,
+                        timestamp_writes: timing.as_ref().map(|(set, _)| {
+                            wgpu::ComputePassTimestampWrites {
+                                query_set: set,
+                                beginning_of_pass_write_index: Some(0),
+                                end_of_pass_write_index: Some(1),
+                            }
+                        }),
                     });
                     pass.set_pipeline(&pipeline);
                     pass.set_bind_group(0, &bind, &[]);
@@ -805,10 +879,21 @@ impl GpuScene {
                 let hit_bytes = (n * HIT_BYTES) as u64;
                 enc.copy_buffer_to_buffer(&hit_buf, 0, &read_buf, 0, hit_bytes);
                 enc.copy_buffer_to_buffer(&status_buf, 0, &read_buf, hit_bytes, 16);
+                let mut range = 0..hit_bytes + 16;
+                if let Some((set, resolve)) = &timing {
+                    enc.resolve_query_set(set, 0..2, resolve, 0);
+                    enc.copy_buffer_to_buffer(
+                        resolve,
+                        0,
+                        &read_buf,
+                        range.end,
+                        TIMESTAMP_BYTES as u64,
+                    );
+                    range.end += TIMESTAMP_BYTES as u64;
+                }
                 gpu.queue.submit([enc.finish()]);
                 let done = Arc::new(Mutex::new(None));
                 let flag = Arc::clone(&done);
-                let range = 0..hit_bytes + 16;
                 read_buf.map_async(wgpu::MapMode::Read, range.clone(), move |r| {
                     if let Ok(mut slot) = flag.lock() {
                         *slot = Some(r);
@@ -845,6 +930,20 @@ impl GpuScene {
             let mut s = [0u8; 4];
             s.copy_from_slice(tail);
             status |= u32::from_ne_bytes(s);
+            if let (Some(total), Some(_)) = (seconds.as_deref_mut(), &timing) {
+                let at = n * HIT_BYTES + 16;
+                let tick = |k: usize| {
+                    data.get(at + 8 * k..at + 8 * k + 8).map(|b| {
+                        let mut t = [0u8; 8];
+                        t.copy_from_slice(b);
+                        u64::from_ne_bytes(t)
+                    })
+                };
+                if let (Some(begin), Some(end)) = (tick(0), tick(1)) {
+                    let period = f64::from(gpu.queue.get_timestamp_period());
+                    *total += end.saturating_sub(begin) as f64 * period * 1e-9;
+                }
+            }
             for (k, h) in hits.chunks_exact(HIT_BYTES).enumerate() {
                 out(c * chunk + k, parse_hit(h));
             }

@@ -271,3 +271,34 @@ fn batches_larger_than_a_dispatch() {
         assert_eq!(o, i % 997 == 0, "ray {i}");
     }
 }
+
+#[test]
+fn timed_trace_returns_the_same_hits_and_a_kernel_time() {
+    let Some(gpu) = gpu() else { return };
+    let patches = patches32(&icosphere(2, 1.0));
+    let tree = Tree::new(&patches);
+    let scene = GpuScene::smooth(&gpu, &tree.bvh(&patches)).expect("upload");
+    let rays: Vec<Ray> = (0..2000)
+        .map(|i| {
+            let a = i as f32 * 0.01;
+            Ray::new(
+                Vec3::new(a.cos() * 3.0, a.sin() * 3.0, 0.3),
+                Vec3::new(-a.cos(), -a.sin(), -0.1),
+            )
+        })
+        .collect();
+    let mut plain = vec![None; rays.len()];
+    let mut timed = vec![None; rays.len()];
+    scene
+        .closest_hit_with(4, &rays, 0.0, f32::INFINITY, &mut plain)
+        .expect("trace");
+    let seconds = scene
+        .closest_hit_timed(4, &rays, 0.0, f32::INFINITY, &mut timed)
+        .expect("timed trace");
+    assert_eq!(plain, timed);
+    assert!(plain.iter().flatten().count() == rays.len());
+    if let Some(s) = seconds {
+        assert!(s.is_finite() && s >= 0.0, "kernel time {s}");
+    }
+    still_works(&gpu);
+}
