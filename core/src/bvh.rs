@@ -13,7 +13,7 @@
 use heapless::Vec as HVec;
 
 use crate::aabb::Aabb;
-use crate::kernel::{Crossing, DEFAULT_SAMPLES, KernelStats};
+use crate::kernel::{self, Crossing, DEFAULT_SAMPLES, KernelStats};
 use crate::lanes::LANES;
 use crate::patch::Patch;
 use crate::ray::{Hit, Ray};
@@ -335,10 +335,10 @@ impl<'a, F: Float> Bvh<'a, F> {
         // with `Patch::intersect`).
         let mut stats = KernelStats::default();
         let best = self.traverse(ray, t_min, t_max, false, &mut |p, a, b| {
-            p.crossing::<DEFAULT_SAMPLES, N>(ray, a, b, &mut stats)
+            kernel::crossing::<F, DEFAULT_SAMPLES, N>(p, ray, a, b, &mut stats)
         })?;
         Ok(best.and_then(|(id, c)| {
-            let mut h = self.patches.get(id as usize)?.finish(ray, &c)?;
+            let mut h = kernel::finish(self.patches.get(id as usize)?, ray, &c)?;
             h.patch = id;
             Some(h)
         }))
@@ -430,14 +430,15 @@ impl<'a, F: Float> Bvh<'a, F> {
                             let mut one = [None; LANES];
                             if let (Some(slot), Some(ray)) = (one.get_mut(i), rays.get(i)) {
                                 let mut stats = KernelStats::default();
-                                *slot =
-                                    p.crossing::<DEFAULT_SAMPLES, N>(ray, t_min, t_max, &mut stats);
+                                *slot = kernel::crossing::<F, DEFAULT_SAMPLES, N>(
+                                    p, ray, t_min, t_max, &mut stats,
+                                );
                             }
                             one
                         }
-                        None => {
-                            p.crossings_packet::<DEFAULT_SAMPLES, N>(rays, t_min, &whole, active)
-                        }
+                        None => kernel::crossings_packet::<F, DEFAULT_SAMPLES, N>(
+                            p, rays, t_min, &whole, active,
+                        ),
                     };
                     for ((c, b), tm) in cs.into_iter().zip(best.iter_mut()).zip(tmax.iter_mut()) {
                         if let Some(c) = c
@@ -494,7 +495,7 @@ impl<'a, F: Float> Bvh<'a, F> {
         for ((o, b), ray) in out.iter_mut().zip(best).zip(rays) {
             if let Some((id, c)) = b {
                 *o = self.patches.get(id as usize).and_then(|p| {
-                    let mut h = p.finish(ray, &c)?;
+                    let mut h = kernel::finish(p, ray, &c)?;
                     h.patch = id;
                     Some(h)
                 });
@@ -515,7 +516,7 @@ impl<'a, F: Float> Bvh<'a, F> {
     ) -> Result<bool, BvhError> {
         let mut stats = KernelStats::default();
         let first = self.traverse(ray, t_min, t_max, true, &mut |p, a, b| {
-            p.crossing::<DEFAULT_SAMPLES, N>(ray, a, b, &mut stats)
+            kernel::crossing::<F, DEFAULT_SAMPLES, N>(p, ray, a, b, &mut stats)
         })?;
         Ok(first.is_some())
     }

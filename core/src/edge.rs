@@ -7,29 +7,20 @@
 //! its normal `n*(t) = normalize(g − T (T·g)/|T|²)` with `T = c′(t)` exact (eq. (3)).
 
 use crate::dual::{Dual, split};
+use crate::geometry::{EdgeView, Shape};
 use crate::real::{Float, Real};
-use crate::sphere::nearest_root;
+use crate::sphere::{curvature, nearest_root};
 use crate::vec::V3;
 
-/// The data of one edge of a patch, in the patch's local frame.
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct EdgeView<F> {
-    /// Start vertex `Pi`.
-    pub a: V3<F>,
-    /// End vertex `Pi+1`.
-    pub b: V3<F>,
-    /// Direction field at the start, `di` (unit height).
-    pub da: V3<F>,
-    /// Direction field at the end, `di+1`.
-    pub db: V3<F>,
-    /// Unit normal at the start.
-    pub na: V3<F>,
-    /// Unit normal at the end.
-    pub nb: V3<F>,
-    /// Curvature of `S¹i`.
-    pub k1: F,
-    /// Curvature of `S²i`.
-    pub k2: F,
+/// Curvatures `[κ(S¹j), κ(S²j)]` of the two spheres of each edge `j` of the triangle with local
+/// vertices `p` and unit normals `n` (`S¹j`: anchor `Pj`, axis `nj`, through `Pj+1`; `S²j`:
+/// anchor `Pj+1`, axis `nj+1`, through `Pj`): the `k` of a [`Shape`].
+#[inline(always)]
+pub(crate) fn sphere_curvatures<F: Float>(p: [V3<F>; 3], n: [V3<F>; 3]) -> [[F; 2]; 3] {
+    let [p0, p1, p2] = p;
+    let [n0, n1, n2] = n;
+    let k = |a: V3<F>, na: V3<F>, b: V3<F>, nb: V3<F>| [curvature(a, na, b), curvature(b, nb, a)];
+    [k(p0, n0, p1, n1), k(p1, n1, p2, n2), k(p2, n2, p0, n0)]
 }
 
 /// Conjugation-line point `c(t)` (eq. (2)) and the generator direction `g(t)`.
@@ -67,4 +58,16 @@ pub(crate) fn edge_point_normal<S: Real>(e: &EdgeView<S::F>, t: S) -> (V3<S>, V3
             .unwrap_or(V3::new(S::zero(), S::zero(), S::one())),
     };
     (c, n)
+}
+
+/// Point of edge `j`'s conjugation line (`j` taken mod 3) at `t ∈ [0, 1]` (`t` clamped; a
+/// non-finite `t` means 0) with its unit normal, in the local frame.
+#[inline(always)]
+pub(crate) fn clamped_point_normal<F: Float>(shape: &Shape<F>, j: usize, t: F) -> (V3<F>, V3<F>) {
+    let t = if t.is_fin() {
+        t.max(F::ZERO).min(F::ONE)
+    } else {
+        F::ZERO
+    };
+    edge_point_normal::<F>(&shape.edge(j % 3), t)
 }

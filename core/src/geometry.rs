@@ -4,8 +4,12 @@
 //! meaning documented below, in the layout the kernel uses (the triangle's local frame: origin
 //! `P0`, `x` along `P1 − P0`, `z` along the face normal), so a port of the kernel to another
 //! language can reproduce the CPU's arithmetic.
+//!
+//! Inside the crate the same geometry is a `Frame` (the local frame and its maps to world
+//! coordinates) and a `Shape` (the local-frame data the surface's math takes).
 
-use crate::real::Float;
+use crate::real::{Float, Real};
+use crate::vec::V3;
 
 /// The stored geometry of one [`Patch`](crate::Patch), in plain arrays (`repr(C)`, 54 scalars).
 ///
@@ -35,4 +39,108 @@ pub struct PatchData<F: Float> {
     pub bbox_min: [F; 3],
     /// World bounding box of the shell: maximum corner.
     pub bbox_max: [F; 3],
+}
+
+/// A triangle's local orthonormal frame: origin `P0`, `x` along `P1 − P0`, `z` along the face
+/// normal `Nf`, with the maps between it and world coordinates.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Frame<F> {
+    /// World position of `P0`: the frame's origin.
+    pub(crate) origin: V3<F>,
+    /// The frame's axes in world coordinates: `x`, `y`, `z = Nf`.
+    pub(crate) axes: [V3<F>; 3],
+}
+
+impl<F: Float> Frame<F> {
+    /// World coordinates of a local-frame point.
+    #[inline(always)]
+    pub(crate) fn local_to_world<S: Real<F = F>>(&self, v: V3<S>) -> V3<S> {
+        let [ex, ey, ez] = self.axes;
+        V3::lift(self.origin) + V3::lift(ex) * v.x + V3::lift(ey) * v.y + V3::lift(ez) * v.z
+    }
+
+    /// World direction of a local-frame direction.
+    #[inline(always)]
+    pub(crate) fn local_dir_to_world<S: Real<F = F>>(&self, v: V3<S>) -> V3<S> {
+        let [ex, ey, ez] = self.axes;
+        V3::lift(ex) * v.x + V3::lift(ey) * v.y + V3::lift(ez) * v.z
+    }
+
+    /// Local-frame coordinates of a world point.
+    #[inline(always)]
+    pub(crate) fn world_to_local(&self, v: V3<F>) -> V3<F> {
+        let [ex, ey, ez] = self.axes;
+        let w = v - self.origin;
+        V3::new(w.dot(ex), w.dot(ey), w.dot(ez))
+    }
+
+    /// Local-frame components of a world direction.
+    #[inline(always)]
+    pub(crate) fn world_dir_to_local(&self, v: V3<F>) -> V3<F> {
+        let [ex, ey, ez] = self.axes;
+        V3::new(v.dot(ex), v.dot(ey), v.dot(ez))
+    }
+}
+
+/// The geometry the surface's math works on, in the triangle's local [`Frame`]: vertices,
+/// vertex normals, the direction field and the edge spheres' curvatures (the invariants of
+/// [`PatchData`]'s fields of the same names).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Shape<F> {
+    /// Vertices (`p[0] = 0`, `z = 0`).
+    pub(crate) p: [V3<F>; 3],
+    /// Unit vertex normals.
+    pub(crate) n: [V3<F>; 3],
+    /// Direction field `di = ni / (ni·Nf)` (`z = 1`).
+    pub(crate) d: [V3<F>; 3],
+    /// Curvatures `[κ(S¹j), κ(S²j)]` of edge `j`'s two spheres.
+    pub(crate) k: [[F; 2]; 3],
+}
+
+/// The data of one edge of a [`Shape`] (edge `j` runs from `Pj` to `Pj+1`).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct EdgeView<F> {
+    /// Start vertex `Pj`.
+    pub a: V3<F>,
+    /// End vertex `Pj+1`.
+    pub b: V3<F>,
+    /// Direction field at the start, `dj` (unit height).
+    pub da: V3<F>,
+    /// Direction field at the end, `dj+1`.
+    pub db: V3<F>,
+    /// Unit normal at the start.
+    pub na: V3<F>,
+    /// Unit normal at the end.
+    pub nb: V3<F>,
+    /// Curvature of `S¹j`.
+    pub k1: F,
+    /// Curvature of `S²j`.
+    pub k2: F,
+}
+
+impl<F: Copy> Shape<F> {
+    /// The data of edge `j` (from `Pj` to `Pj+1`); `j` is 0, 1 or 2 (anything else means 2).
+    #[inline(always)]
+    pub(crate) fn edge(&self, j: usize) -> EdgeView<F> {
+        let [p0, p1, p2] = self.p;
+        let [n0, n1, n2] = self.n;
+        let [d0, d1, d2] = self.d;
+        let [k0, k1, k2] = self.k;
+        let (a, b, da, db, na, nb, k) = match j {
+            0 => (p0, p1, d0, d1, n0, n1, k0),
+            1 => (p1, p2, d1, d2, n1, n2, k1),
+            _ => (p2, p0, d2, d0, n2, n0, k2),
+        };
+        let [k1, k2] = k;
+        EdgeView {
+            a,
+            b,
+            da,
+            db,
+            na,
+            nb,
+            k1,
+            k2,
+        }
+    }
 }

@@ -54,7 +54,7 @@ pub mod aabb;
 pub mod accuracy;
 pub mod bvh;
 pub mod dual;
-pub mod edge;
+mod edge;
 pub mod error;
 #[cfg(feature = "micromath")]
 pub mod fast;
@@ -67,7 +67,7 @@ pub mod ray;
 pub mod real;
 pub mod shell;
 pub mod sphere;
-pub mod surface;
+mod surface;
 pub mod vec;
 
 pub use aabb::Aabb;

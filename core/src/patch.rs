@@ -1,4 +1,5 @@
-//! The curved patch of one triangle and its three vertex normals: construction and storage.
+//! The curved patch of one triangle and its three vertex normals: construction, storage, and
+//! the public API of one patch (evaluation delegates to `surface`, ray queries to [`kernel`]).
 //!
 //! A [`Patch`] stores the triangle in a local orthonormal frame (origin `P0`, `x` along
 //! `P1 − P0`, `z` along the face normal `Nf`), where the height of a point over the triangle's
@@ -6,12 +7,14 @@
 //! world coordinates.
 
 use crate::aabb::Aabb;
-use crate::edge::{EdgeView, edge_point};
+use crate::edge;
 use crate::error::PatchError;
-use crate::geometry::PatchData;
-use crate::real::{Float, Real};
+use crate::geometry::{Frame, PatchData, Shape};
+use crate::kernel::{self, DEFAULT_SAMPLES, KernelStats};
+use crate::ray::{Hit, Ray};
+use crate::real::Float;
 use crate::shell;
-use crate::sphere::curvature;
+use crate::surface::{self, project_bary};
 use crate::vec::V3;
 
 /// Relative area tolerance of [`PatchError::DegenerateTriangle`] for `f64`: a triangle is
@@ -43,18 +46,10 @@ pub(crate) fn degenerate_ratio<F: Float>() -> F {
 /// Memory: `size_of::<Patch<f32>>()` is 216 bytes, `Patch<f64>` 432 bytes (checked by a test).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Patch<F: Float = f32> {
-    /// World position of `P0`: the local frame's origin.
-    pub(crate) origin: V3<F>,
-    /// Local frame axes in world coordinates: `x`, `y`, `z = Nf`.
-    pub(crate) axes: [V3<F>; 3],
-    /// Vertices in the local frame (`p[0] = 0`, `z = 0`).
-    pub(crate) p: [V3<F>; 3],
-    /// Unit vertex normals in the local frame.
-    pub(crate) n: [V3<F>; 3],
-    /// Direction field `di = ni / (ni·Nf)` in the local frame (`z = 1`).
-    pub(crate) d: [V3<F>; 3],
-    /// Curvatures of the edge spheres `S¹i`, `S²i`.
-    pub(crate) k: [[F; 2]; 3],
+    /// The local frame (origin `P0`, axes) and its maps to world coordinates.
+    pub(crate) frame: Frame<F>,
+    /// Vertices, normals, direction field and edge-sphere curvatures in the local frame.
+    pub(crate) shape: Shape<F>,
     /// Conservative height range of the surface over the triangle.
     pub(crate) sigma: [F; 2],
     /// World bounding box of the shell (min, max), cached for the kernel and the BVH.
@@ -175,30 +170,25 @@ impl<F: Float> Patch<F> {
         pl[1].z = F::ZERO;
         pl[2].z = F::ZERO;
 
-        let mut patch = Patch {
-            origin: p0,
-            axes,
+        let shape = Shape {
             p: pl,
             n: nl,
             d: dl,
-            k: [[F::ZERO; 2]; 3],
-            sigma: [F::ZERO; 2],
-            bbox: Aabb::EMPTY,
-            remedy: 0,
+            k: edge::sphere_curvatures(pl, nl),
         };
-        for j in 0..3 {
-            let ev = patch.edge(j);
-            let k1 = curvature(ev.a, ev.na, ev.b);
-            let k2 = curvature(ev.b, ev.nb, ev.a);
-            if let Some(slot) = patch.k.get_mut(j) {
-                *slot = [k1, k2];
-            }
-        }
-        patch.sigma = shell::height_bounds(&patch);
-        if !shell::is_valid(&patch) {
+        let sigma = shell::height_bounds(&shape);
+        if !shell::is_valid(&shape, sigma) {
             return Err(PatchError::InvalidShell);
         }
-        patch.bbox = shell::aabb(&patch);
+        let frame = Frame { origin: p0, axes };
+        let bbox = shell::aabb(&shape, sigma, &frame);
+        let patch = Patch {
+            frame,
+            shape,
+            sigma,
+            bbox,
+            remedy: 0,
+        };
         if !patch.all_finite() {
             return Err(PatchError::OutOfRange);
         }
@@ -269,76 +259,159 @@ impl<F: Float> Patch<F> {
             .copied()
     }
 
-    /// The data of edge `j` (from `Pj` to `Pj+1`); `j` is 0, 1 or 2 (anything else means 2).
-    #[inline(always)]
-    pub(crate) fn edge(&self, j: usize) -> EdgeView<F> {
-        let [p0, p1, p2] = self.p;
-        let [n0, n1, n2] = self.n;
-        let [d0, d1, d2] = self.d;
-        let [k0, k1, k2] = self.k;
-        let (a, b, da, db, na, nb, k) = match j {
-            0 => (p0, p1, d0, d1, n0, n1, k0),
-            1 => (p1, p2, d1, d2, n1, n2, k1),
-            _ => (p2, p0, d2, d0, n2, n0, k2),
-        };
-        let [k1, k2] = k;
-        EdgeView {
-            a,
-            b,
-            da,
-            db,
-            na,
-            nb,
-            k1,
-            k2,
-        }
+    /// Surface point at barycentrics `(w1, w2)` (`w0 = 1 − w1 − w2`), in world coordinates.
+    ///
+    /// Barycentrics outside the triangle are projected onto it (negative components clamped to
+    /// zero, then renormalised); non-finite ones count as zero.
+    ///
+    /// # Accuracy
+    /// `f64`: vertices and edge curves reproduced to [`F64_INTERPOLATION`] of the triangle's
+    /// size, points of a sphere's patch on the sphere to [`F64_SPHERE_POINT`] of the radius,
+    /// general points within [`F64_SURFACE_VS_REFERENCE`] of the coordinates' scale of an
+    /// independent implementation. `f32`: [`F32_INTERPOLATION`] and [`F32_SPHERE_POINT`], and
+    /// within [`F32_VS_F64_POINT`] of the scale of `f64`.
+    ///
+    /// [`F64_INTERPOLATION`]: crate::accuracy::F64_INTERPOLATION
+    /// [`F64_SPHERE_POINT`]: crate::accuracy::F64_SPHERE_POINT
+    /// [`F64_SURFACE_VS_REFERENCE`]: crate::accuracy::F64_SURFACE_VS_REFERENCE
+    /// [`F32_INTERPOLATION`]: crate::accuracy::F32_INTERPOLATION
+    /// [`F32_SPHERE_POINT`]: crate::accuracy::F32_SPHERE_POINT
+    /// [`F32_VS_F64_POINT`]: crate::accuracy::F32_VS_F64_POINT
+    /// # Panics
+    /// Never; the result is finite for every accepted patch.
+    pub fn point(&self, w1: F, w2: F) -> F::Vec3 {
+        let x = project_bary(w1, w2);
+        F::to_glam(
+            self.frame
+                .local_to_world(surface::point_local(&self.shape, x)),
+        )
     }
 
-    /// Edge conjugation-line point in the local frame (no normal).
-    #[inline(always)]
-    pub(crate) fn edge_point_local(&self, j: usize, t: F) -> V3<F> {
-        edge_point::<F>(&self.edge(j), t).0
+    /// Height of the surface over the triangle's plane at `(w1, w2)` (signed, along the face
+    /// normal, in the input's length unit): the paper's construction as a height field.
+    ///
+    /// # Accuracy
+    /// As [`Patch::point`].
+    /// # Panics
+    /// Never.
+    pub fn height(&self, w1: F, w2: F) -> F {
+        surface::height(&self.shape, project_bary(w1, w2))
     }
 
-    fn all_finite(&self) -> bool {
-        let vs = [self.origin, self.axes[0], self.axes[1], self.axes[2]];
-        vs.iter()
-            .chain(self.p.iter())
-            .chain(self.n.iter())
-            .chain(self.d.iter())
-            .all(|v| v.all_finite())
-            && self.k.iter().flatten().all(|k| k.is_fin())
-            && self.sigma.iter().all(|s| s.is_fin())
-            && self.bbox.is_finite()
+    /// Surface point and unit surface normal `normalize(∂pS/∂X1 × ∂pS/∂X2)` at `(w1, w2)`,
+    /// world coordinates, the normal oriented like the vertex normals.
+    ///
+    /// The derivatives are exact (dual numbers, no finite differences). At the vertices the
+    /// normal is the vertex normal.
+    ///
+    /// # Accuracy
+    /// Point as [`Patch::point`]. Normal (differences of unit vectors ≈ angles in radians):
+    /// radial on a sphere's patch to [`F64_SPHERE_NORMAL`] (`f64`) and [`F32_SPHERE_NORMAL`]
+    /// (`f32`); `f32` within [`F32_VS_F64_NORMAL`] of `f64`; unit length to
+    /// [`UNIT_LENGTH_ULPS`] ulps.
+    ///
+    /// [`F64_SPHERE_NORMAL`]: crate::accuracy::F64_SPHERE_NORMAL
+    /// [`F32_SPHERE_NORMAL`]: crate::accuracy::F32_SPHERE_NORMAL
+    /// [`F32_VS_F64_NORMAL`]: crate::accuracy::F32_VS_F64_NORMAL
+    /// [`UNIT_LENGTH_ULPS`]: crate::accuracy::UNIT_LENGTH_ULPS
+    /// # Panics
+    /// Never; both results are finite for every accepted patch.
+    pub fn point_normal(&self, w1: F, w2: F) -> (F::Vec3, F::Vec3) {
+        let (p, n) = surface::point_normal_local(&self.shape, project_bary(w1, w2));
+        (
+            F::to_glam(self.frame.local_to_world(p)),
+            F::to_glam(self.frame.local_dir_to_world(n)),
+        )
     }
 
-    /// World coordinates of a local-frame point.
-    #[inline(always)]
-    pub(crate) fn local_to_world<S: Real<F = F>>(&self, v: V3<S>) -> V3<S> {
-        let [ex, ey, ez] = self.axes;
-        V3::lift(self.origin) + V3::lift(ex) * v.x + V3::lift(ey) * v.y + V3::lift(ez) * v.z
+    /// Exact partial derivatives `(∂pS/∂w1, ∂pS/∂w2)` at `(w1, w2)` (with `w0 = 1 − w1 − w2`),
+    /// world coordinates, in length units per unit of barycentric coordinate.
+    ///
+    /// # Accuracy
+    /// Exact derivatives of the computed surface up to rounding (dual numbers; central
+    /// differences agree to [`DERIVATIVES_VS_CENTRAL_DIFFERENCES`] of the size). Where they
+    /// overflow (f32 coordinates near 1e9 within ~1e-30 of a vertex) the flat triangle's edge
+    /// vectors are returned instead.
+    ///
+    /// [`DERIVATIVES_VS_CENTRAL_DIFFERENCES`]: crate::accuracy::DERIVATIVES_VS_CENTRAL_DIFFERENCES
+    /// # Panics
+    /// Never; always finite.
+    pub fn derivatives(&self, w1: F, w2: F) -> (F::Vec3, F::Vec3) {
+        let [du1, du2] = surface::derivatives_local(&self.shape, project_bary(w1, w2));
+        (
+            F::to_glam(self.frame.local_dir_to_world(du1)),
+            F::to_glam(self.frame.local_dir_to_world(du2)),
+        )
     }
 
-    /// World direction of a local-frame direction.
-    #[inline(always)]
-    pub(crate) fn local_dir_to_world<S: Real<F = F>>(&self, v: V3<S>) -> V3<S> {
-        let [ex, ey, ez] = self.axes;
-        V3::lift(ex) * v.x + V3::lift(ey) * v.y + V3::lift(ez) * v.z
+    /// Point of edge `edge`'s conjugation line (eq. (2)) at `t ∈ [0, 1]` (`t` is clamped), with
+    /// its unit normal (eq. (3)). Edge `i` runs from vertex `i` to vertex `i+1 mod 3`; indices
+    /// above 2 are taken mod 3.
+    ///
+    /// # Accuracy
+    /// Points within [`F64_EDGE_VS_REFERENCE`] of the size of an independent implementation
+    /// (`f64`); normals from the exact tangent, within [`F64_EDGE_NORMAL_VS_REFERENCE`] of it,
+    /// equal to the vertex normals at the ends to [`F64_INTERPOLATION`] (`f64`) and
+    /// [`F32_INTERPOLATION`] (`f32`).
+    ///
+    /// [`F64_EDGE_VS_REFERENCE`]: crate::accuracy::F64_EDGE_VS_REFERENCE
+    /// [`F64_EDGE_NORMAL_VS_REFERENCE`]: crate::accuracy::F64_EDGE_NORMAL_VS_REFERENCE
+    /// [`F64_INTERPOLATION`]: crate::accuracy::F64_INTERPOLATION
+    /// [`F32_INTERPOLATION`]: crate::accuracy::F32_INTERPOLATION
+    /// # Panics
+    /// Never.
+    pub fn edge_point_normal(&self, edge: usize, t: F) -> (F::Vec3, F::Vec3) {
+        let (c, n) = edge::clamped_point_normal(&self.shape, edge, t);
+        (
+            F::to_glam(self.frame.local_to_world(c)),
+            F::to_glam(self.frame.local_dir_to_world(n)),
+        )
     }
 
-    /// Local-frame coordinates of a world point.
-    #[inline(always)]
-    pub(crate) fn world_to_local(&self, v: V3<F>) -> V3<F> {
-        let [ex, ey, ez] = self.axes;
-        let w = v - self.origin;
-        V3::new(w.dot(ex), w.dot(ey), w.dot(ez))
+    /// Closest intersection of `ray` with the patch for `t` in `[t_min, t_max]`, with `N`
+    /// refinement iterations and [`DEFAULT_SAMPLES`] bracketing samples.
+    ///
+    /// Returns `None` when the ray misses (including degenerate rays: zero or non-finite
+    /// direction, non-finite origin, `t_max < t_min`, NaN bounds). `t_max` may be infinite.
+    ///
+    /// # Accuracy
+    /// `|t − t_true| ≤ hit.t_error` where `t_true` is the crossing inside the final bracket.
+    /// `t_error` is the final bracket's width plus a rounding allowance
+    /// ([`KernelStats::rounding`]: [`ROUNDING_ULPS`](kernel::ROUNDING_ULPS)` · ε · L / |f′|`
+    /// for the patch's extent `L = `[`EXTENT_EDGES`](kernel::EXTENT_EDGES)` · longest_edge +
+    /// |P0|`), and the bracket is at most `(tb − ta) / ((K + 1)·5^N)` for the shell interval
+    /// `[ta, tb]` ([`KernelStats::shell_width`]): one sampling step, divided by at least
+    /// [`WORST_SHRINK`](kernel::refine::WORST_SHRINK) = 5 by every refinement step (tested on
+    /// every patch test of random rays in `tests/kernel.rs`). Convergence is usually far
+    /// faster: from N = 4, `f64` hits on the torus are at rounding
+    /// ([`TORUS_F64_BY_ITERATIONS`](crate::accuracy::TORUS_F64_BY_ITERATIONS)); at N = 8 `f64`
+    /// hits on spheres are on the sphere to [`F64_SPHERE_HIT`](crate::accuracy::F64_SPHERE_HIT).
+    /// Rays that cross the surface twice within one sampling step `(tb − ta)/(K + 1)` may be
+    /// reported as misses.
+    /// # Panics
+    /// Never. Work is bounded: at most [`max_lane_calls`](kernel::max_lane_calls)`(K, N)` lane
+    /// calls (eight height evaluations each) and one normal evaluation.
+    #[inline]
+    pub fn intersect<const N: usize>(&self, ray: &Ray<F>, t_min: F, t_max: F) -> Option<Hit<F>> {
+        self.intersect_stats::<DEFAULT_SAMPLES, N>(ray, t_min, t_max)
+            .0
     }
 
-    /// Local-frame components of a world direction.
-    #[inline(always)]
-    pub(crate) fn world_dir_to_local(&self, v: V3<F>) -> V3<F> {
-        let [ex, ey, ez] = self.axes;
-        V3::new(v.dot(ex), v.dot(ey), v.dot(ez))
+    /// [`Patch::intersect`] with `K` bracketing samples and `N` refinement iterations chosen by
+    /// the caller, also returning the [`KernelStats`] of the call (evaluation counts, the shell
+    /// interval's width and the rounding allowance).
+    ///
+    /// # Accuracy
+    /// As [`Patch::intersect`].
+    /// # Panics
+    /// Never.
+    pub fn intersect_stats<const K: usize, const N: usize>(
+        &self,
+        ray: &Ray<F>,
+        t_min: F,
+        t_max: F,
+    ) -> (Option<Hit<F>>, KernelStats) {
+        kernel::intersect_stats::<F, K, N>(self, ray, t_min, t_max)
     }
 
     /// The triangle's vertices in world coordinates, as given (up to rounding of the frame).
@@ -350,7 +423,9 @@ impl<F: Float> Patch<F> {
     /// # Panics
     /// Never.
     pub fn vertices(&self) -> [F::Vec3; 3] {
-        self.p.map(|v| F::to_glam(self.local_to_world(v)))
+        self.shape
+            .p
+            .map(|v| F::to_glam(self.frame.local_to_world(v)))
     }
 
     /// The unit vertex normals in world coordinates.
@@ -360,7 +435,9 @@ impl<F: Float> Patch<F> {
     /// # Panics
     /// Never.
     pub fn normals(&self) -> [F::Vec3; 3] {
-        self.n.map(|v| F::to_glam(self.local_dir_to_world(v)))
+        self.shape
+            .n
+            .map(|v| F::to_glam(self.frame.local_dir_to_world(v)))
     }
 
     /// The unit face normal `Nf` (right-handed with the vertex order) in world coordinates.
@@ -368,7 +445,8 @@ impl<F: Float> Patch<F> {
     /// # Panics
     /// Never.
     pub fn face_normal(&self) -> F::Vec3 {
-        F::to_glam(self.axes[2])
+        let [_, _, nf] = self.frame.axes;
+        F::to_glam(nf)
     }
 
     /// Conservative range `[σmin, σmax]` of the surface's height over the triangle's plane
@@ -403,15 +481,28 @@ impl<F: Float> Patch<F> {
     pub fn data(&self) -> PatchData<F> {
         let a = |v: V3<F>| [v.x, v.y, v.z];
         PatchData {
-            origin: a(self.origin),
-            axes: self.axes.map(a),
-            p: self.p.map(a),
-            n: self.n.map(a),
-            d: self.d.map(a),
-            k: self.k,
+            origin: a(self.frame.origin),
+            axes: self.frame.axes.map(a),
+            p: self.shape.p.map(a),
+            n: self.shape.n.map(a),
+            d: self.shape.d.map(a),
+            k: self.shape.k,
             sigma: self.sigma,
             bbox_min: a(self.bbox.lo),
             bbox_max: a(self.bbox.hi),
         }
+    }
+
+    fn all_finite(&self) -> bool {
+        let [ex, ey, ez] = self.frame.axes;
+        let vs = [self.frame.origin, ex, ey, ez];
+        vs.iter()
+            .chain(self.shape.p.iter())
+            .chain(self.shape.n.iter())
+            .chain(self.shape.d.iter())
+            .all(|v| v.all_finite())
+            && self.shape.k.iter().flatten().all(|k| k.is_fin())
+            && self.sigma.iter().all(|s| s.is_fin())
+            && self.bbox.is_finite()
     }
 }

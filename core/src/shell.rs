@@ -18,7 +18,8 @@
 //! contain those, and rays may miss the spike.
 
 use crate::aabb::Aabb;
-use crate::patch::Patch;
+use crate::edge::edge_point;
+use crate::geometry::{Frame, Shape};
 use crate::real::Float;
 use crate::surface::height;
 use crate::vec::V3;
@@ -30,8 +31,8 @@ pub const MARGIN_REL: f64 = 0.5;
 /// Absolute widening as a fraction of the triangle's longest edge.
 pub const MARGIN_ABS: f64 = 1e-4;
 
-/// Conservative `[σmin, σmax]` for an otherwise fully built patch.
-pub(crate) fn height_bounds<F: Float>(patch: &Patch<F>) -> [F; 2] {
+/// Conservative `[σmin, σmax]` of the surface of `shape`.
+pub(crate) fn height_bounds<F: Float>(shape: &Shape<F>) -> [F; 2] {
     let mut lo = F::ZERO;
     let mut hi = F::ZERO;
     let mut acc = |h: F| {
@@ -40,23 +41,23 @@ pub(crate) fn height_bounds<F: Float>(patch: &Patch<F>) -> [F; 2] {
     };
     for j in 0..3 {
         for t in [0.1, 0.25, 0.5, 0.75, 0.9] {
-            acc(patch.edge_point_local(j, F::from_f64(t)).z);
+            acc(edge_point::<F>(&shape.edge(j), F::from_f64(t)).0.z);
         }
     }
     let a = F::from_f64(2.0 / 3.0);
     let b = F::from_f64(1.0 / 6.0);
     let c = F::from_f64(1.0 / 3.0);
     for x in [[a, b, b], [b, a, b], [b, b, a], [c, c, c]] {
-        acc(height(patch, x));
+        acc(height(shape, x));
     }
-    let size = longest_edge(patch);
+    let size = longest_edge(shape);
     let m = F::from_f64(MARGIN_REL) * (hi - lo) + F::from_f64(MARGIN_ABS) * size;
     [lo - m, hi + m]
 }
 
 /// Longest edge of the triangle.
-pub(crate) fn longest_edge<F: Float>(patch: &Patch<F>) -> F {
-    let [p0, p1, p2] = patch.p;
+pub(crate) fn longest_edge<F: Float>(shape: &Shape<F>) -> F {
+    let [p0, p1, p2] = shape.p;
     (p1 - p0)
         .length2()
         .max((p2 - p1).length2())
@@ -66,9 +67,9 @@ pub(crate) fn longest_edge<F: Float>(patch: &Patch<F>) -> F {
 
 /// Twice the signed area of the cross-section triangle `A(σ)`, as the coefficients of the
 /// quadratic `c0 + c1·σ + c2·σ²`.
-pub(crate) fn section_area_poly<F: Float>(patch: &Patch<F>) -> [F; 3] {
-    let [p0, p1, p2] = patch.p;
-    let [d0, d1, d2] = patch.d;
+pub(crate) fn section_area_poly<F: Float>(shape: &Shape<F>) -> [F; 3] {
+    let [p0, p1, p2] = shape.p;
+    let [d0, d1, d2] = shape.d;
     let (u0, u1) = (p1 - p0, d1 - d0);
     let (v0, v1) = (p2 - p0, d2 - d0);
     cross2_poly(u0, u1, v0, v1)
@@ -81,11 +82,11 @@ pub(crate) fn cross2_poly<F: Float>(u0: V3<F>, u1: V3<F>, v0: V3<F>, v1: V3<F>) 
     [c(u0, v0), c(u0, v1) + c(u1, v0), c(u1, v1)]
 }
 
-/// The shell is valid when its cross-section keeps at least a quarter of the triangle's area
-/// (same orientation) over the whole height range.
-pub(crate) fn is_valid<F: Float>(patch: &Patch<F>) -> bool {
-    let [c0, c1, c2] = section_area_poly(patch);
-    let [lo, hi] = patch.sigma;
+/// The shell of `shape` over the height range `sigma` is valid when its cross-section keeps at
+/// least a quarter of the triangle's area (same orientation) over the whole range.
+pub(crate) fn is_valid<F: Float>(shape: &Shape<F>, sigma: [F; 2]) -> bool {
+    let [c0, c1, c2] = section_area_poly(shape);
+    let [lo, hi] = sigma;
     let eval = |s: F| c0 + s * (c1 + s * c2);
     let mut m = eval(lo).min(eval(hi));
     if c2 != F::ZERO {
@@ -97,13 +98,14 @@ pub(crate) fn is_valid<F: Float>(patch: &Patch<F>) -> bool {
     m >= F::from_f64(0.25) * c0 && c0 > F::ZERO
 }
 
-/// Axis-aligned box of the six shell corners, world coordinates.
-pub(crate) fn aabb<F: Float>(patch: &Patch<F>) -> Aabb<F> {
-    let [lo_s, hi_s] = patch.sigma;
+/// Axis-aligned box of the six corners of the shell of `shape` over the height range `sigma`,
+/// world coordinates (`frame` maps the local frame to them).
+pub(crate) fn aabb<F: Float>(shape: &Shape<F>, sigma: [F; 2], frame: &Frame<F>) -> Aabb<F> {
+    let [lo_s, hi_s] = sigma;
     let mut b = Aabb::EMPTY;
-    for (p, d) in patch.p.iter().zip(patch.d.iter()) {
+    for (p, d) in shape.p.iter().zip(shape.d.iter()) {
         for s in [lo_s, hi_s] {
-            b = b.grow(patch.local_to_world(*p + *d * s));
+            b = b.grow(frame.local_to_world(*p + *d * s));
         }
     }
     // Widen by a few ulps of the box so rounding of the frame cannot exclude a surface point.

@@ -761,7 +761,9 @@ impl GpuScene {
         })
     }
 
-    /// Traces `rays` in chunks; calls `out(index, hit)` for every ray.
+    /// Traces `rays` in chunks; calls `out(index, hit)` for every ray; adds the kernel's GPU
+    /// time to `seconds` when asked and the device has timestamp queries.
+    #[allow(clippy::too_many_arguments)] // one private worker behind the public entry points
     fn run(
         &self,
         iterations: usize,

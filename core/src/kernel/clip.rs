@@ -1,7 +1,7 @@
 //! Clipping a ray to a patch's shell (docs/METHOD.md §8 step 1): the slab `σmin ≤ σ ≤ σmax` and the
 //! three side walls `Xi = 0`, each wall a quadratic in the ray parameter.
 
-use crate::patch::Patch;
+use crate::geometry::Shape;
 use crate::real::Float;
 use crate::shell::cross2_poly;
 use crate::vec::V3;
@@ -55,9 +55,9 @@ pub(crate) fn quadratic_roots<F: Float>(c: [F; 3]) -> [Option<F>; 2] {
 /// The three barycentric numerators of the local point `x` in the cross-section `A(σ = x.z)`
 /// and their sum (twice the cross-section's area).
 #[inline(always)]
-pub(crate) fn bary_numerators<F: Float>(patch: &Patch<F>, x: V3<F>) -> ([F; 3], F) {
-    let [p0, p1, p2] = patch.p;
-    let [d0, d1, d2] = patch.d;
+pub(crate) fn bary_numerators<F: Float>(shape: &Shape<F>, x: V3<F>) -> ([F; 3], F) {
+    let [p0, p1, p2] = shape.p;
+    let [d0, d1, d2] = shape.d;
     let s = x.z;
     let a0 = p0 + d0 * s - x;
     let a1 = p1 + d1 * s - x;
@@ -70,13 +70,13 @@ pub(crate) fn bary_numerators<F: Float>(patch: &Patch<F>, x: V3<F>) -> ([F; 3], 
 
 /// Coefficients (in `τ`) of the three wall quadratics `num_k(τ)` along the local ray.
 #[inline(always)]
-fn wall_polys<F: Float>(patch: &Patch<F>, ray: &LocalRay<F>) -> [[F; 3]; 3] {
+fn wall_polys<F: Float>(shape: &Shape<F>, ray: &LocalRay<F>) -> [[F; 3]; 3] {
     let o = ray.o;
     let r = ray.r;
     // a_i(τ) − q(τ) = (p_i + o.z·d_i − o) + τ (r.z·d_i − r), in the xy-plane.
     let lin = |p: V3<F>, d: V3<F>| (p + d * o.z - o, d * r.z - r);
-    let [p0, p1, p2] = patch.p;
-    let [d0, d1, d2] = patch.d;
+    let [p0, p1, p2] = shape.p;
+    let [d0, d1, d2] = shape.d;
     let (u0, v0) = lin(p0, d0);
     let (u1, v1) = lin(p1, d1);
     let (u2, v2) = lin(p2, d2);
@@ -95,12 +95,12 @@ const MAX_BREAKS: usize = 8;
 /// satisfied. Fixed work: at most 8 breakpoints, sorted by a fixed network, 7 midpoint tests.
 #[inline(always)]
 pub(crate) fn shell_interval<F: Float>(
-    patch: &Patch<F>,
+    shape: &Shape<F>,
     ray: &LocalRay<F>,
     tau_lo: F,
     tau_hi: F,
 ) -> Option<(F, F)> {
-    let polys = wall_polys(patch, ray);
+    let polys = wall_polys(shape, ray);
     let mut brk = [tau_hi; MAX_BREAKS];
     let mut count = 1usize;
     if let Some(b) = brk.get_mut(0) {

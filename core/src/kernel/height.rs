@@ -23,8 +23,8 @@
 //! [`KERNEL_HEIGHT_VS_SURFACE`](crate::accuracy::KERNEL_HEIGHT_VS_SURFACE) of the triangle's
 //! size on random patches (the unit test below).
 
+use crate::geometry::Shape;
 use crate::lanes::LaneOps;
-use crate::patch::Patch;
 use crate::real::Float;
 use crate::vec::V3;
 
@@ -66,12 +66,12 @@ pub(crate) struct Prepared<F> {
 }
 
 impl<F: Float> Prepared<F> {
-    /// The precomputation for `patch` (about 120 flops).
+    /// The precomputation for `shape` (about 120 flops).
     #[inline(always)]
-    pub(crate) fn new(patch: &Patch<F>) -> Self {
+    pub(crate) fn new(shape: &Shape<F>) -> Self {
         let two = F::from_f64(2.0);
         let edge = |j: usize| {
-            let ev = patch.edge(j);
+            let ev = shape.edge(j);
             let e = ev.b - ev.a;
             let gd = ev.db - ev.da;
             EdgePrep {
@@ -86,12 +86,12 @@ impl<F: Float> Prepared<F> {
                 m: [ev.na, ev.nb].map(|m| [ev.da.dot(m), gd.dot(m), e.dot(m)]),
             }
         };
-        let [p0, p1, p2] = patch.p;
+        let [p0, p1, p2] = shape.p;
         let _ = p0;
         Prepared {
             p: [p1.x, p2.x, p2.y],
-            n: patch.n,
-            d: patch.d,
+            n: shape.n,
+            d: shape.d,
             edges: [edge(0), edge(1), edge(2)],
         }
     }
@@ -559,15 +559,15 @@ impl<F: Float> LaneOps for Jet<F> {
 /// `∂pS/∂Xk = (Pk − P0) + σ·(dk − d0) + (∂σ/∂Xk)·D`.
 #[inline(always)]
 pub(crate) fn derivatives<F: Float>(
-    patch: &crate::patch::Patch<F>,
+    shape: &Shape<F>,
     pr: &Prepared<F>,
     [x0, x1, x2]: [F; 3],
 ) -> [V3<F>; 2] {
     let (one, zero) = (F::ONE, F::ZERO);
     let j = |v: F, a: F, b: F| Jet { v, d: [a, b] };
     let s = height_at(pr, [j(x0, -one, -one), j(x1, one, zero), j(x2, zero, one)]);
-    let [p0, p1, p2] = patch.p;
-    let [d0, d1, d2] = patch.d;
+    let [p0, p1, p2] = shape.p;
+    let [d0, d1, d2] = shape.d;
     let dir = d0 * x0 + d1 * x1 + d2 * x2;
     let [s1, s2] = s.d;
     [
@@ -580,6 +580,7 @@ pub(crate) fn derivatives<F: Float>(
 mod tests {
     use super::*;
     use crate::lanes::LANES;
+    use crate::patch::Patch;
     use crate::surface;
     use glam::DVec3;
 
@@ -617,7 +618,7 @@ mod tests {
         let mut tested = 0;
         for (patch, size) in random_patches(7, 400) {
             tested += 1;
-            let pr = Prepared::new(&patch);
+            let pr = Prepared::new(&patch.shape);
             let mut xs = [[0.0; 3]; 66];
             let grid = (0..=10).flat_map(|i| (0..=(10 - i)).map(move |j| (i, j)));
             for (slot, (i, j)) in xs.iter_mut().zip(grid) {
@@ -633,7 +634,7 @@ mod tests {
                 };
                 let h = height_at(&pr, [lane(0), lane(1), lane(2)]).to_array();
                 for (x, a) in chunk.iter().zip(h) {
-                    let b = surface::height(&patch, *x);
+                    let b = surface::height(&patch.shape, *x);
                     worst = worst.max((a - b).abs() / size);
                 }
             }
@@ -651,13 +652,13 @@ mod tests {
         let mut tested = 0;
         for (patch, size) in random_patches(11, 300) {
             tested += 1;
-            let pr = Prepared::new(&patch);
+            let pr = Prepared::new(&patch.shape);
             for i in 0..=8 {
                 for j in 0..=(8 - i) {
                     let (w1, w2) = (i as f64 / 8.0, j as f64 / 8.0);
                     let x = [1.0 - w1 - w2, w1, w2];
-                    let [a1, a2] = derivatives(&patch, &pr, x);
-                    let [_, b1, b2] = surface::point_derivs_local(&patch, x);
+                    let [a1, a2] = derivatives(&patch.shape, &pr, x);
+                    let [_, b1, b2] = surface::point_derivs_local(&patch.shape, x);
                     let d = (a1 - b1).length().max((a2 - b2).length());
                     worst = worst.max(d / size);
                 }

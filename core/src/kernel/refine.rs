@@ -42,6 +42,29 @@ pub const RHO_MAX: f64 = 0.25;
 /// Ratio of the inner to the outer offset around the estimate (`δ/8`).
 pub const INNER: f64 = 1.0 / 8.0;
 
+/// ITP's truncation coefficient for the refinement of ray packets
+/// ([`Bvh::closest_hit_packet`](crate::Bvh::closest_hit_packet)), relative to the initial
+/// bracket width `W`: `κ1 = ITP_K1_REL / W`, so that the truncation `δ = κ1·w^κ2` is `0.3·w`
+/// at the first step (`w = W`) and shrinks quadratically with the width `w`. Chosen by
+/// measurement on the icosphere, cube and torus.
+pub const ITP_K1_REL: f64 = 0.3;
+/// ITP's truncation exponent `κ2` (`δ = κ1·w^κ2`): 2, so the truncation is `κ1·w·w`
+/// (ITP's convergence needs `1 ≤ κ2 < 1 + φ`). The code squares the width (a compile-time
+/// check ties it to this constant).
+pub const ITP_K2: u32 = 2;
+/// ITP's slack `n0`: the projection radius is `s − w/2` with the budget `s` starting at
+/// `2^n0 · W/2 = W` and halving every step, so after `N` steps the bracket is at most
+/// `W/2^(N − n0)`, bisection's bound with `n0` steps of slack. The code starts `s` at `W` (a
+/// compile-time check ties it to this constant).
+pub const ITP_N0: u32 = 1;
+/// The Illinois weight: the function value kept at an end of the bracket that survives two
+/// steps in a row is multiplied by this before the next regula falsi point, so a one-sided
+/// convergence is broken.
+pub const ILLINOIS_WEIGHT: f64 = 0.5;
+
+// The code below writes `κ2 = 2` as `w·w` and `2^n0 · W/2` as `W`.
+const _: () = assert!(ITP_K2 == 2 && ITP_N0 == 1);
+
 /// A bracket `[a, b]` with `f(a)`, `f(b)` of opposite signs (or one of them zero).
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Bracket<F> {
@@ -195,10 +218,11 @@ pub(crate) fn refine<F: Float, const N: usize>(
 
 /// ITP (Oliveira & Takahashi 2020) on one bracket, one point per step, as the state of one lane
 /// of a ray packet ([`super::packet`]): every lane of the packet evaluates its own next point in
-/// the same lane call. Worst case bisection's with one step of slack (`n0 = 1`): after `N`
-/// steps the bracket is at most `W/2^(N−1)` wide; superlinear on smooth functions. Parameters
-/// `κ1 = 0.3/W`, `κ2 = 2`, Illinois weights on the regula falsi point (an end kept twice in a row
-/// has its function value halved), chosen by measurement on the icosphere, cube and torus.
+/// the same lane call. Worst case bisection's with one step of slack ([`ITP_N0`] `= 1`): after
+/// `N` steps the bracket is at most `W/2^(N−1)` wide; superlinear on smooth functions.
+/// Parameters `κ1 = `[`ITP_K1_REL`]`/W`, `κ2 = `[`ITP_K2`], Illinois weights on the regula
+/// falsi point (an end kept twice in a row has its function value multiplied by
+/// [`ILLINOIS_WEIGHT`] `= ½`), chosen by measurement on the icosphere, cube and torus.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct ItpLane<F> {
     /// The bracket.
@@ -221,8 +245,9 @@ impl<F: Float> ItpLane<F> {
             ga: br.fa,
             gb: br.fb,
             kept: 0,
+            // 2^n0 · W/2 with n0 = ITP_N0 = 1.
             scale: w0,
-            k1: F::from_f64(0.3) / w0,
+            k1: F::from_f64(ITP_K1_REL) / w0,
         }
     }
 
@@ -240,6 +265,7 @@ impl<F: Float> ItpLane<F> {
         let width = br.b - br.a;
         let xh = half * (br.a + br.b);
         let r = (self.scale - half * width).max(F::ZERO);
+        // κ1·w^κ2 with κ2 = ITP_K2 = 2.
         let delta = self.k1 * width * width;
         let xf = (self.gb * br.a - self.ga * br.b) / (self.gb - self.ga);
         let xf = if xf.is_fin() { xf } else { xh };
@@ -262,13 +288,14 @@ impl<F: Float> ItpLane<F> {
     #[inline(always)]
     pub(crate) fn update(&mut self, x: F, y: F) {
         let half = F::from_f64(0.5);
+        let illinois = F::from_f64(ILLINOIS_WEIGHT);
         if y == F::ZERO {
             self.br = Bracket::at(x, y);
         } else if (y > F::ZERO) == (self.br.fa > F::ZERO) {
             self.br.a = x;
             self.br.fa = y;
             if self.kept == -1 {
-                self.gb *= half;
+                self.gb *= illinois;
             }
             self.ga = y;
             self.kept = -1;
@@ -276,7 +303,7 @@ impl<F: Float> ItpLane<F> {
             self.br.b = x;
             self.br.fb = y;
             if self.kept == 1 {
-                self.ga *= half;
+                self.ga *= illinois;
             }
             self.gb = y;
             self.kept = 1;
