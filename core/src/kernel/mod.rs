@@ -197,8 +197,28 @@ pub(crate) fn crossing<F: Float, const K: usize, const N: usize>(
         f_lanes(&prep, o8, r8, <F::L8 as Lane>::from_array(taus)).to_array()
     };
     let bracket = first_sign_change::<F, K>(a, b, &mut f)?;
-    let fin = refine::<F, N>(bracket, &mut f);
+    // The allowance of `complete` is at least the one from the sampling bracket's secant
+    // (it takes the flatter of two secants): a bracket below a fraction of it is converged.
+    let floor = rounding_allowance(patch, secant(&bracket));
+    let stop = floor * F::from_f64(refine::EARLY_STOP);
+    let fin = refine::<F, N>(bracket, stop, &mut f);
     complete(patch, &cl, &bracket, &fin, t_min, t_max)
+}
+
+/// `|f(b) − f(a)| / (b − a)` of a bracket (`+∞` or NaN when it has zero width).
+#[inline(always)]
+fn secant<F: Float>(br: &refine::Bracket<F>) -> F {
+    (br.fb - br.fa).abs() / (br.b - br.a)
+}
+
+/// The rounding allowance [`ROUNDING_ULPS`]` · ε · L / slope` (`L` from [`EXTENT_EDGES`]);
+/// 0 where it is not finite (a zero slope).
+#[inline(always)]
+fn rounding_allowance<F: Float>(patch: &Patch<F>, slope: F) -> F {
+    let scale = crate::shell::longest_edge(&patch.shape) * F::from_f64(EXTENT_EDGES)
+        + patch.frame.origin.length();
+    let rounding = F::from_f64(ROUNDING_ULPS) * F::EPSILON * scale / slope;
+    if rounding.is_fin() { rounding } else { F::ZERO }
 }
 
 /// The crossing at the final bracket `fin` (refined from the sampling bracket `bracket`)
@@ -222,16 +242,12 @@ pub(crate) fn complete<F: Float>(
     // convergence the final bracket's end values are themselves rounding noise and its secant
     // can be far too steep (which made f32 hits at N ≥ 8 fall outside `t_error` on 0.85 % of
     // the torus's camera rays).
-    let secant = |br: &refine::Bracket<F>| (br.fb - br.fa).abs() / (br.b - br.a);
     let slope = if fin.b > fin.a {
         secant(fin).min(secant(bracket))
     } else {
         secant(bracket)
     };
-    let scale = crate::shell::longest_edge(&patch.shape) * F::from_f64(EXTENT_EDGES)
-        + patch.frame.origin.length();
-    let rounding = F::from_f64(ROUNDING_ULPS) * F::EPSILON * scale / slope;
-    let rounding = if rounding.is_fin() { rounding } else { F::ZERO };
+    let rounding = rounding_allowance(patch, slope);
     let t_error = (fin.b - fin.a) + rounding;
     if t.is_fin() && t_error.is_fin() {
         Some(Crossing {
