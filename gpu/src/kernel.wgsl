@@ -2,7 +2,7 @@
 // BVH traversal with a fixed-size stack. The mathematics is the CPU kernel's (docs/METHOD.md
 // §2–§8; core/src/kernel/): clip to the patch's box, re-base the ray at the box interval's
 // middle, local ray, slab and shell clip (exact wall quadratics), bracketing at 8 points,
-// exactly ITERATIONS refinement steps of 8 points each, the rounding allowance 16 ε L / |f′|,
+// at most ITERATIONS refinement steps of 8 points each (early stop at rounding), the rounding allowance 16 ε L / |f′|,
 // then the exact surface normal once for the closest hit (forward-mode derivatives written out
 // below: value and two partials for the surface, value and two t-derivatives for the edge
 // curves; no finite differences).
@@ -19,6 +19,9 @@
 
 // Refinement steps (docs/METHOD.md §8; the CPU's `N`), set when the pipeline is created.
 override ITERATIONS: u32 = 4u;
+// Refinement stops once the bracket is within this fraction of the rounding allowance
+// (`smoothtri::kernel::refine::EARLY_STOP`).
+const EARLY_STOP: f32 = 0.25;
 // 0: smooth patches; 1: flat triangles (Möller–Trumbore on the same traversal: the baseline).
 override FLAT: u32 = 0u;
 // 0: closest hit; 1: any hit (shadow rays).
@@ -560,11 +563,21 @@ fn smooth_crossing(id: u32, o: vec3<f32>, d: vec3<f32>, inv: vec3<f32>, t_min: f
         return no_crossing();
     }
     let first = br;
-    // Refinement: exactly ITERATIONS steps of 8 points (fewer only once the bracket has
-    // collapsed onto an exact zero).
+    // Early stop, as on the CPU: once the bracket is within EARLY_STOP of the rounding
+    // allowance computed from the sampling bracket's secant (a lower bound of the final one).
+    var stop = 0.0;
+    if (first.b > first.a) {
+        let s0 = abs(first.fb - first.fa) / (first.b - first.a);
+        let floor = 16.0 * EPS * pt.scale / select(1.0, s0, s0 > 0.0);
+        if (s0 > 0.0 && fin(floor)) {
+            stop = EARLY_STOP * floor;
+        }
+    }
+    // Refinement: at most ITERATIONS steps of 8 points (fewer once the bracket has collapsed
+    // onto an exact zero or is within `stop`).
     var rho = RHO_START;
     for (var it = 0u; it < ITERATIONS; it++) {
-        if (br.fa == 0.0 || br.fb == 0.0 || !(br.b > br.a)) {
+        if (br.fa == 0.0 || br.fb == 0.0 || !(br.b - br.a > stop)) {
             break;
         }
         let wd = br.b - br.a;

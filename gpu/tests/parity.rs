@@ -346,3 +346,28 @@ fn grazing_rays_give_finite_answers() {
     }
     assert!(hits > 1000, "{hits}");
 }
+
+/// The shader's refinement constants are the CPU kernel's (one source of truth per figure:
+/// the WGSL repeats them, this test keeps them equal).
+#[test]
+fn shader_constants_match_the_cpu_kernel() {
+    use smoothtri::kernel::refine::{EARLY_STOP, INNER, RHO_GROWTH, RHO_MAX, RHO_START};
+    let value = |name: &str| -> f64 {
+        let decl = format!("const {name}: f32 = ");
+        let at = smoothtri_gpu::SHADER
+            .find(&decl)
+            .unwrap_or_else(|| panic!("{name} not declared in the shader"));
+        let rest = &smoothtri_gpu::SHADER[at + decl.len()..];
+        let end = rest.find(';').expect("declaration ends");
+        rest[..end].trim().parse().expect("a number")
+    };
+    for (name, cpu) in [
+        ("EARLY_STOP", EARLY_STOP),
+        ("RHO_START", RHO_START),
+        ("RHO_GROWTH", RHO_GROWTH),
+        ("RHO_MAX", RHO_MAX),
+        ("INNER", INNER),
+    ] {
+        assert_eq!(value(name), cpu, "{name}");
+    }
+}
