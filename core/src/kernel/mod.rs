@@ -207,14 +207,14 @@ pub(crate) fn crossing<F: Float, const K: usize, const N: usize>(
 
 /// `|f(b) − f(a)| / (b − a)` of a bracket (`+∞` or NaN when it has zero width).
 #[inline(always)]
-fn secant<F: Float>(br: &refine::Bracket<F>) -> F {
+pub(crate) fn secant<F: Float>(br: &refine::Bracket<F>) -> F {
     (br.fb - br.fa).abs() / (br.b - br.a)
 }
 
 /// The rounding allowance [`ROUNDING_ULPS`]` · ε · L / slope` (`L` from [`EXTENT_EDGES`]);
 /// 0 where it is not finite (a zero slope).
 #[inline(always)]
-fn rounding_allowance<F: Float>(patch: &Patch<F>, slope: F) -> F {
+pub(crate) fn rounding_allowance<F: Float>(patch: &Patch<F>, slope: F) -> F {
     let scale = crate::shell::longest_edge(&patch.shape) * F::from_f64(EXTENT_EDGES)
         + patch.frame.origin.length();
     let rounding = F::from_f64(ROUNDING_ULPS) * F::EPSILON * scale / slope;

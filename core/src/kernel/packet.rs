@@ -3,10 +3,12 @@
 //!
 //! Each ray is clipped on its own (box, slab, shell), then the packet runs the same bracketing
 //! as the single-ray kernel (`K + 2` samples, now one lane call per sample index, each lane at its
-//! own ray's sample: the same values bit for bit, so the same first sign change), then exactly
+//! own ray's sample: the same values bit for bit, so the same first sign change), then at most
 //! `N` refinement steps in which every lane evaluates one point of its own bracket, chosen by
 //! ITP ([`super::refine`]'s per-lane state: at most `W/2^(N−1)` after `N` steps, superlinear on
-//! smooth functions).
+//! smooth functions). A lane stops once its bracket is within the early stop of the single-ray
+//! kernel ([`EARLY_STOP`](super::refine::EARLY_STOP) of its rounding allowance), the packet
+//! once every lane has.
 //!
 //! Work per packet and patch: at most `K + 2 + N` lane calls, whatever the input. A lane whose
 //! ray misses the shell (or is inactive) rides along and its result is ignored.
@@ -18,7 +20,7 @@ use crate::real::Float;
 
 use super::height::{Prepared, f_lanes};
 use super::refine::{Bracket, ItpLane};
-use super::{Clipped, Crossing, clip_ray, complete};
+use super::{Clipped, Crossing, clip_ray, complete, rounding_allowance, secant};
 
 /// The crossings of up to eight rays with `patch` (`active[i]` false: lane `i` is skipped),
 /// each in `[t_min, t_max[i]]`. At most `K + 2 + N` lane calls.
@@ -111,7 +113,9 @@ pub(crate) fn crossings_packet<F: Float, const K: usize, const N: usize>(
     }
 
     // Refinement: one ITP point per lane per step.
-    let mut itp: [Option<ItpLane<F>>; LANES] = found.map(|b| b.map(ItpLane::new));
+    let early = F::from_f64(super::refine::EARLY_STOP);
+    let mut itp: [Option<ItpLane<F>>; LANES] =
+        found.map(|b| b.map(|b| ItpLane::new(b, early * rounding_allowance(patch, secant(&b)))));
     for _ in 0..N {
         if itp.iter().flatten().all(ItpLane::done) {
             break;

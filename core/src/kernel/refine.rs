@@ -246,12 +246,15 @@ pub(crate) struct ItpLane<F> {
     kept: i8,
     scale: F,
     k1: F,
+    /// The early stop: the bracket is final once at most this wide ([`EARLY_STOP`]).
+    stop: F,
 }
 
 impl<F: Float> ItpLane<F> {
-    /// The state for bracket `br`.
+    /// The state for bracket `br`, final once the bracket is at most `stop` wide (0: only
+    /// when it collapses).
     #[inline(always)]
-    pub(crate) fn new(br: Bracket<F>) -> Self {
+    pub(crate) fn new(br: Bracket<F>, stop: F) -> Self {
         let w0 = br.b - br.a;
         ItpLane {
             br,
@@ -261,13 +264,15 @@ impl<F: Float> ItpLane<F> {
             // 2^n0 · W/2 with n0 = ITP_N0 = 1.
             scale: w0,
             k1: F::from_f64(ITP_K1_REL) / w0,
+            stop,
         }
     }
 
-    /// Whether the bracket is final (collapsed, an exact zero, or degenerate).
+    /// Whether the bracket is final (within the early stop, collapsed, an exact zero, or
+    /// degenerate).
     #[inline(always)]
     pub(crate) fn done(&self) -> bool {
-        !(self.br.b > self.br.a) || self.br.fa == F::ZERO || self.br.fb == F::ZERO
+        !(self.br.b - self.br.a > self.stop) || self.br.fa == F::ZERO || self.br.fb == F::ZERO
     }
 
     /// The next point to evaluate (inside the bracket).
