@@ -9,8 +9,9 @@
 //! 2. samples `f` at `ta`, at `K` evenly spaced interior points and at `tb`, and takes the first
 //!    sign change (so a ray grazing a bulge twice inside the shell is not missed when the
 //!    crossings are at least `(tb − ta)/(K + 1)` apart);
-//! 3. refines that bracket with exactly `N` steps of eight points each ([`refine`]: at least
-//!    5× narrower per step, superlinear near a simple root);
+//! 3. refines that bracket with at most `N` steps of eight points each ([`refine`]: at least
+//!    5× narrower per step, superlinear near a simple root; it stops early once the bracket
+//!    is within [`EARLY_STOP`](refine::EARLY_STOP) of the rounding allowance);
 //! 4. evaluates the exact surface normal once at the estimate.
 //!
 //! `f` is evaluated at eight parameters per call, in the lanes of [`Float::L8`]

@@ -8,7 +8,7 @@
 //! (`⌈(K + 2)/8⌉` calls; [`DEFAULT_SAMPLES`](super::DEFAULT_SAMPLES) `= 6` fills one call), and
 //! takes the first sign change.
 //!
-//! **Refinement** runs exactly `N` steps. A step on the bracket `[a, b]` of width `w` places
+//! **Refinement** runs at most `N` steps (see the early stop below). A step on the bracket `[a, b]` of width `w` places
 //! - [`UNIFORM_POINTS`] evenly spaced points `a + w·j/5`, `j = 1…4`, which alone guarantee that
 //!   the next bracket is at most `w/5` wide ([`WORST_SHRINK`]), whatever `f` does, and
 //! - four points around the regula falsi estimate `x*`: `x* ± δ` and `x* ± δ/8`, with
