@@ -131,11 +131,11 @@ pub const SHELL_CLEARANCE: f64 = 0.1;
 // ---------------------------------------------------------------------------------------------
 // Ray kernel
 
-/// `f64`: the kernel's own height evaluation (`kernel/height.rs`, no dual numbers) against the
+/// `f64`: the kernel's own height evaluation (`core/src/height.rs`, no dual numbers) against the
 /// generic one of [`Patch::height`](crate::Patch::height), relative to the triangle's size.
 /// Measured worst: 9.2e-15 (98 472 random patches, normals up to ~37°, 66 points each; 5.4e-17
 /// on the 393 patches of the unit test). Asserted by the unit test
-/// `equals_the_generic_height_within_rounding` of `core/src/kernel/height.rs`.
+/// `equals_the_generic_height_within_rounding` of `core/src/height.rs`.
 pub const KERNEL_HEIGHT_VS_SURFACE: f64 = 3e-14;
 
 /// `f64` hits (N = 8) on meshes that are exactly a sphere for the method (an icosphere, and a

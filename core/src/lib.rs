@@ -59,6 +59,7 @@ pub mod error;
 #[cfg(feature = "micromath")]
 pub mod fast;
 pub mod geometry;
+mod height;
 pub mod kernel;
 pub mod lanes;
 mod math;

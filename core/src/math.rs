@@ -1,18 +1,44 @@
 //! The one place that calls `libm` (and, behind the `micromath` feature, `micromath`).
 //!
 //! Every transcendental operation of the crate goes through here, so the accuracy of the whole
-//! crate can be read off this file: `libm` square roots are correctly rounded (error ≤ 0.5 ulp).
+//! crate can be read off this file: square roots are correctly rounded (error ≤ 0.5 ulp), from
+//! the hardware's IEEE square root on x86 and `libm` elsewhere.
 
-/// Correctly rounded `sqrt` of an `f32` (libm). Returns NaN for negative input; callers clamp.
+/// Correctly rounded `sqrt` of an `f32`. Returns NaN for negative input; callers clamp.
+///
+/// On x86 with SSE the packed square root of `wide` (one lane used): `libm::sqrtf` is an inline
+/// `sqrtss` in the legacy SSE encoding, which in code built with AVX enabled (`-C
+/// target-feature=+avx2` or `target-cpu=native`) mixes with the VEX-encoded lane code and paid
+/// an SSE/AVX transition on every call: patch construction ran 16× slower in wall time with
+/// AVX2 than with SSE2 on the Xeon of the README despite 22 % fewer instructions. The compiler
+/// encodes `sqrtps` to match the target, and both roundings are IEEE-exact (the same bits).
+/// Elsewhere `libm`.
 #[inline(always)]
 pub(crate) fn sqrt_f32(x: f32) -> f32 {
-    libm::sqrtf(x)
+    #[cfg(all(any(target_arch = "x86", target_arch = "x86_64"), target_feature = "sse"))]
+    {
+        let [r, ..] = wide::f32x4::splat(x).sqrt().to_array();
+        r
+    }
+    #[cfg(not(all(any(target_arch = "x86", target_arch = "x86_64"), target_feature = "sse")))]
+    {
+        libm::sqrtf(x)
+    }
 }
 
-/// Correctly rounded `sqrt` of an `f64` (libm). Returns NaN for negative input; callers clamp.
+/// Correctly rounded `sqrt` of an `f64`. Returns NaN for negative input; callers clamp.
+/// As [`sqrt_f32`]: `wide`'s packed root on x86 with SSE2, `libm` elsewhere.
 #[inline(always)]
 pub(crate) fn sqrt_f64(x: f64) -> f64 {
-    libm::sqrt(x)
+    #[cfg(all(any(target_arch = "x86", target_arch = "x86_64"), target_feature = "sse2"))]
+    {
+        let [r, ..] = wide::f64x2::splat(x).sqrt().to_array();
+        r
+    }
+    #[cfg(not(all(any(target_arch = "x86", target_arch = "x86_64"), target_feature = "sse2")))]
+    {
+        libm::sqrt(x)
+    }
 }
 
 /// Fast approximate `sqrt` of an `f32`: micromath's bit-level estimate (relative error up to

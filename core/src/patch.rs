@@ -493,16 +493,17 @@ impl<F: Float> Patch<F> {
         }
     }
 
+    /// Whether every stored value is finite. Mostly branch-free: `v·0` is ±0 for a finite `v` and
+    /// NaN otherwise, so the sum of those products is 0 exactly when all are finite.
     fn all_finite(&self) -> bool {
+        let z = |v: V3<F>| (v.x * F::ZERO) + (v.y * F::ZERO) + (v.z * F::ZERO);
+        let zs = |v: &[V3<F>; 3]| z(v[0]) + z(v[1]) + z(v[2]);
         let [ex, ey, ez] = self.frame.axes;
-        let vs = [self.frame.origin, ex, ey, ez];
-        vs.iter()
-            .chain(self.shape.p.iter())
-            .chain(self.shape.n.iter())
-            .chain(self.shape.d.iter())
-            .all(|v| v.all_finite())
-            && self.shape.k.iter().flatten().all(|k| k.is_fin())
-            && self.sigma.iter().all(|s| s.is_fin())
-            && self.bbox.is_finite()
+        let [[k0, k1], [k2, k3], [k4, k5]] = self.shape.k;
+        let [s0, s1] = self.sigma;
+        let k = V3::new(k0 + k1, k2 + k3, k4 + k5) + V3::new(s0, s1, F::ZERO);
+        let a = z(self.frame.origin) + z(ex) + z(ey) + z(ez) + z(k);
+        let b = zs(&self.shape.p) + zs(&self.shape.n) + zs(&self.shape.d);
+        a + b == F::ZERO && self.bbox.is_finite()
     }
 }

@@ -5,8 +5,10 @@
 //! # How the height range is bounded
 //! The surface height is zero at the vertices, equals the conjugation lines' heights on the
 //! edges and is smooth inside. The patch constructor samples it at [`SAMPLES`] fixed points (edge
-//! points at `t = 0.1, ¼, ½, ¾, 0.9` and four interior points) and widens the sampled range by
-//! [`MARGIN_REL`] of the range plus [`MARGIN_ABS`] of the triangle's size. The margin is
+//! points at `t = 0.1, ¼, ½, ¾, 0.9` and four interior points) in four calls of the eight-lane
+//! height evaluation (`core/src/height.rs`, equal to the generic scalar evaluation within
+//! rounding: a unit test below) and widens the sampled range by [`MARGIN_REL`] of the range plus
+//! [`MARGIN_ABS`] of the triangle's size. The margin is
 //! validated, not proven: `tests/shell.rs` samples 2000 random well-shaped patches with normals
 //! up to 50° from the face on a 861-point grid and checks that every point lies inside, at least
 //! [`SHELL_CLEARANCE`](crate::accuracy::SHELL_CLEARANCE) of the range's width away from its
@@ -20,6 +22,8 @@
 use crate::aabb::Aabb;
 use crate::edge::edge_point;
 use crate::geometry::{Frame, Shape};
+use crate::height::{Prepared, edge_height, height_at};
+use crate::lanes::{LANES, Lane};
 use crate::real::Float;
 use crate::surface::height;
 use crate::vec::V3;
@@ -31,28 +35,91 @@ pub const MARGIN_REL: f64 = 0.5;
 /// Absolute widening as a fraction of the triangle's longest edge.
 pub const MARGIN_ABS: f64 = 1e-4;
 
-/// Conservative `[σmin, σmax]` of the surface of `shape`.
+/// Edge parameters `t` of the edge samples (on each of the three edges).
+const EDGE_T: [f64; 5] = [0.1, 0.25, 0.5, 0.75, 0.9];
+/// Barycentrics of the interior samples: towards each vertex, and the centroid.
+const INTERIOR: [[f64; 3]; 4] = [
+    [2.0 / 3.0, 1.0 / 6.0, 1.0 / 6.0],
+    [1.0 / 6.0, 2.0 / 3.0, 1.0 / 6.0],
+    [1.0 / 6.0, 1.0 / 6.0, 2.0 / 3.0],
+    [1.0 / 3.0, 1.0 / 3.0, 1.0 / 3.0],
+];
+
+const _: () = assert!(3 * EDGE_T.len() + INTERIOR.len() == SAMPLES);
+const _: () = assert!(EDGE_T.len() <= LANES && INTERIOR.len() <= LANES);
+
+/// Eight lanes from their values (the spare lanes of [`samples`] repeat its last point).
+#[inline(always)]
+fn lanes<F: Float>(f: impl Fn(usize) -> F) -> F::L8 {
+    F::L8::from_array(core::array::from_fn(f))
+}
+
+/// Conservative `[σmin, σmax]` of the surface of `shape`: the range of [`samples`], widened.
 pub(crate) fn height_bounds<F: Float>(shape: &Shape<F>) -> [F; 2] {
     let mut lo = F::ZERO;
     let mut hi = F::ZERO;
-    let mut acc = |h: F| {
+    for h in samples(shape) {
         lo = lo.min(h);
         hi = hi.max(h);
-    };
-    for j in 0..3 {
-        for t in [0.1, 0.25, 0.5, 0.75, 0.9] {
-            acc(edge_point::<F>(&shape.edge(j), F::from_f64(t)).0.z);
-        }
-    }
-    let a = F::from_f64(2.0 / 3.0);
-    let b = F::from_f64(1.0 / 6.0);
-    let c = F::from_f64(1.0 / 3.0);
-    for x in [[a, b, b], [b, a, b], [b, b, a], [c, c, c]] {
-        acc(height(shape, x));
     }
     let size = longest_edge(shape);
     let m = F::from_f64(MARGIN_REL) * (hi - lo) + F::from_f64(MARGIN_ABS) * size;
     [lo - m, hi + m]
+}
+
+/// The surface height at the [`SAMPLES`] points, by the lane evaluation ([`crate::height`]):
+/// edge `j`'s points (`t` of [`EDGE_T`]) at `5j .. 5j + 5`, one lane call per edge, then the
+/// [`INTERIOR`] points in one call. Equal to [`sample_scalar`] within rounding; where a lane is
+/// not finite (never seen for an accepted patch) it is replaced by [`sample_scalar`].
+#[inline(always)]
+pub(crate) fn samples<F: Float>(shape: &Shape<F>) -> [F; SAMPLES] {
+    let pr = Prepared::new(shape);
+    let mut out = [F::ZERO; SAMPLES];
+    let mut slots = out.iter_mut();
+    let t = lanes(|i| F::from_f64(EDGE_T.get(i).or(EDGE_T.last()).copied().unwrap_or(0.5)));
+    for ep in pr.edges() {
+        let h = edge_height(ep, t).to_array();
+        for (h, slot) in h.into_iter().take(EDGE_T.len()).zip(slots.by_ref()) {
+            *slot = h;
+        }
+    }
+    let bary = |c: usize| {
+        lanes(|i| {
+            let x = INTERIOR
+                .get(i)
+                .or(INTERIOR.last())
+                .copied()
+                .unwrap_or_default();
+            F::from_f64(x.get(c).copied().unwrap_or_default())
+        })
+    };
+    let h = height_at(&pr, [bary(0), bary(1), bary(2)]).to_array();
+    for (h, slot) in h.into_iter().zip(slots) {
+        *slot = h;
+    }
+    for (i, v) in out.iter_mut().enumerate() {
+        if !v.is_fin() {
+            *v = sample_scalar(shape, i);
+        }
+    }
+    out
+}
+
+/// Sample `i` of [`samples`] by the generic (scalar) evaluation: the edge point's height
+/// [`edge_point`]`.z` or the interior height [`height`].
+#[inline(never)]
+pub(crate) fn sample_scalar<F: Float>(shape: &Shape<F>, i: usize) -> F {
+    let n = EDGE_T.len();
+    match i.checked_sub(3 * n) {
+        None => {
+            let t = EDGE_T.get(i % n).copied().unwrap_or(0.5);
+            edge_point::<F>(&shape.edge(i / n), F::from_f64(t)).0.z
+        }
+        Some(k) => {
+            let x = INTERIOR.get(k).copied().unwrap_or([1.0 / 3.0; 3]);
+            height(shape, x.map(F::from_f64))
+        }
+    }
 }
 
 /// Longest edge of the triangle.
@@ -113,4 +180,55 @@ pub(crate) fn aabb<F: Float>(shape: &Shape<F>, sigma: [F; 2], frame: &Frame<F>) 
     let pad = |a: F, b: F| (a.abs().max(b.abs())) * F::from_f64(8.0) * F::EPSILON;
     let e = V3::new(pad(lo.x, hi.x), pad(lo.y, hi.y), pad(lo.z, hi.z));
     Aabb::from_corners(lo - e, hi + e)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::accuracy::{F32_VS_F64_POINT, KERNEL_HEIGHT_VS_SURFACE};
+    use crate::height::tests::random_patches;
+    use crate::patch::Patch;
+
+    /// Worst difference, relative to `size`, between the lane samples of `shape` and the
+    /// scalar ones; asserts that every lane sample is finite.
+    fn worst_sample_difference<F: Float>(shape: &Shape<F>, size: f64) -> f64 {
+        let lanes = samples(shape);
+        let mut worst = 0.0f64;
+        for (i, a) in lanes.into_iter().enumerate() {
+            assert!(a.is_fin(), "sample {i} not finite");
+            let b = sample_scalar(shape, i);
+            worst = worst.max((a.to_f64() - b.to_f64()).abs() / size);
+        }
+        worst
+    }
+
+    #[test]
+    fn lane_samples_equal_the_scalar_samples_within_rounding() {
+        let (mut worst64, mut worst32, mut tested) = (0.0f64, 0.0f64, 0);
+        for (patch, size) in random_patches(5, 600) {
+            tested += 1;
+            worst64 = worst64.max(worst_sample_difference(&patch.shape, size));
+            let p32 = Patch::<f32>::new(
+                patch.vertices().map(|v| v.as_vec3()),
+                patch.normals().map(|v| v.as_vec3()),
+            );
+            if let Ok(p32) = p32 {
+                worst32 = worst32.max(worst_sample_difference(&p32.shape, size));
+            }
+            // The sampled range is the scalar samples' range.
+            let [lo, hi] = height_bounds(&patch.shape);
+            let (mut slo, mut shi) = (0.0f64, 0.0f64);
+            for i in 0..SAMPLES {
+                let h = sample_scalar(&patch.shape, i);
+                (slo, shi) = (slo.min(h), shi.max(h));
+            }
+            let m = MARGIN_REL * (shi - slo) + MARGIN_ABS * longest_edge(&patch.shape);
+            let tol = 2.0 * KERNEL_HEIGHT_VS_SURFACE * size;
+            assert!((lo - (slo - m)).abs() < tol && (hi - (shi + m)).abs() < tol);
+        }
+        assert!(tested > 450, "{tested}");
+        assert!(worst64 < KERNEL_HEIGHT_VS_SURFACE, "f64 worst {worst64:e}");
+        // Two f32 evaluations of the same surface, each within F32_VS_F64_POINT of f64.
+        assert!(worst32 < 2.0 * F32_VS_F64_POINT, "f32 worst {worst32:e}");
+    }
 }

@@ -97,7 +97,7 @@ fn fin3(v: vec3<f32>) -> bool {
 // Patch records
 
 // One edge j (from A = Pj to B = Pj+1) with the CPU's per-patch precomputation (Prepared /
-// EdgePrep in core/src/kernel/height.rs), computed once on the host at upload.
+// EdgePrep in core/src/height.rs), computed once on the host at upload.
 struct Edge {
     a: vec2<f32>,   // A (local z = 0)
     da: vec2<f32>,  // dA (local z = 1)
@@ -207,7 +207,7 @@ fn box_span(lo: vec3<f32>, hi: vec3<f32>, o: vec3<f32>, d: vec3<f32>, inv: vec3<
 }
 
 // ---------------------------------------------------------------------------------------------
-// The height evaluation f(τ) = z − σS(X) (core/src/kernel/height.rs, one point per call)
+// The height evaluation f(τ) = z − σS(X) (core/src/height.rs, one point per call)
 
 struct Root {
     s: f32,

@@ -22,13 +22,13 @@
 
 pub(crate) mod clip;
 pub mod flat;
-pub(crate) mod height;
 pub(crate) mod packet;
 pub mod refine;
 
 pub(crate) use packet::crossings_packet;
 
 use crate::geometry::Shape;
+use crate::height::{self, Prepared, f_lanes};
 use crate::lanes::Lane;
 use crate::patch::Patch;
 use crate::ray::{Hit, Ray};
@@ -36,7 +36,6 @@ use crate::real::Float;
 use crate::surface::{normal_local, project_bary};
 use crate::vec::V3;
 use clip::{LocalRay, bary_numerators, shell_interval};
-use height::{Prepared, f_lanes};
 use refine::{first_sign_change, refine};
 
 /// Default number `K` of interior bracketing samples used by [`Patch::intersect`]: with the two

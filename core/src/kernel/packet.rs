@@ -18,9 +18,9 @@ use crate::patch::Patch;
 use crate::ray::Ray;
 use crate::real::Float;
 
-use super::height::{Prepared, f_lanes};
 use super::refine::{Bracket, ItpLane};
 use super::{Clipped, Crossing, clip_ray, complete, rounding_allowance, secant};
+use crate::height::{Prepared, f_lanes};
 
 /// The crossings of up to eight rays with `patch` (`active[i]` false: lane `i` is skipped),
 /// each in `[t_min, t_max[i]]`. At most `K + 2 + N` lane calls.

@@ -1,13 +1,15 @@
-//! The kernel's height evaluation `f(τ) = z(τ) − σS(X(τ))` at eight ray parameters per call:
-//! the same surface as [`crate::surface`] (docs/METHOD.md §5), written once over [`Lane`] for
-//! speed.
+//! The surface height over eight lanes, specialised: the same surface as [`crate::surface`]
+//! (docs/METHOD.md §5), written once over [`LaneOps`] for speed. Patch construction samples the
+//! shell's height range with it ([`crate::shell`]); the ray kernel ([`crate::kernel`]) evaluates
+//! its function `f(τ) = z(τ) − σS(X(τ))` at eight ray parameters per call ([`f_lanes`]) and the
+//! exact normal of a hit over [`Jet`]s ([`derivatives`]).
 //!
 //! Differences from the generic evaluation (which stays the reference and serves the public
 //! evaluation API):
 //! - eight points per call, in the lanes of [`Float::L8`], with selects instead of branches;
-//! - per-patch precomputation ([`Prepared`], built once per patch test): the generator line of
-//!   an edge is linear in its parameter `t` (`p(t) − anchor = t·e` or `(t − 1)·e`,
-//!   `g(t) = da + t·gd`), so the three coefficients of each edge sphere's quadratic
+//! - per-patch precomputation ([`Prepared`], built once per patch test or construction): the
+//!   generator line of an edge is linear in its parameter `t` (`p(t) − anchor = t·e` or
+//!   `(t − 1)·e`, `g(t) = da + t·gd`), so the three coefficients of each edge sphere's quadratic
 //!   `qa s² + 2 qb s + qc` are polynomials in `t` of degree ≤ 2 whose coefficients are dot
 //!   products of patch data, computed once;
 //! - no dual numbers: the edge tangent `c′(t)` that the edge normal `n*` needs (eq. (3)) is the
@@ -66,6 +68,12 @@ pub(crate) struct Prepared<F> {
 }
 
 impl<F: Float> Prepared<F> {
+    /// The three edges' data (edge `j` runs from `Pj` to `Pj+1`).
+    #[inline(always)]
+    pub(crate) fn edges(&self) -> &[EdgePrep<F>; 3] {
+        &self.edges
+    }
+
     /// The precomputation for `shape` (about 120 flops).
     #[inline(always)]
     pub(crate) fn new(shape: &Shape<F>) -> Self {
@@ -257,6 +265,14 @@ fn edge_point_normal<L: LaneOps>(ep: &EdgePrep<L::F>, t: L) -> (L3<L>, L3<L>) {
     // Where the tangent vanishes or is parallel to g (never for an accepted patch): g.
     let good = L::and(tt.gt(zero), n.dot(n).gt(zero));
     (cpt, L3::select(good, n, g))
+}
+
+/// Height of edge `ep`'s conjugation line over the triangle's plane, `c(t).z`, at eight edge
+/// parameters: the `z` of [`crate::edge::edge_point`]'s point within rounding (the normal of
+/// [`edge_point_normal`] is not needed, and is optimised away).
+#[inline(always)]
+pub(crate) fn edge_height<L: LaneOps>(ep: &EdgePrep<L::F>, t: L) -> L {
+    edge_point_normal(ep, t).0.z
 }
 
 /// The term of vertex `i` in eq. (5): `½ (Xi·s¹ + ((1 − Xi)/2)·s²)`, for the line
@@ -577,7 +593,7 @@ pub(crate) fn derivatives<F: Float>(
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::lanes::LANES;
     use crate::patch::Patch;
@@ -601,7 +617,10 @@ mod tests {
 
     /// The accepted patches among `count` random triangles (size ~3, normals up to ~30° from
     /// the face), with their longest edge from `P0`.
-    fn random_patches(seed: u64, count: usize) -> impl Iterator<Item = (Patch<f64>, f64)> {
+    pub(crate) fn random_patches(
+        seed: u64,
+        count: usize,
+    ) -> impl Iterator<Item = (Patch<f64>, f64)> {
         let mut rng = Rng(seed);
         (0..count).filter_map(move |_| {
             let p = [rng.vec() * 3.0, rng.vec() * 3.0, rng.vec() * 3.0];
