@@ -15,12 +15,18 @@
 /// Elsewhere `libm`.
 #[inline(always)]
 pub(crate) fn sqrt_f32(x: f32) -> f32 {
-    #[cfg(all(any(target_arch = "x86", target_arch = "x86_64"), target_feature = "sse"))]
+    #[cfg(all(
+        any(target_arch = "x86", target_arch = "x86_64"),
+        target_feature = "sse"
+    ))]
     {
         let [r, ..] = wide::f32x4::splat(x).sqrt().to_array();
         r
     }
-    #[cfg(not(all(any(target_arch = "x86", target_arch = "x86_64"), target_feature = "sse")))]
+    #[cfg(not(all(
+        any(target_arch = "x86", target_arch = "x86_64"),
+        target_feature = "sse"
+    )))]
     {
         libm::sqrtf(x)
     }
@@ -30,12 +36,18 @@ pub(crate) fn sqrt_f32(x: f32) -> f32 {
 /// As [`sqrt_f32`]: `wide`'s packed root on x86 with SSE2, `libm` elsewhere.
 #[inline(always)]
 pub(crate) fn sqrt_f64(x: f64) -> f64 {
-    #[cfg(all(any(target_arch = "x86", target_arch = "x86_64"), target_feature = "sse2"))]
+    #[cfg(all(
+        any(target_arch = "x86", target_arch = "x86_64"),
+        target_feature = "sse2"
+    ))]
     {
         let [r, ..] = wide::f64x2::splat(x).sqrt().to_array();
         r
     }
-    #[cfg(not(all(any(target_arch = "x86", target_arch = "x86_64"), target_feature = "sse2")))]
+    #[cfg(not(all(
+        any(target_arch = "x86", target_arch = "x86_64"),
+        target_feature = "sse2"
+    )))]
     {
         libm::sqrt(x)
     }
