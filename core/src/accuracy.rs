@@ -215,3 +215,45 @@ pub const FASTF32_SURFACE: f64 = 8e-3;
 /// `f64` hit, as a distance along the ray relative to the size. Measured worst: 3.7e-4 (5000
 /// random patches; 2.5e-4 on the 300 of the test). Asserted by `tests/fast.rs`.
 pub const FASTF32_HIT: f64 = 1e-3;
+
+// ---------------------------------------------------------------------------------------------
+// Seamless shading normals (`crate::seam`)
+
+/// Jump of [`Seam::shading_normal`](crate::Seam::shading_normal) across shared edges, in
+/// degrees (the angle between the two neighbours' shading normals at the same edge point), on
+/// meshes whose neighbouring patches share their edge curves: twice the twist fit's residual.
+/// Measured worst (50 points per edge, `f64` and `f32`): 1.6e-4° on the 8×8 torus (the
+/// geometric normal: 5.83°), 2.5e-4° on the 8×8 teapot's edges with shared curves, 3e-5° on
+/// the cube and the icosphere (`f32` rounding; 0 in `f64`). Asserted by `tests/seam.rs`.
+pub const SEAM_JUMP_DEG: f64 = 1e-3;
+
+/// As [`SEAM_JUMP_DEG`] on an irregular mesh, where today's per-face direction field makes
+/// the neighbours' edge curves part (cracks) and the two sides' fits disagree by that: the
+/// icosphere of level 3 with vertices jittered by 0.3 of an edge and normals tilted by up to
+/// 20°. Measured worst: 0.095° (mean 0.0037°; the geometric normal: 33.5°). Asserted by
+/// `tests/seam.rs`.
+pub const SEAM_JUMP_IRREGULAR_DEG: f64 = 0.2;
+
+/// As [`SEAM_JUMP_DEG`] on the built-in teapot (4×4 per Bézier patch; edges of clamped or
+/// folded patches left out), where edge curves part and the geometric normal swings by up to
+/// 27° along some edges. Measured worst: 0.75° (mean 0.011°; the geometric normal: 60.8°).
+/// Asserted by `tests/seam.rs`.
+pub const SEAM_JUMP_TEAPOT_DEG: f64 = 1.5;
+
+/// The 8×8 torus (major radius 1, minor 0.4): largest angle between the geometric normal of
+/// [`Patch::point_normal`](crate::Patch::point_normal) and the true torus normal at the
+/// nearest torus point, degrees, over 325 barycentric samples per triangle (41 600). Measured
+/// (to 0.01°, as the test asserts): 5.80°. Asserted by `tests/seam.rs`.
+pub const TORUS_8X8_GEOMETRIC_NORMAL_MAX_DEG: f64 = 5.80;
+
+/// As [`TORUS_8X8_GEOMETRIC_NORMAL_MAX_DEG`], the 99th percentile: 4.21°.
+pub const TORUS_8X8_GEOMETRIC_NORMAL_P99_DEG: f64 = 4.21;
+
+/// As [`TORUS_8X8_GEOMETRIC_NORMAL_MAX_DEG`] for the seamless shading normal of
+/// [`Seam::shading_normal`](crate::Seam::shading_normal): 2.90° (mean 0.97° against 1.03°).
+/// The common edge normal, the average of the two sides', is itself up to 2.9° off on the
+/// diagonal edges, which bounds what any seam correction reaches (docs/METHOD.md).
+pub const TORUS_8X8_SEAMLESS_NORMAL_MAX_DEG: f64 = 2.90;
+
+/// As [`TORUS_8X8_SEAMLESS_NORMAL_MAX_DEG`], the 99th percentile: 2.55°.
+pub const TORUS_8X8_SEAMLESS_NORMAL_P99_DEG: f64 = 2.55;

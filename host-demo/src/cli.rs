@@ -16,7 +16,7 @@ use crate::commands::{self, MeshSource};
 use crate::error::Result;
 use crate::scenes::SCENE_NAMES;
 use crate::tessellate::Level;
-use crate::tracer::{Mode, Precision};
+use crate::tracer::{Mode, Normals, Precision};
 
 /// Ray tracing of smooth surfaces from triangle meshes with vertex normals.
 #[derive(Parser, Debug)]
@@ -92,6 +92,10 @@ struct RenderArgs {
     /// lavapipe). Without a Vulkan adapter: one line on stderr and a non-zero exit.
     #[arg(long)]
     gpu: bool,
+    /// The normal the smooth mode shades with: seamless (continuous across shared edges) or the
+    /// patches' exact geometric normal.
+    #[arg(long, value_enum, default_value = "seamless")]
+    normals: Normals,
 }
 
 #[derive(Args, Debug)]
@@ -227,6 +231,7 @@ pub fn run(cli: Cli) -> Result<()> {
             up: a.up,
             mask: a.mask,
             gpu: a.gpu,
+            normals: a.normals,
         }),
         Cmd::Precision(a) => commands::precision::run(PrecisionOptions {
             source: a.src.into(),

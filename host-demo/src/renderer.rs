@@ -1,6 +1,7 @@
 //! The renderer behind `render` and the `precision` strip: primary rays through the camera,
-//! Lambert + ambient shading, one directional light with shadow rays, in parallel (rayon) with
-//! an optional progress bar (indicatif).
+//! Lambert + ambient shading (smooth hits with the scene's shading normal, seamless by
+//! default: [`Scene::shading_normal`]), one directional light with shadow rays, in parallel
+//! (rayon) with an optional progress bar (indicatif).
 
 use std::io::IsTerminal;
 
@@ -107,7 +108,13 @@ pub fn render<F: Prec>(
                     continue;
                 };
                 let p = F::d(hit.point);
-                let mut n = F::d(hit.normal);
+                // Smooth hits shade with the scene's choice of normal (seamless by default).
+                let normal = if tracer.smooth() {
+                    scene.shading_normal(&hit)
+                } else {
+                    hit.normal
+                };
+                let mut n = F::d(normal);
                 if n.dot(d) > 0.0 {
                     n = -n;
                 }

@@ -21,7 +21,7 @@ use smoothtri::sphere::{curvature, nearest_root};
 use smoothtri::vec::V3;
 use smoothtri::{
     Aabb, Bvh, BvhError, BvhNode, DEFAULT_SAMPLES, FastF32, Float, Hit, KernelStats, Patch,
-    PatchError, Ray, Real, flat_hit, moller_trumbore,
+    PatchError, Ray, Real, Seam, SeamEdge, SeamError, fit_seams, flat_hit, moller_trumbore,
 };
 
 unsafe extern "C" {
@@ -244,6 +244,62 @@ fn exercise<F: Float>() -> u32 {
         acc += display_len(&e);
     }
     acc += display_len(&black_box(BvhError::Internal));
+    acc += seams(&patches, &ray);
+    acc
+}
+
+/// Seamless shading normals: the fit over an opaque index buffer (shared, boundary and
+/// non-manifold edges, and every error), both normal functions, with fitted and opaque
+/// coefficients.
+fn seams<F: Float>(patches: &[Patch<F>], ray: &Ray<F>) -> u32 {
+    const COUNT: usize = 8;
+    let mut acc = 0;
+    let tris: [[u32; 3]; COUNT] = black_box([
+        [0, 1, 2],
+        [2, 1, 3],
+        [1, 2, 4],
+        [3, 4, 5],
+        [5, 4, 3],
+        [0, 2, 5],
+        [6, 7, 8],
+        [8, 7, 6],
+    ]);
+    let mut scratch = [SeamEdge::default(); 3 * COUNT];
+    let mut out = [Seam::<F>::default(); COUNT];
+    let Some(ps) = patches.get(..COUNT) else {
+        return acc;
+    };
+    match fit_seams(ps, &tris, black_box(9), &mut scratch, &mut out) {
+        Ok(n) => acc += n as u32,
+        Err(e) => acc += display_len(&e),
+    }
+    for bad in [
+        fit_seams(ps, &tris, black_box(3), &mut scratch, &mut out),
+        fit_seams(ps, &tris, 9, &mut scratch[..5], &mut out),
+        fit_seams(ps, &tris[..2], 9, &mut scratch, &mut out),
+    ] {
+        if let Err(e) = bad {
+            acc += display_len(&e);
+        }
+    }
+    acc += display_len(&black_box(SeamError::TooManyTriangles));
+    let mut wild = black_box(out[0]);
+    wild.common[1][3] = c::<F>(f64::NAN);
+    wild.own[2][0] = c::<F>(1e30);
+    let (w1, w2) = (c::<F>(0.25), c::<F>(0.5));
+    for (seam, patch) in out.iter().chain([&wild]).zip(ps.iter().cycle()) {
+        let n = seam.shading_normal(patch, w1, w2);
+        let g = patch.point_normal(w1, w2).1;
+        let m = seam.correct(patch, w1, w2, g);
+        acc += F::from_glam(n).all_finite() as u32 + F::from_glam(m).all_finite() as u32;
+        acc += seam.is_zero() as u32 + (seam == &wild) as u32;
+    }
+    if let Some(p) = ps.first() {
+        if let Some(h) = p.intersect::<4>(ray, c::<F>(0.0), c::<F>(f64::INFINITY)) {
+            let n = wild.correct(p, h.w1, h.w2, h.normal);
+            acc += F::from_glam(n).all_finite() as u32;
+        }
+    }
     acc
 }
 

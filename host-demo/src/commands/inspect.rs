@@ -1,10 +1,11 @@
-//! `smoothtri inspect`: mesh statistics, rejected patches, normal angles, cracks, memory.
+//! `smoothtri inspect`: mesh statistics, rejected patches, normal angles, cracks, normal jumps
+//! (edge curves, geometric and seamless shading normals), memory.
 
 use std::collections::HashMap;
 use std::fmt::Write as _;
 
 use glam::DVec3;
-use smoothtri::{DPatch, Patch};
+use smoothtri::{DPatch, Patch, Seam, SeamEdge, fit_seams};
 
 use super::MeshSource;
 use crate::error::Result;
@@ -56,6 +57,15 @@ pub struct Cracks {
     pub max_surface_jump_deg: f64,
     /// Mean over edges of the per-edge maximum surface-normal angle, degrees.
     pub mean_surface_jump_deg: f64,
+    /// Maximum angle between the two patches' seamless *shading* normals
+    /// ([`Seam::shading_normal`], seams fitted by [`fit_seams`] on the mesh's index buffer) at
+    /// the same edge samples, degrees: what the smooth render mode shades with by default.
+    pub max_shading_jump_deg: f64,
+    /// Mean over edges of the per-edge maximum shading-normal angle, degrees.
+    pub mean_shading_jump_deg: f64,
+    /// Shared edges [`fit_seams`] fitted (matched by vertex index, so vertices split in the
+    /// index buffer make boundaries there, unlike the position matching above).
+    pub seam_edges: usize,
 }
 
 /// Barycentrics `(w1, w2)` of the point at `t` on edge `e` (from vertex `e` to `e + 1`).
@@ -82,6 +92,27 @@ pub fn cracks(mesh: &Mesh) -> Cracks {
             Patch::<f64>::new(p, n).ok()
         })
         .collect();
+    // Seams over the accepted patches (the index buffer of those triangles); a triangle the
+    // core rejects gets the zero seam.
+    let kept: Vec<usize> = (0..patches.len())
+        .filter(|&t| patches[t].is_some())
+        .collect();
+    let kept_patches: Vec<DPatch> = kept.iter().filter_map(|&t| patches[t]).collect();
+    let kept_tris: Vec<[u32; 3]> = kept.iter().map(|&t| mesh.triangles[t]).collect();
+    let mut fitted = vec![Seam::default(); kept.len()];
+    let mut scratch = vec![SeamEdge::default(); 3 * kept.len()];
+    let seam_edges = fit_seams(
+        &kept_patches,
+        &kept_tris,
+        mesh.positions.len(),
+        &mut scratch,
+        &mut fitted,
+    )
+    .unwrap_or(0);
+    let mut seams = vec![Seam::<f64>::default(); patches.len()];
+    for (&t, s) in kept.iter().zip(fitted) {
+        seams[t] = s;
+    }
     // Undirected edge → list of (triangle, local edge, forward?) with forward meaning the
     // edge runs from the smaller key to the larger.
     let mut edges: HashMap<EdgeKey, Vec<(usize, usize, bool)>> = HashMap::new();
@@ -97,8 +128,11 @@ pub fn cracks(mesh: &Mesh) -> Cracks {
             edges.entry(k).or_default().push((t, e, fwd));
         }
     }
-    let mut c = Cracks::default();
-    let (mut sum_gap, mut sum_jump, mut sum_sjump) = (0.0, 0.0, 0.0);
+    let mut c = Cracks {
+        seam_edges,
+        ..Cracks::default()
+    };
+    let (mut sum_gap, mut sum_jump, mut sum_sjump, mut sum_hjump) = (0.0, 0.0, 0.0, 0.0);
     for list in edges.values() {
         match list.len() {
             1 => c.boundary += 1,
@@ -108,7 +142,7 @@ pub fn cracks(mesh: &Mesh) -> Cracks {
                 let (Some(pa), Some(pb)) = (&patches[ta], &patches[tb]) else {
                     continue;
                 };
-                let (mut gap, mut jump, mut sjump) = (0.0f64, 0.0f64, 0.0f64);
+                let (mut gap, mut jump, mut sjump, mut hjump) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
                 for k in 0..EDGE_SAMPLES {
                     let t = k as f64 / (EDGE_SAMPLES - 1) as f64;
                     let tb_ = if fa == fb { t } else { 1.0 - t };
@@ -121,12 +155,17 @@ pub fn cracks(mesh: &Mesh) -> Cracks {
                     let sa = pa.point_normal(a1, a2).1;
                     let sb = pb.point_normal(b1, b2).1;
                     sjump = sjump.max(sa.dot(sb).clamp(-1.0, 1.0).acos().to_degrees());
+                    let ha = seams[ta].shading_normal(pa, a1, a2);
+                    let hb = seams[tb].shading_normal(pb, b1, b2);
+                    hjump = hjump.max(ha.dot(hb).clamp(-1.0, 1.0).acos().to_degrees());
                 }
                 c.edges += 1;
                 sum_gap += gap;
                 sum_jump += jump;
                 sum_sjump += sjump;
+                sum_hjump += hjump;
                 c.max_surface_jump_deg = c.max_surface_jump_deg.max(sjump);
+                c.max_shading_jump_deg = c.max_shading_jump_deg.max(hjump);
                 c.max_gap = c.max_gap.max(gap);
                 c.max_jump_deg = c.max_jump_deg.max(jump);
             }
@@ -137,6 +176,7 @@ pub fn cracks(mesh: &Mesh) -> Cracks {
         c.mean_gap = sum_gap / c.edges as f64;
         c.mean_jump_deg = sum_jump / c.edges as f64;
         c.mean_surface_jump_deg = sum_sjump / c.edges as f64;
+        c.mean_shading_jump_deg = sum_hjump / c.edges as f64;
     }
     c
 }
@@ -261,6 +301,12 @@ pub fn inspect<F: Prec>(name: &str, mesh: &Mesh) -> Result<String> {
         "              max {:.4}°, mean {:.4}° (surface normals, point_normal on the edge)",
         c.max_surface_jump_deg, c.mean_surface_jump_deg
     );
+    let _ = writeln!(
+        s,
+        "              max {:.4}°, mean {:.4}° (seamless shading normals, Seam::shading_normal; \
+         {} edges fitted)",
+        c.max_shading_jump_deg, c.mean_shading_jump_deg, c.seam_edges
+    );
     if let Some(sc) = &scene {
         let pbytes = std::mem::size_of_val(sc.patches.as_slice());
         let bvh = sc.bvh();
@@ -274,6 +320,15 @@ pub fn inspect<F: Prec>(name: &str, mesh: &Mesh) -> Result<String> {
             bvh.memory_bytes(),
             bvh.node_count(),
             pbytes + bvh.memory_bytes()
+        );
+        let _ = writeln!(
+            s,
+            "seams ({}): {} bytes ({} × {}), {} shared edges fitted (seamless shading normals)",
+            F::PRECISION,
+            std::mem::size_of_val(sc.seams.as_slice()),
+            sc.seams.len(),
+            std::mem::size_of::<Seam<F>>(),
+            sc.seam_edges
         );
     }
     Ok(s)

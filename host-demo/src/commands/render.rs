@@ -12,7 +12,7 @@ use crate::error::{DemoError, Result};
 use crate::image::Image;
 use crate::mesh::Mesh;
 use crate::renderer::{PixelHit, Rendered, light_dir};
-use crate::tracer::{Mode, Prec, Precision, Scene, tracer};
+use crate::tracer::{Mode, Normals, Prec, Precision, Scene, tracer};
 
 use super::MeshSource;
 
@@ -43,6 +43,8 @@ pub struct RenderOptions {
     pub mask: Option<String>,
     /// Trace on the GPU (`smoothtri-gpu`, f32) instead of the CPU.
     pub gpu: bool,
+    /// The normal the smooth mode shades with.
+    pub normals: Normals,
 }
 
 /// One rendered panel and its primary-hit mask.
@@ -66,9 +68,22 @@ pub(crate) fn render_panel_in(
     n: usize,
     note: bool,
 ) -> Result<Panel> {
+    render_panel_with(prec, mesh, cam, mode, n, note, Normals::default())
+}
+
+/// [`render_panel_in`] shading smooth hits with `normals`.
+fn render_panel_with(
+    prec: Precision,
+    mesh: &Mesh,
+    cam: &Camera,
+    mode: Mode,
+    n: usize,
+    note: bool,
+    normals: Normals,
+) -> Result<Panel> {
     match prec {
-        Precision::F32 => render_panel::<f32>(mesh, cam, mode, n, note),
-        Precision::F64 => render_panel::<f64>(mesh, cam, mode, n, note),
+        Precision::F32 => render_panel::<f32>(mesh, cam, mode, n, note, normals),
+        Precision::F64 => render_panel::<f64>(mesh, cam, mode, n, note, normals),
     }
 }
 
@@ -96,8 +111,10 @@ fn render_panel<F: Prec>(
     mode: Mode,
     n: usize,
     note: bool,
+    normals: Normals,
 ) -> Result<Panel> {
-    let scene = build_scene::<F>(mesh, note)?;
+    let mut scene = build_scene::<F>(mesh, note)?;
+    scene.normals = normals;
     let t = tracer::<F>(mode, n)?;
     let r = crate::renderer::render(&scene, cam, t, mesh.diagonal(), true);
     Ok(Panel::from(r))
@@ -143,8 +160,10 @@ fn render_panel_gpu(
     mode: Mode,
     n: usize,
     note: bool,
+    normals: Normals,
 ) -> Result<Panel> {
-    let scene = build_scene::<f32>(mesh, note)?;
+    let mut scene = build_scene::<f32>(mesh, note)?;
+    scene.normals = normals;
     let r = render_gpu(gpu, &scene, cam, mode, n, mesh.diagonal())?;
     Ok(Panel::from(r))
 }
@@ -195,10 +214,10 @@ pub fn render_gpu(
     let mut shadow = Vec::new();
     for (i, (hit, &d)) in hits.iter().zip(&dirs).enumerate() {
         let Some(hit) = hit else { continue };
-        let normal = if mode == Mode::Phong {
-            phong_normal(scene, hit)
-        } else {
-            hit.normal
+        let normal = match mode {
+            Mode::Phong => phong_normal(scene, hit),
+            Mode::Smooth => scene.shading_normal(hit),
+            Mode::Flat => hit.normal,
         };
         let p = hit.point.as_dvec3();
         let mut nn = normal.as_dvec3();
@@ -299,8 +318,8 @@ pub fn run(a: RenderOptions) -> Result<()> {
     };
     let mut panels = Vec::new();
     let panel = |m: Mode, n: usize, note: bool| match &gpu {
-        Some(g) => render_panel_gpu(g, &mesh, &cam, m, n, note),
-        None => render_panel_in(a.precision, &mesh, &cam, m, n, note),
+        Some(g) => render_panel_gpu(g, &mesh, &cam, m, n, note, a.normals),
+        None => render_panel_with(a.precision, &mesh, &cam, m, n, note, a.normals),
     };
     for (k, &m) in modes.iter().enumerate() {
         panels.push(panel(m, a.iterations, k == 0)?);
@@ -362,11 +381,12 @@ pub fn run(a: RenderOptions) -> Result<()> {
         None => String::new(),
     };
     let msg = format!(
-        "wrote {} ({}x{}, {mode_s}, {prec}, iterations N = {}{device}): {rays} rays in {:.3} s = {:.0} rays/s",
+        "wrote {} ({}x{}, {mode_s}, {prec}, iterations N = {}, {} normals{device}): {rays} rays in {:.3} s = {:.0} rays/s",
         a.out,
         image.width,
         image.height,
         a.iterations,
+        a.normals.name(),
         secs,
         rays as f64 / secs.max(1e-9)
     );

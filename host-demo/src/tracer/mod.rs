@@ -34,8 +34,35 @@ impl Mode {
     }
 }
 
+/// Which normal the smooth mode shades with (`render --normals`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
+pub enum Normals {
+    /// The seamless shading normal ([`smoothtri::Seam::correct`]): continuous across shared
+    /// edges.
+    #[default]
+    Seamless,
+    /// The exact geometric normal of the patch ([`Hit::normal`]), which jumps across shared
+    /// edges.
+    Geometric,
+}
+
+impl Normals {
+    /// Lower-case name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Normals::Seamless => "seamless",
+            Normals::Geometric => "geometric",
+        }
+    }
+}
+
 /// A ray-scene query strategy (smooth kernel with a fixed budget, or a flat baseline).
 pub trait Tracer<F: Float>: Sync {
+    /// Whether the hits are on the smooth patches (their normals may then be corrected by the
+    /// scene's seams, [`Scene::shading_normal`]); `false` for the flat baselines.
+    fn smooth(&self) -> bool {
+        false
+    }
     /// Closest hit in `[t_min, t_max]`.
     fn closest(&self, bvh: &Bvh<'_, F>, ray: &Ray<F>, t_min: F, t_max: F) -> Option<Hit<F>>;
     /// Whether anything is hit in `[t_min, t_max]`.
@@ -44,6 +71,9 @@ pub trait Tracer<F: Float>: Sync {
 
 struct Smooth<const N: usize>;
 impl<F: Float, const N: usize> Tracer<F> for Smooth<N> {
+    fn smooth(&self) -> bool {
+        true
+    }
     fn closest(&self, bvh: &Bvh<'_, F>, ray: &Ray<F>, t_min: F, t_max: F) -> Option<Hit<F>> {
         bvh.closest_hit::<N>(ray, t_min, t_max).ok().flatten()
     }

@@ -1,15 +1,16 @@
 //! [`Scene`]: the patches of a [`Mesh`] in one precision (triangles the core rejects skipped
-//! and recorded) and their BVH.
+//! and recorded), their BVH and their seams (the seamless shading normals' fit).
 
 use std::collections::BTreeMap;
 
-use smoothtri::{Bvh, BvhNode, Float, Patch, PatchError};
+use smoothtri::{Bvh, BvhNode, Float, Hit, Patch, PatchError, Seam, SeamEdge, fit_seams};
 
-use super::Prec;
+use super::{Normals, Prec};
 use crate::error::{DemoError, Result};
 use crate::mesh::Mesh;
 
-/// The patches of a mesh (triangles the core rejects are skipped and recorded) and their BVH.
+/// The patches of a mesh (triangles the core rejects are skipped and recorded), their BVH and
+/// their seams.
 pub struct Scene<F: Float> {
     /// Accepted patches.
     pub patches: Vec<Patch<F>>,
@@ -23,12 +24,19 @@ pub struct Scene<F: Float> {
     /// Triangles whose normals were clamped by [`Patch::new_or_tilted`], with the clamp angle
     /// in degrees.
     pub remedied: Vec<(u32, f64)>,
+    /// The seam of each patch ([`fit_seams`] over the accepted triangles' index buffer): the
+    /// correction that makes the shading normal continuous across shared edges.
+    pub seams: Vec<Seam<F>>,
+    /// Shared edges fitted by [`fit_seams`].
+    pub seam_edges: usize,
+    /// The normal [`Scene::shading_normal`] returns (default: seamless).
+    pub normals: Normals,
     nodes: Vec<BvhNode<F>>,
     order: Vec<u32>,
 }
 
 impl<F: Prec> Scene<F> {
-    /// Builds the patches and the BVH. Fails only when no triangle is accepted.
+    /// Builds the patches, the BVH and the seams. Fails only when no triangle is accepted.
     pub fn build(mesh: &Mesh) -> Result<Self> {
         let mut patches = Vec::with_capacity(mesh.triangles.len());
         let mut tri_ids = Vec::with_capacity(mesh.triangles.len());
@@ -69,15 +77,48 @@ impl<F: Prec> Scene<F> {
             })?
             .node_count();
         nodes.truncate(used);
+        // The accepted triangles' index buffer (same order as the patches).
+        let tris: Vec<[u32; 3]> = tri_ids
+            .iter()
+            .map(|&t| mesh.triangles[t as usize])
+            .collect();
+        let mut scratch = vec![SeamEdge::default(); 3 * patches.len()];
+        let mut seams = vec![Seam::default(); patches.len()];
+        let seam_edges = fit_seams(
+            &patches,
+            &tris,
+            mesh.positions.len(),
+            &mut scratch,
+            &mut seams,
+        )
+        .map_err(|e| DemoError::Empty {
+            msg: format!("cannot fit the seams: {e}"),
+        })?;
         Ok(Scene {
             patches,
             tri_ids,
             patch_of_tri,
             rejected,
             remedied,
+            seams,
+            seam_edges,
+            normals: Normals::default(),
             nodes,
             order,
         })
+    }
+
+    /// The normal to shade a smooth hit with: with [`Normals::Seamless`] the hit's geometric
+    /// normal corrected by its patch's seam ([`Seam::correct`]), with [`Normals::Geometric`]
+    /// the hit's normal as it is. Oriented like the vertex normals.
+    pub fn shading_normal(&self, hit: &Hit<F>) -> F::Vec3 {
+        let i = hit.patch as usize;
+        match (self.normals, self.seams.get(i), self.patches.get(i)) {
+            (Normals::Seamless, Some(seam), Some(patch)) => {
+                seam.correct(patch, hit.w1, hit.w2, hit.normal)
+            }
+            _ => hit.normal,
+        }
     }
 
     /// The BVH over [`Scene::patches`].
