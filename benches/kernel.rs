@@ -66,51 +66,6 @@ fn bench_kernel(c: &mut Criterion) {
     smooth_benches!(0, 2, 4, 8, 16);
     g.finish();
 
-    // Work per patch test (deterministic): mean lane calls over the rays that reach
-    // bracketing (eight height evaluations per call), against the bound max_lane_calls(K, N).
-    println!("\n| N | f32 mean lane calls | f64 mean lane calls | bound (no early stop) |");
-    println!("|---|---|---|---|");
-    macro_rules! calls {
-        ($n:literal) => {{
-            let mean = |evals: Vec<u32>| {
-                let searched: Vec<u32> = evals.into_iter().filter(|&e| e > 0).collect();
-                searched.iter().map(|&e| f64::from(e) / 8.0).sum::<f64>() / searched.len() as f64
-            };
-            let e32 = s
-                .rays32
-                .iter()
-                .map(|r| {
-                    s.p32
-                        .intersect_stats::<DEFAULT_SAMPLES, $n>(r, 0.0, f32::INFINITY)
-                        .1
-                        .height_evals
-                })
-                .collect();
-            let e64 = s
-                .rays64
-                .iter()
-                .map(|r| {
-                    s.p64
-                        .intersect_stats::<DEFAULT_SAMPLES, $n>(r, 0.0, f64::INFINITY)
-                        .1
-                        .height_evals
-                })
-                .collect();
-            println!(
-                "| {} | {:.2} | {:.2} | {} |",
-                $n,
-                mean(e32),
-                mean(e64),
-                max_lane_calls(DEFAULT_SAMPLES, $n)
-            );
-        }};
-    }
-    calls!(0);
-    calls!(2);
-    calls!(4);
-    calls!(8);
-    calls!(16);
-
     let mesh = torus(8, 8, 1.0, 0.4);
     let tris = triangles32(&mesh);
     let mut g = c.benchmark_group("patch_construction_128_patches");
@@ -265,6 +220,51 @@ fn summary() {
         frow!(0);
         frow!(8);
     }
+
+    // Work per patch test (deterministic): mean lane calls over the rays that reach
+    // bracketing (eight height evaluations per call), against the bound max_lane_calls(K, N).
+    println!("\n| N | f32 mean lane calls | f64 mean lane calls | bound (no early stop) |");
+    println!("|---|---|---|---|");
+    macro_rules! calls {
+        ($n:literal) => {{
+            let mean = |evals: Vec<u32>| {
+                let searched: Vec<u32> = evals.into_iter().filter(|&e| e > 0).collect();
+                searched.iter().map(|&e| f64::from(e) / 8.0).sum::<f64>() / searched.len() as f64
+            };
+            let e32 = s
+                .rays32
+                .iter()
+                .map(|r| {
+                    s.p32
+                        .intersect_stats::<DEFAULT_SAMPLES, $n>(r, 0.0, f32::INFINITY)
+                        .1
+                        .height_evals
+                })
+                .collect();
+            let e64 = s
+                .rays64
+                .iter()
+                .map(|r| {
+                    s.p64
+                        .intersect_stats::<DEFAULT_SAMPLES, $n>(r, 0.0, f64::INFINITY)
+                        .1
+                        .height_evals
+                })
+                .collect();
+            println!(
+                "| {} | {:.2} | {:.2} | {} |",
+                $n,
+                mean(e32),
+                mean(e64),
+                max_lane_calls(DEFAULT_SAMPLES, $n)
+            );
+        }};
+    }
+    calls!(0);
+    calls!(2);
+    calls!(4);
+    calls!(8);
+    calls!(16);
 
     let mesh = torus(8, 8, 1.0, 0.4);
     let tris = triangles32(&mesh);
