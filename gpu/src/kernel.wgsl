@@ -41,6 +41,12 @@ const RHO_START: f32 = 0.0625;
 const RHO_GROWTH: f32 = 4.0;
 const RHO_MAX: f32 = 0.25;
 const INNER: f32 = 0.125;
+// Rounding allowance of t_error, in ulps of the patch's extent L (`pt.scale`; the CPU's
+// `smoothtri::kernel::ROUNDING_ULPS`); also the snap of f at the shell interval's ends.
+const ROUNDING_ULPS: f32 = 16.0;
+// Side walls moved outward by this many ulps of L (the CPU's `kernel::WALL_MARGIN_ULPS`), so
+// that neighbours' domains overlap at shared edges.
+const WALL_MARGIN_ULPS: f32 = 8.0;
 // Status bits.
 const STATUS_CORRUPT: u32 = 1u;
 const STATUS_STACK: u32 = 2u;
@@ -417,8 +423,19 @@ fn shell_interval(pt: Patch, o: vec3<f32>, r: vec3<f32>, tau_lo: f32, tau_hi: f3
     let v0 = pt.d0 * r.z - r.xy;
     let v1 = pt.d1 * r.z - r.xy;
     let v2 = pt.d2 * r.z - r.xy;
-    let polys = array<vec3<f32>, 3>(cross2_poly(u1, v1, u2, v2), cross2_poly(u2, v2, u0, v0),
-        cross2_poly(u0, v0, u1, v1));
+    let w0 = cross2_poly(u1, v1, u2, v2);
+    let w1 = cross2_poly(u2, v2, u0, v0);
+    let w2 = cross2_poly(u0, v0, u1, v1);
+    // The walls Xk = −margin (core/src/kernel/mod.rs `wall_margin`): the margin's world width
+    // WALL_MARGIN_ULPS·ε·L over the triangle's smallest altitude 2·area / longest edge.
+    let longest = sqrt(max(max(pt.p1x * pt.p1x, pt.p2x * pt.p2x + pt.p2y * pt.p2y),
+        (pt.p2x - pt.p1x) * (pt.p2x - pt.p1x) + pt.p2y * pt.p2y));
+    var margin = WALL_MARGIN_ULPS * EPS * pt.scale * longest / (pt.p1x * pt.p2y);
+    if (!fin(margin)) {
+        margin = 0.0;
+    }
+    let sum = w0 + w1 + w2;
+    let polys = array<vec3<f32>, 3>(w0 + margin * sum, w1 + margin * sum, w2 + margin * sum);
     var brk = array<f32, 8>(tau_lo, tau_hi, tau_hi, tau_hi, tau_hi, tau_hi, tau_hi, tau_hi);
     var count = 1u;
     for (var k = 0u; k < 3u; k++) {
@@ -543,15 +560,16 @@ fn smooth_crossing(id: u32, o: vec3<f32>, d: vec3<f32>, inv: vec3<f32>, t_min: f
     var br = Bracket(0.0, 0.0, 0.0, 0.0);
     var x0 = shell.a;
     var f0 = 0.0;
+    // f at the interval's ends within the rounding of f counts as zero (the CPU's
+    // `refine::bracket_step`): neighbours decide a crossing at their shared wall alike.
+    let snap = ROUNDING_ULPS * EPS * pt.scale;
     for (var j = 0u; j < SAMPLES + 2u; j++) {
         let x1 = select(shell.a + stp * f32(j), shell.b, j >= SAMPLES + 1u);
-        let f1 = f_at(pt, lo, lr, x1);
-        if (f1 == 0.0) {
-            br = Bracket(x1, x1, f1, f1);
-            found = true;
-            break;
+        var f1 = f_at(pt, lo, lr, x1);
+        if ((j == 0u || j == SAMPLES + 1u) && abs(f1) <= snap) {
+            f1 = 0.0;
         }
-        if (j > 0u && (f1 > 0.0) != (f0 > 0.0)) {
+        if (j > 0u && (f0 == 0.0 || f1 == 0.0 || (f1 > 0.0) != (f0 > 0.0))) {
             br = Bracket(x0, x1, f0, f1);
             found = true;
             break;
@@ -568,7 +586,7 @@ fn smooth_crossing(id: u32, o: vec3<f32>, d: vec3<f32>, inv: vec3<f32>, t_min: f
     var stop = 0.0;
     if (first.b > first.a) {
         let s0 = abs(first.fb - first.fa) / (first.b - first.a);
-        let floor = 16.0 * EPS * pt.scale / select(1.0, s0, s0 > 0.0);
+        let floor = ROUNDING_ULPS * EPS * pt.scale / select(1.0, s0, s0 > 0.0);
         if (s0 > 0.0 && fin(floor)) {
             stop = EARLY_STOP * floor;
         }
@@ -642,9 +660,9 @@ fn smooth_crossing(id: u32, o: vec3<f32>, d: vec3<f32>, inv: vec3<f32>, t_min: f
     let bc = bary(pt, lo + lr * tau);
     // Re-basing can round the hit an ulp outside the caller's range: clamp it.
     let t = min(max(t0 + tau, t_min), t_max);
-    // Rounding allowance 16 ε L / |f′|, f′ the smaller of the sampling bracket's and the final
-    // bracket's secants (near convergence the final bracket's end values are rounding noise and
-    // its secant alone can be far too steep), as on the CPU.
+    // Rounding allowance ROUNDING_ULPS ε L / |f′|, f′ the smaller of the sampling bracket's and
+    // the final bracket's secants (near convergence the final bracket's end values are rounding
+    // noise and its secant alone can be far too steep), as on the CPU.
     var slope: f32 = 0.0;
     var s_first: f32 = 0.0;
     if (first.b > first.a) {
@@ -656,11 +674,13 @@ fn smooth_crossing(id: u32, o: vec3<f32>, d: vec3<f32>, inv: vec3<f32>, t_min: f
     } else {
         slope = s_first;
     }
-    var rounding = 16.0 * EPS * pt.scale / select(1.0, slope, slope > 0.0);
+    var rounding = ROUNDING_ULPS * EPS * pt.scale / select(1.0, slope, slope > 0.0);
     if (!(slope > 0.0) || !fin(rounding)) {
         rounding = 0.0;
     }
-    let t_error = (br.b - br.a) + rounding;
+    // A zero at an end of the bracket is the root up to the rounding of f (as on the CPU).
+    let width = select(br.b - br.a, 0.0, br.fa == 0.0 || br.fb == 0.0);
+    let t_error = width + rounding;
     if (fin(t) && fin(t_error)) {
         return Crossing(true, t, t_error, bc);
     }

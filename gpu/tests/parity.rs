@@ -347,11 +347,12 @@ fn grazing_rays_give_finite_answers() {
     assert!(hits > 1000, "{hits}");
 }
 
-/// The shader's refinement constants are the CPU kernel's (one source of truth per figure:
+/// The shader's refinement, rounding and wall-margin constants are the CPU kernel's (one source of truth per figure:
 /// the WGSL repeats them, this test keeps them equal).
 #[test]
 fn shader_constants_match_the_cpu_kernel() {
     use smoothtri::kernel::refine::{EARLY_STOP, INNER, RHO_GROWTH, RHO_MAX, RHO_START};
+    use smoothtri::kernel::{ROUNDING_ULPS, WALL_MARGIN_ULPS};
     let value = |name: &str| -> f64 {
         let decl = format!("const {name}: f32 = ");
         let at = smoothtri_gpu::SHADER
@@ -367,6 +368,8 @@ fn shader_constants_match_the_cpu_kernel() {
         ("RHO_GROWTH", RHO_GROWTH),
         ("RHO_MAX", RHO_MAX),
         ("INNER", INNER),
+        ("ROUNDING_ULPS", ROUNDING_ULPS),
+        ("WALL_MARGIN_ULPS", WALL_MARGIN_ULPS),
     ] {
         assert_eq!(value(name), cpu, "{name}");
     }

@@ -68,9 +68,11 @@ pub(crate) fn bary_numerators<F: Float>(shape: &Shape<F>, x: V3<F>) -> ([F; 3], 
     (n, n0 + n1 + n2)
 }
 
-/// Coefficients (in `τ`) of the three wall quadratics `num_k(τ)` along the local ray.
+/// Coefficients (in `τ`) of the three wall quadratics `num_k(τ) + margin · Σ_j num_j(τ)` along
+/// the local ray: the walls `Xk = −margin` (`Σ_j num_j`, twice the cross-section's area, is
+/// positive in a valid shell).
 #[inline(always)]
-fn wall_polys<F: Float>(shape: &Shape<F>, ray: &LocalRay<F>) -> [[F; 3]; 3] {
+fn wall_polys<F: Float>(shape: &Shape<F>, ray: &LocalRay<F>, margin: F) -> [[F; 3]; 3] {
     let o = ray.o;
     let r = ray.r;
     // a_i(τ) − q(τ) = (p_i + o.z·d_i − o) + τ (r.z·d_i − r), in the xy-plane.
@@ -80,27 +82,40 @@ fn wall_polys<F: Float>(shape: &Shape<F>, ray: &LocalRay<F>) -> [[F; 3]; 3] {
     let (u0, v0) = lin(p0, d0);
     let (u1, v1) = lin(p1, d1);
     let (u2, v2) = lin(p2, d2);
-    [
+    let w = [
         cross2_poly(u1, v1, u2, v2),
         cross2_poly(u2, v2, u0, v0),
         cross2_poly(u0, v0, u1, v1),
-    ]
+    ];
+    let [w0, w1, w2] = w;
+    let sum: [F; 3] = core::array::from_fn(|i| {
+        let at = |c: [F; 3]| c.get(i).copied().unwrap_or(F::ZERO);
+        at(w0) + at(w1) + at(w2)
+    });
+    w.map(|c| {
+        let mut out = c;
+        for (o, s) in out.iter_mut().zip(sum) {
+            *o += margin * s;
+        }
+        out
+    })
 }
 
 /// Maximum number of breakpoints (two interval ends and two roots per wall).
 const MAX_BREAKS: usize = 8;
 
 /// The parameter interval `[τa, τb]` of the local ray inside the shell: the hull of the
-/// sub-intervals of `[τ_lo, τ_hi]` (already clipped to the slab) where all three walls are
-/// satisfied. Fixed work: at most 8 breakpoints, sorted by a fixed network, 7 midpoint tests.
+/// sub-intervals of `[τ_lo, τ_hi]` (already clipped to the slab) where all three walls, each
+/// moved outward by the barycentric `margin` (`crate::kernel::wall_margin`), are satisfied. Fixed work: at most 8 breakpoints, sorted by a fixed network, 7 midpoint tests.
 #[inline(always)]
 pub(crate) fn shell_interval<F: Float>(
     shape: &Shape<F>,
     ray: &LocalRay<F>,
     tau_lo: F,
     tau_hi: F,
+    margin: F,
 ) -> Option<(F, F)> {
-    let polys = wall_polys(shape, ray);
+    let polys = wall_polys(shape, ray, margin);
     let mut brk = [tau_hi; MAX_BREAKS];
     let mut count = 1usize;
     if let Some(b) = brk.get_mut(0) {

@@ -18,8 +18,8 @@ use crate::patch::Patch;
 use crate::ray::Ray;
 use crate::real::Float;
 
-use super::refine::{Bracket, ItpLane};
-use super::{Clipped, Crossing, clip_ray, complete, rounding_allowance, secant};
+use super::refine::{Bracket, ItpLane, bracket_step};
+use super::{Clipped, Crossing, clip_ray, complete, end_snap, rounding_allowance, secant};
 use crate::height::{Prepared, f_lanes};
 
 /// The crossings of up to eight rays with `patch` (`active[i]` false: lane `i` is skipped),
@@ -71,6 +71,7 @@ pub(crate) fn crossings_packet<F: Float, const K: usize, const N: usize>(
             None => F::ZERO,
         }
     };
+    let snap = end_snap(patch);
     let mut prev: [(F, F); LANES] = [(F::ZERO, F::ZERO); LANES];
     let mut found: [Option<Bracket<F>>; LANES] = [None; LANES];
     let mut open = clipped.map(|c| c.is_some_and(|c| c.b >= c.a));
@@ -90,22 +91,9 @@ pub(crate) fn crossings_packet<F: Float, const K: usize, const N: usize>(
             if !*op {
                 continue;
             }
-            let (x0, f0) = *p;
-            if f1 == F::ZERO {
-                *fd = Some(Bracket {
-                    a: x1,
-                    b: x1,
-                    fa: f1,
-                    fb: f1,
-                });
-                *op = false;
-            } else if j > 0 && (f1 > F::ZERO) != (f0 > F::ZERO) {
-                *fd = Some(Bracket {
-                    a: x0,
-                    b: x1,
-                    fa: f0,
-                    fb: f1,
-                });
+            let (f1, br) = bracket_step(j, K + 1, *p, (x1, f1), snap);
+            if br.is_some() {
+                *fd = br;
                 *op = false;
             }
             *p = (x1, f1);

@@ -116,12 +116,49 @@ impl<F: Float> Bracket<F> {
     }
 }
 
+/// One bracketing sample: `f(x1) = f1` at sample `j` of `0..=last` after `(x0, f0)` at `j − 1`.
+/// Returns the value to carry on (an end sample within `snap` of zero counts as zero) and the
+/// bracket when the samples so far change sign or meet a zero: `[x0, x1]` with the zero kept at
+/// its end (so the secant slope of the bracket, used by the rounding allowance, stays defined).
+///
+/// The snap decides a crossing at the shell interval's ends, where two patches sharing an edge
+/// meet (docs/METHOD.md §8, "Shared edges"): each patch computes `f` at the shared wall in its
+/// own frame, and within rounding of a crossing there the two signs are independent, so without
+/// it a ray through the edge can see no sign change in either patch.
+#[inline(always)]
+pub(crate) fn bracket_step<F: Float>(
+    j: usize,
+    last: usize,
+    (x0, f0): (F, F),
+    (x1, f1): (F, F),
+    snap: F,
+) -> (F, Option<Bracket<F>>) {
+    let f1 = if (j == 0 || j == last) && f1.abs() <= snap {
+        F::ZERO
+    } else {
+        f1
+    };
+    if j == 0 {
+        return (f1, None);
+    }
+    let br = Bracket {
+        a: x0,
+        b: x1,
+        fa: f0,
+        fb: f1,
+    };
+    let change = f0 == F::ZERO || f1 == F::ZERO || (f1 > F::ZERO) != (f0 > F::ZERO);
+    (f1, if change { Some(br) } else { None })
+}
+
 /// Samples `f` at `a`, `K` interior points and `b`, eight per call of `f8`, and returns the
-/// first bracket with a sign change (or an exact zero). At most `⌈(K + 2)/8⌉` calls.
+/// first bracket with a sign change or a zero ([`bracket_step`]: values at `a` and `b` within
+/// `snap` of zero count as zero). At most `⌈(K + 2)/8⌉` calls.
 #[inline(always)]
 pub(crate) fn first_sign_change<F: Float, const K: usize>(
     a: F,
     b: F,
+    snap: F,
     f8: &mut impl FnMut([F; LANES]) -> [F; LANES],
 ) -> Option<Bracket<F>> {
     if !(b >= a) {
@@ -144,16 +181,9 @@ pub(crate) fn first_sign_change<F: Float, const K: usize>(
             if j > K + 1 {
                 break;
             }
-            if f1 == F::ZERO {
-                return Some(Bracket::at(x1, f1));
-            }
-            if j > 0 && (f1 > F::ZERO) != (f0 > F::ZERO) {
-                return Some(Bracket {
-                    a: x0,
-                    b: x1,
-                    fa: f0,
-                    fb: f1,
-                });
+            let (f1, br) = bracket_step(j, K + 1, (x0, f0), (x1, f1), snap);
+            if br.is_some() {
+                return br;
             }
             (x0, f0) = (x1, f1);
         }
