@@ -198,7 +198,7 @@ pub fn inspect<F: Prec>(name: &str, mesh: &Mesh) -> Result<String> {
         "bounding box: min ({}, {}, {})  max ({}, {}, {})  diagonal {}",
         lo.x, lo.y, lo.z, hi.x, hi.y, hi.z, diag
     );
-    let scene = Scene::<F>::build(mesh);
+    let scene = Scene::<F>::build(mesh).and_then(|mut sc| sc.fit_seams(mesh).map(|()| sc));
     let scene = match scene {
         Ok(sc) => Some(sc),
         Err(e) => {

@@ -114,7 +114,10 @@ fn render_panel<F: Prec>(
     normals: Normals,
 ) -> Result<Panel> {
     let mut scene = build_scene::<F>(mesh, note)?;
-    scene.normals = normals;
+    // Only the smooth mode shades with the seams.
+    if normals == Normals::Seamless && mode == Mode::Smooth {
+        scene.fit_seams(mesh)?;
+    }
     let t = tracer::<F>(mode, n)?;
     let r = crate::renderer::render(&scene, cam, t, mesh.diagonal(), true);
     Ok(Panel::from(r))
