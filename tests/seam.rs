@@ -4,36 +4,13 @@
 //! `cargo test --release --test seam -- --nocapture` prints the measured values.
 
 mod common;
-use std::collections::HashMap;
 
 use common::*;
 use glam::DVec3;
 use smoothtri::accuracy::*;
 use smoothtri::seam::{FIT_SAMPLES, TWIST_TERMS};
-use smoothtri::{Float, Patch, Seam, SeamEdge, SeamError, fit_seams};
+use smoothtri::{Patch, Seam, SeamEdge, SeamError, fit_seams};
 use smoothtri_demo::scenes::{self, Mesh};
-
-/// The two precisions, with conversions from and to the `f64` mesh data.
-trait P: Float {
-    fn v(d: DVec3) -> Self::Vec3;
-    fn d(v: Self::Vec3) -> DVec3;
-}
-impl P for f32 {
-    fn v(d: DVec3) -> glam::Vec3 {
-        d.as_vec3()
-    }
-    fn d(v: glam::Vec3) -> DVec3 {
-        v.as_dvec3()
-    }
-}
-impl P for f64 {
-    fn v(d: DVec3) -> DVec3 {
-        d
-    }
-    fn d(v: DVec3) -> DVec3 {
-        v
-    }
-}
 
 /// The patches of `mesh` (every triangle accepted, some perhaps with clamped normals:
 /// [`Patch::new_or_tilted`]) and their fitted seams, with the number of shared edges fitted.
@@ -63,25 +40,6 @@ fn edge_bary(e: usize, t: f64) -> (f64, f64) {
     w[e % 3] = 1.0 - t;
     w[(e + 1) % 3] = t;
     (w[1], w[2])
-}
-
-/// Interior edges by vertex indices: (triangle A, its edge, triangle B, its edge), B
-/// traversing the edge the other way.
-fn interior_edges(mesh: &Mesh) -> Vec<(usize, usize, usize, usize)> {
-    let mut map: HashMap<(u32, u32), Vec<(usize, usize)>> = HashMap::new();
-    for (t, tri) in mesh.triangles.iter().enumerate() {
-        for j in 0..3 {
-            let (a, b) = (tri[j], tri[(j + 1) % 3]);
-            map.entry((a.min(b), a.max(b))).or_default().push((t, j));
-        }
-    }
-    let mut out: Vec<_> = map
-        .values()
-        .filter(|l| l.len() == 2)
-        .map(|l| (l[0].0, l[0].1, l[1].0, l[1].1))
-        .collect();
-    out.sort_unstable();
-    out
 }
 
 fn angle_deg(a: DVec3, b: DVec3) -> f64 {
@@ -178,29 +136,6 @@ fn jumps<F: P>(
     }
     let n = edges.len() as f64;
     (smax, ssum / n, gmax, gsum / n)
-}
-
-/// The icosphere of level 3 with vertices moved tangentially by up to 0.3 of an edge and
-/// radially by ±2 %, and normals tilted from the radial direction by up to 20° (deterministic):
-/// an irregular closed mesh whose neighbouring patches' edge curves part (cracks).
-fn irregular() -> Mesh {
-    let mut m = scenes::icosphere(3, 1.0);
-    let mut rng = Rng(12);
-    let t0 = m.triangles[0];
-    let edge = (m.positions[t0[0] as usize] - m.positions[t0[1] as usize]).length();
-    for i in 0..m.positions.len() {
-        let p = m.positions[i];
-        let u = rng.unit();
-        let tang = (u - p * u.dot(p)).normalize_or_zero();
-        let q = (p + tang * (0.3 * edge * rng.f())).normalize() * rng.range(0.98, 1.02);
-        m.positions[i] = q;
-        let nr = q.normalize();
-        let w = rng.unit();
-        let ax = (w - nr * w.dot(nr)).normalize_or_zero();
-        let ang = rng.range(0.0, 20.0).to_radians();
-        m.normals[i] = nr * ang.cos() + ax * ang.sin();
-    }
-    m
 }
 
 #[test]

@@ -6,52 +6,11 @@
 //! `cargo test --release --test watertight -- --nocapture` prints the counts.
 
 mod common;
-use std::collections::HashMap;
 
 use common::*;
 use glam::DVec3;
-use smoothtri::{Bvh, BvhNode, Float, Patch, Ray};
+use smoothtri::{Bvh, BvhNode, Patch, Ray};
 use smoothtri_demo::scenes::{self, Mesh};
-
-/// The two precisions, with conversions from and to the `f64` mesh data.
-trait P: Float {
-    fn v(d: DVec3) -> Self::Vec3;
-    fn d(v: Self::Vec3) -> DVec3;
-}
-impl P for f32 {
-    fn v(d: DVec3) -> glam::Vec3 {
-        d.as_vec3()
-    }
-    fn d(v: glam::Vec3) -> DVec3 {
-        v.as_dvec3()
-    }
-}
-impl P for f64 {
-    fn v(d: DVec3) -> DVec3 {
-        d
-    }
-    fn d(v: DVec3) -> DVec3 {
-        v
-    }
-}
-
-/// Interior edges: (triangle A, its edge, triangle B, its edge), B traversing it the other way.
-fn interior_edges(mesh: &Mesh) -> Vec<(usize, usize, usize, usize)> {
-    let mut map: HashMap<(u32, u32), Vec<(usize, usize)>> = HashMap::new();
-    for (t, tri) in mesh.triangles.iter().enumerate() {
-        for j in 0..3 {
-            let (a, b) = (tri[j], tri[(j + 1) % 3]);
-            map.entry((a.min(b), a.max(b))).or_default().push((t, j));
-        }
-    }
-    let mut out: Vec<_> = map
-        .values()
-        .filter(|l| l.len() == 2)
-        .map(|l| (l[0].0, l[0].1, l[1].0, l[1].1))
-        .collect();
-    out.sort_unstable();
-    out
-}
 
 fn diagonal(mesh: &Mesh) -> f64 {
     let (mut lo, mut hi) = (DVec3::splat(f64::MAX), DVec3::splat(f64::MIN));
@@ -204,16 +163,21 @@ fn shared_curve_meshes() -> Vec<(&'static str, Mesh)> {
     ]
 }
 
+/// Crack width and the fall-through counts of [`fall_through`] in `f32` and `f64`, printed.
+fn measure(name: &str, mesh: &Mesh) -> (f64, [usize; 4], [usize; 4]) {
+    let crack = crack_width(mesh);
+    let e32 = fall_through::<f32>(mesh, 12, 1);
+    let e64 = fall_through::<f64>(mesh, 12, 2);
+    eprintln!(
+        "{name}: crack {crack:.1e} of the diagonal; fell through (at the curve, near it, between the curves) f32 {e32:?}, f64 {e64:?}"
+    );
+    (crack, e32, e64)
+}
+
 #[test]
 fn rays_at_shared_edges_never_fall_through() {
     for (name, mesh) in shared_curve_meshes() {
-        let crack = crack_width(&mesh);
-        let e32 = fall_through::<f32>(&mesh, 12, 1);
-        let e64 = fall_through::<f64>(&mesh, 12, 2);
-        eprintln!(
-            "{name}: crack {crack:.1e} of the diagonal; fell through (at the curve, near it, between the curves) f32 {:?}, f64 {:?}",
-            e32, e64
-        );
+        let (crack, e32, e64) = measure(name, &mesh);
         assert!(
             crack < 1e-15,
             "{name}: the neighbours' curves part by {crack:e}"
@@ -222,29 +186,6 @@ fn rays_at_shared_edges_never_fall_through() {
         assert_eq!(e64[..3], [0, 0, 0], "{name}: f64");
         assert!(e32[3] >= 200, "{name}: {} rays", e32[3]);
     }
-}
-
-/// The icosphere of level 3 with vertices moved tangentially by up to 0.3 of an edge and
-/// radially by ±2 %, and normals tilted from the radial direction by up to 20° (deterministic):
-/// an irregular closed mesh whose neighbouring patches' edge curves part (cracks).
-fn irregular() -> Mesh {
-    let mut m = scenes::icosphere(3, 1.0);
-    let mut rng = Rng(12);
-    let t0 = m.triangles[0];
-    let edge = (m.positions[t0[0] as usize] - m.positions[t0[1] as usize]).length();
-    for i in 0..m.positions.len() {
-        let p = m.positions[i];
-        let u = rng.unit();
-        let tang = (u - p * u.dot(p)).normalize_or_zero();
-        let q = (p + tang * (0.3 * edge * rng.f())).normalize() * rng.range(0.98, 1.02);
-        m.positions[i] = q;
-        let nr = q.normalize();
-        let w = rng.unit();
-        let ax = (w - nr * w.dot(nr)).normalize_or_zero();
-        let ang = rng.range(0.0, 20.0).to_radians();
-        m.normals[i] = nr * ang.cos() + ax * ang.sin();
-    }
-    m
 }
 
 /// Meshes whose neighbours' edge curves part (each patch's curve depends on its own face
@@ -257,13 +198,7 @@ fn cracked_meshes() {
         ("irregular icosphere(3)", irregular()),
         ("teapot", scenes::teapot(4)),
     ] {
-        let crack = crack_width(&mesh);
-        let e32 = fall_through::<f32>(&mesh, 12, 1);
-        let e64 = fall_through::<f64>(&mesh, 12, 2);
-        eprintln!(
-            "{name}: crack {crack:.1e} of the diagonal; fell through (at the curve, near it, between the curves) f32 {:?}, f64 {:?}",
-            e32, e64
-        );
+        let (crack, e32, e64) = measure(name, &mesh);
         assert!(
             crack > 1e-6,
             "{name}: no crack ({crack:e}): move it to the shared meshes"

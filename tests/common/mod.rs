@@ -2,7 +2,11 @@
 //! data loading.
 #![allow(dead_code)]
 
+use std::collections::HashMap;
+
 use glam::DVec3;
+use smoothtri::Float;
+use smoothtri_demo::scenes::{self, Mesh};
 
 /// Asserts `|a − b| ≤ tol`, printing both values (glam's `assert_approx_eq!` style).
 #[macro_export]
@@ -231,4 +235,68 @@ pub fn skinny(
     let b = offset + eu * (0.5 * size);
     let c = a + eu * (x * size) + ev * (size / aspect);
     ([a, b, c], nf)
+}
+
+/// The two precisions, with conversions from and to the `f64` mesh data.
+pub trait P: Float {
+    fn v(d: DVec3) -> Self::Vec3;
+    fn d(v: Self::Vec3) -> DVec3;
+}
+impl P for f32 {
+    fn v(d: DVec3) -> glam::Vec3 {
+        d.as_vec3()
+    }
+    fn d(v: glam::Vec3) -> DVec3 {
+        v.as_dvec3()
+    }
+}
+impl P for f64 {
+    fn v(d: DVec3) -> DVec3 {
+        d
+    }
+    fn d(v: DVec3) -> DVec3 {
+        v
+    }
+}
+
+/// Interior edges by vertex indices: (triangle A, its edge, triangle B, its edge), B
+/// traversing the edge the other way.
+pub fn interior_edges(mesh: &Mesh) -> Vec<(usize, usize, usize, usize)> {
+    let mut map: HashMap<(u32, u32), Vec<(usize, usize)>> = HashMap::new();
+    for (t, tri) in mesh.triangles.iter().enumerate() {
+        for j in 0..3 {
+            let (a, b) = (tri[j], tri[(j + 1) % 3]);
+            map.entry((a.min(b), a.max(b))).or_default().push((t, j));
+        }
+    }
+    let mut out: Vec<_> = map
+        .values()
+        .filter(|l| l.len() == 2)
+        .map(|l| (l[0].0, l[0].1, l[1].0, l[1].1))
+        .collect();
+    out.sort_unstable();
+    out
+}
+
+/// The icosphere of level 3 with vertices moved tangentially by up to 0.3 of an edge and
+/// radially by ±2 %, and normals tilted from the radial direction by up to 20° (deterministic):
+/// an irregular closed mesh whose neighbouring patches' edge curves part (cracks).
+pub fn irregular() -> Mesh {
+    let mut m = scenes::icosphere(3, 1.0);
+    let mut rng = Rng(12);
+    let t0 = m.triangles[0];
+    let edge = (m.positions[t0[0] as usize] - m.positions[t0[1] as usize]).length();
+    for i in 0..m.positions.len() {
+        let p = m.positions[i];
+        let u = rng.unit();
+        let tang = (u - p * u.dot(p)).normalize_or_zero();
+        let q = (p + tang * (0.3 * edge * rng.f())).normalize() * rng.range(0.98, 1.02);
+        m.positions[i] = q;
+        let nr = q.normalize();
+        let w = rng.unit();
+        let ax = (w - nr * w.dot(nr)).normalize_or_zero();
+        let ang = rng.range(0.0, 20.0).to_radians();
+        m.normals[i] = nr * ang.cos() + ax * ang.sin();
+    }
+    m
 }
