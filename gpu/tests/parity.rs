@@ -374,3 +374,68 @@ fn shader_constants_match_the_cpu_kernel() {
         assert_eq!(value(name), cpu, "{name}");
     }
 }
+
+/// Watertightness on the GPU (docs/METHOD.md §8, "Shared edges"; the CPU's
+/// `tests/watertight.rs`): rays aimed from outside at points of shared edge curves (vertices
+/// included), up to 80° off both neighbours' normals, all hit there (or in front), none passes
+/// through, on meshes whose neighbours share their curves.
+#[test]
+fn rays_at_shared_edges_never_fall_through() {
+    let Some(gpu) = gpu() else { return };
+    for (name, mesh) in [
+        ("torus 8x8", torus(8, 8, 1.0, 0.4)),
+        ("icosphere(2)", icosphere(2, 1.0)),
+    ] {
+        let patches = patches32(&mesh);
+        // Each interior edge once: (triangle, its edge, the neighbour, its edge).
+        let mut first = std::collections::HashMap::new();
+        let mut edges = Vec::new();
+        for (t, tri) in mesh.triangles.iter().enumerate() {
+            for e in 0..3 {
+                let (a, b) = (tri[e], tri[(e + 1) % 3]);
+                if let Some((ta, ea)) = first.insert((a.min(b), a.max(b)), (t, e)) {
+                    edges.push((ta, ea, t, e));
+                }
+            }
+        }
+        let normal = |p: &Patch, e: usize, t: f32| {
+            let mut w = [0.0f32; 3];
+            w[e] = 1.0 - t;
+            w[(e + 1) % 3] = t;
+            p.point_normal(w[1], w[2]).1
+        };
+        let (dist, slack) = (2.0f32, 0.02f32);
+        let cos_max = 80f64.to_radians().cos() as f32;
+        let mut rng = Rng(9);
+        let mut rays = Vec::new();
+        for &(ta, ea, tb, eb) in &edges {
+            for k in 0..12 {
+                let t = if k < 2 { k as f32 } else { rng.f() as f32 };
+                let c = patches[ta].edge_point_normal(ea, t).0;
+                let (na, nb) = (
+                    normal(&patches[ta], ea, t),
+                    normal(&patches[tb], eb, 1.0 - t),
+                );
+                let u = loop {
+                    let u = rng.unit().as_vec3();
+                    if u.dot(na) >= cos_max && u.dot(nb) >= cos_max {
+                        break u;
+                    }
+                };
+                rays.push(Ray::new(c + u * dist, -u));
+            }
+        }
+        let tree = Tree::new(&patches);
+        let scene = GpuScene::smooth(&gpu, &tree.bvh(&patches)).expect("upload");
+        let mut got = vec![None; rays.len()];
+        scene
+            .closest_hit::<N>(&rays, 0.0, f32::INFINITY, &mut got)
+            .expect("trace");
+        let through = got
+            .iter()
+            .filter(|h| h.is_none_or(|h| h.t > dist + slack))
+            .count();
+        eprintln!("{name}: {through} of {} rays fell through", rays.len());
+        assert_eq!(through, 0, "{name}");
+    }
+}
