@@ -300,3 +300,101 @@ pub fn irregular() -> Mesh {
     }
     m
 }
+
+/// Indexed mesh with per-vertex normals: the stress meshes (`tests/stress_meshes.rs`,
+/// `tests/watertight.rs`).
+pub struct M {
+    pub p: Vec<DVec3>,
+    pub n: Vec<DVec3>,
+    pub t: Vec<[usize; 3]>,
+}
+
+impl M {
+    /// The same mesh as the demo's [`Mesh`].
+    pub fn to_mesh(&self) -> Mesh {
+        Mesh {
+            positions: self.p.clone(),
+            normals: self.n.clone(),
+            triangles: self.t.iter().map(|t| t.map(|i| i as u32)).collect(),
+        }
+    }
+}
+
+/// Area-weighted averaged vertex normals of an indexed mesh.
+pub fn averaged(p: Vec<DVec3>, t: Vec<[usize; 3]>) -> M {
+    let mut n = vec![DVec3::ZERO; p.len()];
+    for &[a, b, c] in &t {
+        let f = (p[b] - p[a]).cross(p[c] - p[a]);
+        for i in [a, b, c] {
+            n[i] += f;
+        }
+    }
+    M {
+        n: n.iter().map(|v| v.normalize()).collect(),
+        p,
+        t,
+    }
+}
+
+pub fn box_mesh(sx: f64, sy: f64, sz: f64) -> M {
+    let p: Vec<DVec3> = (0..8)
+        .map(|k| {
+            DVec3::new(
+                if k & 1 != 0 { sx } else { -sx },
+                if k & 2 != 0 { sy } else { -sy },
+                if k & 4 != 0 { sz } else { -sz },
+            ) * 0.5
+        })
+        .collect();
+    let quads = [
+        [0, 2, 3, 1],
+        [4, 5, 7, 6],
+        [0, 1, 5, 4],
+        [2, 6, 7, 3],
+        [0, 4, 6, 2],
+        [1, 3, 7, 5],
+    ];
+    let t = quads
+        .iter()
+        .flat_map(|&[a, b, c, d]| [[a, b, c], [a, c, d]])
+        .collect();
+    averaged(p, t)
+}
+
+/// Low-poly closed cylinder (radius 1, height 2) with averaged (not split) cap normals.
+pub fn cylinder(k: usize) -> M {
+    let mut p = vec![DVec3::new(0.0, 0.0, -1.0), DVec3::new(0.0, 0.0, 1.0)];
+    for i in 0..k {
+        let a = i as f64 / k as f64 * std::f64::consts::TAU;
+        p.push(DVec3::new(a.cos(), a.sin(), -1.0));
+        p.push(DVec3::new(a.cos(), a.sin(), 1.0));
+    }
+    let mut t = Vec::new();
+    for i in 0..k {
+        let (b0, t0) = (2 + 2 * i, 3 + 2 * i);
+        let (b1, t1) = (2 + 2 * ((i + 1) % k), 3 + 2 * ((i + 1) % k));
+        t.push([b0, b1, t1]);
+        t.push([b0, t1, t0]);
+        t.push([0, b1, b0]);
+        t.push([1, t0, t1]);
+    }
+    averaged(p, t)
+}
+
+pub fn noisy_sphere(rng: &mut Rng, noise_deg: f64) -> M {
+    let ico = smoothtri_demo::scenes::icosphere(2, 1.0);
+    let n = ico
+        .normals
+        .iter()
+        .map(|&v| tilted(rng, v.normalize(), noise_deg))
+        .collect();
+    M {
+        p: ico.positions,
+        n,
+        t: ico
+            .triangles
+            .iter()
+            .map(|t| t.map(|i| i as usize))
+            .collect(),
+    }
+}
