@@ -49,6 +49,11 @@ pub struct Hit<F: Float = f32> {
     /// units of the ray's `dir`. Tests check it against analytic spheres and the f64 kernel at
     /// N = 40; in f32 against the true surface it can still be exceeded on grazing rays, where
     /// the allowance's slope estimate is poor.
+    ///
+    /// A ray whose clipped interval starts or ends within that rounding of the surface counts
+    /// the surface as hit there (what makes shared edges watertight, docs/METHOD.md §8): start
+    /// secondary rays more than a few `t_error` (or a fixed fraction of the scene) away from
+    /// the surface they leave.
     pub t_error: F,
     /// Hit point `ray.at(t)`, world coordinates.
     pub point: F::Vec3,
