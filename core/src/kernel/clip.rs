@@ -87,17 +87,16 @@ fn wall_polys<F: Float>(shape: &Shape<F>, ray: &LocalRay<F>, margin: F) -> [[F; 
         cross2_poly(u2, v2, u0, v0),
         cross2_poly(u0, v0, u1, v1),
     ];
-    let [w0, w1, w2] = w;
-    let sum: [F; 3] = core::array::from_fn(|i| {
-        let at = |c: [F; 3]| c.get(i).copied().unwrap_or(F::ZERO);
-        at(w0) + at(w1) + at(w2)
-    });
-    w.map(|c| {
-        let mut out = c;
-        for (o, s) in out.iter_mut().zip(sum) {
+    // Twice the cross-section's area, coefficient by coefficient.
+    let [mut sum, w1, w2] = w;
+    for ((s, b), c) in sum.iter_mut().zip(w1).zip(w2) {
+        *s = *s + b + c;
+    }
+    w.map(|mut c| {
+        for (o, s) in c.iter_mut().zip(sum) {
             *o += margin * s;
         }
-        out
+        c
     })
 }
 
@@ -106,7 +105,8 @@ const MAX_BREAKS: usize = 8;
 
 /// The parameter interval `[τa, τb]` of the local ray inside the shell: the hull of the
 /// sub-intervals of `[τ_lo, τ_hi]` (already clipped to the slab) where all three walls, each
-/// moved outward by the barycentric `margin` (`crate::kernel::wall_margin`), are satisfied. Fixed work: at most 8 breakpoints, sorted by a fixed network, 7 midpoint tests.
+/// moved outward by the barycentric `margin` (`crate::kernel::wall_margin`), are satisfied.
+/// Fixed work: at most 8 breakpoints, sorted by a fixed network, 7 midpoint tests.
 #[inline(always)]
 pub(crate) fn shell_interval<F: Float>(
     shape: &Shape<F>,

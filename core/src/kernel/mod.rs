@@ -89,7 +89,7 @@ pub const EXTENT_EDGES: f64 = 4.0;
 /// triangle), so a crossing found in the margin is off the patch's surface by at most the
 /// margin's width, half of the [`ROUNDING_ULPS`] allowance that every `t_error` carries.
 /// `tests/watertight.rs` aims thousands of rays per mesh at shared edge points from
-/// directions up to 85° off the normal: none falls through in `f32` or `f64`.
+/// directions up to 80° off both neighbours' normals: none falls through in `f32` or `f64`.
 pub const WALL_MARGIN_ULPS: f64 = 8.0;
 
 /// The most lane calls ([`crate::lanes`]: eight height evaluations each) that one patch test
@@ -190,9 +190,15 @@ pub(crate) fn clip_ray<F: Float>(
     if !(a <= b) {
         return None;
     }
-    let margin = wall_margin(&patch.shape, rounding_scale(patch));
-    let (a, b) = shell_interval(&patch.shape, &lray, a, b, margin)?;
-    Some(Clipped { t0, lray, a, b })
+    let scale = rounding_scale(patch);
+    let (a, b) = shell_interval(&patch.shape, &lray, a, b, wall_margin(&patch.shape, scale))?;
+    Some(Clipped {
+        t0,
+        lray,
+        a,
+        b,
+        scale,
+    })
 }
 
 /// The search part of the kernel (clip, bracket, refine) without the normal: where the ray
@@ -216,10 +222,10 @@ pub(crate) fn crossing<F: Float, const K: usize, const N: usize>(
         stats.height_evals += crate::lanes::LANES as u32;
         f_lanes(&prep, o8, r8, <F::L8 as Lane>::from_array(taus)).to_array()
     };
-    let bracket = first_sign_change::<F, K>(a, b, end_snap(patch), &mut f)?;
+    let bracket = first_sign_change::<F, K>(a, b, end_snap(cl.scale), &mut f)?;
     // The allowance of `complete` is at least the one from the sampling bracket's secant
     // (it takes the flatter of two secants): a bracket below a fraction of it is converged.
-    let floor = rounding_allowance(patch, secant(&bracket));
+    let floor = rounding_allowance(cl.scale, secant(&bracket));
     let stop = floor * F::from_f64(refine::EARLY_STOP);
     let fin = refine::<F, N>(bracket, stop, &mut f);
     complete(patch, &cl, &bracket, &fin, t_min, t_max)
@@ -234,8 +240,8 @@ pub(crate) fn secant<F: Float>(br: &refine::Bracket<F>) -> F {
 /// The rounding allowance [`ROUNDING_ULPS`]` · ε · L / slope` (`L` from [`EXTENT_EDGES`]);
 /// 0 where it is not finite (a zero slope).
 #[inline(always)]
-pub(crate) fn rounding_allowance<F: Float>(patch: &Patch<F>, slope: F) -> F {
-    let rounding = F::from_f64(ROUNDING_ULPS) * F::EPSILON * rounding_scale(patch) / slope;
+pub(crate) fn rounding_allowance<F: Float>(scale: F, slope: F) -> F {
+    let rounding = F::from_f64(ROUNDING_ULPS) * F::EPSILON * scale / slope;
     if rounding.is_fin() { rounding } else { F::ZERO }
 }
 
@@ -263,8 +269,8 @@ pub(crate) fn wall_margin<F: Float>(shape: &Shape<F>, scale: F) -> F {
 /// allowance of every `t_error` already covers, so a crossing snapped to an end stays within
 /// its `t_error`.
 #[inline(always)]
-pub(crate) fn end_snap<F: Float>(patch: &Patch<F>) -> F {
-    F::from_f64(ROUNDING_ULPS) * F::EPSILON * rounding_scale(patch)
+pub(crate) fn end_snap<F: Float>(scale: F) -> F {
+    F::from_f64(ROUNDING_ULPS) * F::EPSILON * scale
 }
 
 /// The crossing at the final bracket `fin` (refined from the sampling bracket `bracket`)
@@ -293,7 +299,7 @@ pub(crate) fn complete<F: Float>(
     } else {
         secant(bracket)
     };
-    let rounding = rounding_allowance(patch, slope);
+    let rounding = rounding_allowance(cl.scale, slope);
     // A zero at an end of the bracket is the root up to the rounding of `f` (exact, or an
     // interval end snapped by `refine::bracket_step`): the allowance covers it.
     let width = if fin.fa == F::ZERO || fin.fb == F::ZERO {
@@ -353,6 +359,8 @@ pub(crate) struct Clipped<F> {
     pub a: F,
     /// End of the shell interval in `τ`.
     pub b: F,
+    /// The patch's extent `L` ([`rounding_scale`]), computed once per test.
+    pub scale: F,
 }
 
 /// Where a ray crosses a patch, before the normal is evaluated (the BVH keeps the closest

@@ -19,7 +19,9 @@ use crate::ray::Ray;
 use crate::real::Float;
 
 use super::refine::{Bracket, ItpLane, bracket_step};
-use super::{Clipped, Crossing, clip_ray, complete, end_snap, rounding_allowance, secant};
+use super::{
+    Clipped, Crossing, clip_ray, complete, end_snap, rounding_allowance, rounding_scale, secant,
+};
 use crate::height::{Prepared, f_lanes};
 
 /// The crossings of up to eight rays with `patch` (`active[i]` false: lane `i` is skipped),
@@ -71,7 +73,9 @@ pub(crate) fn crossings_packet<F: Float, const K: usize, const N: usize>(
             None => F::ZERO,
         }
     };
-    let snap = end_snap(patch);
+    // The patch's extent, the same for every lane.
+    let scale = rounding_scale(patch);
+    let snap = end_snap(scale);
     let mut prev: [(F, F); LANES] = [(F::ZERO, F::ZERO); LANES];
     let mut found: [Option<Bracket<F>>; LANES] = [None; LANES];
     let mut open = clipped.map(|c| c.is_some_and(|c| c.b >= c.a));
@@ -103,7 +107,7 @@ pub(crate) fn crossings_packet<F: Float, const K: usize, const N: usize>(
     // Refinement: one ITP point per lane per step.
     let early = F::from_f64(super::refine::EARLY_STOP);
     let mut itp: [Option<ItpLane<F>>; LANES] =
-        found.map(|b| b.map(|b| ItpLane::new(b, early * rounding_allowance(patch, secant(&b)))));
+        found.map(|b| b.map(|b| ItpLane::new(b, early * rounding_allowance(scale, secant(&b)))));
     for _ in 0..N {
         if itp.iter().flatten().all(ItpLane::done) {
             break;
