@@ -8,7 +8,7 @@
 //!
 //! Memory: one [`BvhNode`] is 32 bytes in `f32` (56 in `f64`); a BVH of `n` patches uses at most
 //! `2n − 1` nodes and `n` `u32` indices: at most 68 bytes per patch in `f32`, besides the
-//! patches themselves (216 bytes each).
+//! patches themselves (228 bytes each).
 
 use heapless::Vec as HVec;
 

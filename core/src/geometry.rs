@@ -39,6 +39,10 @@ pub struct PatchData<F: Float> {
     pub bbox_min: [F; 3],
     /// World bounding box of the shell: maximum corner.
     pub bbox_max: [F; 3],
+    /// How far each side wall `Xk = 0` (`k` the opposite vertex) reaches beyond the kernel's
+    /// rounding margin, in barycentric units ([`close_cracks`](crate::crack::close_cracks);
+    /// zeros unless measured).
+    pub reach: [F; 3],
 }
 
 /// A triangle's local orthonormal frame: origin `P0`, `x` along `P1 − P0`, `z` along the face

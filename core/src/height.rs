@@ -334,7 +334,7 @@ fn vertex_term<L: LaneOps>(
 /// `Pi + z·di`), negative or non-finite components set to 0, renormalised (the centroid if all
 /// vanish).
 #[inline(always)]
-fn bary<L: LaneOps>(pr: &Prepared<L::F>, x: L3<L>) -> [L; 3] {
+fn bary<L: LaneOps>(pr: &Prepared<L::F>, x: L3<L>) -> ([L; 3], L) {
     let zero = L::splat(L::F::ZERO);
     let one = c::<L>(1.0);
     let [p1x, p2x, p2y] = pr.p.map(L::splat);
@@ -357,11 +357,47 @@ fn bary<L: LaneOps>(pr: &Prepared<L::F>, x: L3<L>) -> [L; 3] {
     let (a, b, cc) = (a / m, b / m, cc / m);
     let inv = one / (a + b + cc);
     let third = c::<L>(1.0 / 3.0);
-    [
+    let xp = [
         L::select(good, a * inv, third),
         L::select(good, b * inv, third),
         L::select(good, cc * inv, third),
-    ]
+    ];
+    (xp, beyond_edge(pr, [one - w1 - w2, w1, w2], xp, s))
+}
+
+/// The height change of the surface's continuation beyond the triangle's edges (the walls
+/// moved out by a patch's crack reach, [`crate::crack`]): from the projected point `xp` to the
+/// point `x` (raw barycentrics, one negative) in the cross-section at height `s`, along the
+/// plane normal to the interpolated vertex normal `Σ xp_i n_i`. 0 (exactly) where no raw
+/// barycentric is negative, or where the change is not finite.
+///
+/// So the surface continues across its edges to first order (up to the angle between the
+/// interpolated and the surface normal there) instead of as a flat band at the edge's height,
+/// and a ray crossing the surface at its edge sees `f` change sign across the wall.
+#[inline(always)]
+fn beyond_edge<L: LaneOps>(pr: &Prepared<L::F>, x: [L; 3], xp: [L; 3], s: L) -> L {
+    let zero = L::splat(L::F::ZERO);
+    let [p1x, p2x, p2y] = pr.p.map(L::splat);
+    let [d0, d1, d2] = pr.d;
+    let [n0, n1, n2] = pr.n;
+    let [x0, x1, x2] = x;
+    let [q0, q1, q2] = xp;
+    let (e0, e1, e2) = (x0 - q0, x1 - q1, x2 - q2);
+    let sp = |v: L::F| L::splat(v);
+    // The offset Σ (x_i − xp_i)(Pi + s·di) in the cross-section (xy).
+    let ox = e1 * p1x + e2 * p2x + s * (e0 * sp(d0.x) + e1 * sp(d1.x) + e2 * sp(d2.x));
+    let oy = e2 * p2y + s * (e0 * sp(d0.y) + e1 * sp(d1.y) + e2 * sp(d2.y));
+    let nx = q0 * sp(n0.x) + q1 * sp(n1.x) + q2 * sp(n2.x);
+    let ny = q0 * sp(n0.y) + q1 * sp(n1.y) + q2 * sp(n2.y);
+    let nz = q0 * sp(n0.z) + q1 * sp(n1.z) + q2 * sp(n2.z);
+    // Along the line field: a step dX moves the surface point by Σ dX_i (Pi + σ·di) + D·dσ
+    // (D = Σ xp_i di, D.z = 1), tangent to the plane ⟂ n when dσ = −n·offset / n·D.
+    let dx = q0 * sp(d0.x) + q1 * sp(d1.x) + q2 * sp(d2.x);
+    let dy = q0 * sp(d0.y) + q1 * sp(d1.y) + q2 * sp(d2.y);
+    let nd = nx * dx + ny * dy + nz;
+    let dh = zero - (nx * ox + ny * oy) / nd;
+    let outside = L::or(L::or(x0.lt(zero), x1.lt(zero)), x2.lt(zero));
+    L::select(L::and(outside, dh.finite()), dh, zero)
 }
 
 /// Larger of two lanes, NaN-free for the finite, non-negative values [`bary`] compares.
@@ -388,7 +424,8 @@ pub(crate) fn f_lanes<L: LaneOps>(pr: &Prepared<L::F>, o: [L; 3], r: [L; 3], tau
         y: oy + ry * tau,
         z: oz + rz * tau,
     };
-    x.z - height_at(pr, bary(pr, x))
+    let (xp, dh) = bary(pr, x);
+    x.z - (height_at(pr, xp) + dh)
 }
 
 /// Height `σS(X)` at eight barycentric triples (summing to one, inside the triangle).

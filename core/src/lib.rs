@@ -53,6 +53,7 @@
 pub mod aabb;
 pub mod accuracy;
 pub mod bvh;
+pub mod crack;
 pub mod dual;
 mod edge;
 pub mod error;
@@ -74,6 +75,7 @@ pub mod vec;
 
 pub use aabb::Aabb;
 pub use bvh::{Bvh, BvhError, BvhNode};
+pub use crack::{CrackReport, close_cracks};
 pub use error::PatchError;
 #[cfg(feature = "micromath")]
 pub use fast::FastF32;

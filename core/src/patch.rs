@@ -43,7 +43,7 @@ pub(crate) fn degenerate_ratio<F: Float>() -> F {
 /// and three vertex normals (any positive length). The surface interpolates the vertices with
 /// the given normals, passes through the edge conjugation lines, and reproduces spheres exactly.
 ///
-/// Memory: `size_of::<Patch<f32>>()` is 216 bytes, `Patch<f64>` 432 bytes (checked by a test).
+/// Memory: `size_of::<Patch<f32>>()` is 228 bytes, `Patch<f64>` 456 bytes (checked by a test).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Patch<F: Float = f32> {
     /// The local frame (origin `P0`, axes) and its maps to world coordinates.
@@ -57,6 +57,10 @@ pub struct Patch<F: Float = f32> {
     /// Index + 1 into [`NORMAL_CLAMP_DEG`] of the clamp applied by [`Patch::new_or_tilted`]
     /// (0: the normals were used as given).
     pub(crate) remedy: u8,
+    /// How far each side wall `Xk = 0` (`k` the opposite vertex) is moved outward beyond the
+    /// kernel's rounding margin, in barycentric units: 0 unless
+    /// [`close_cracks`](crate::crack::close_cracks) measured a gap to the neighbour there.
+    pub(crate) reach: [F; 3],
 }
 
 /// Angle clamps (degrees from the face normal) tried in order by [`Patch::new_or_tilted`]
@@ -181,13 +185,15 @@ impl<F: Float> Patch<F> {
             return Err(PatchError::InvalidShell);
         }
         let frame = Frame { origin: p0, axes };
-        let bbox = shell::aabb(&shape, sigma, &frame);
+        let reach = [F::ZERO; 3];
+        let bbox = shell::aabb(&shape, sigma, &frame, reach);
         let patch = Patch {
             frame,
             shape,
             sigma,
             bbox,
             remedy: 0,
+            reach,
         };
         if !patch.all_finite() {
             return Err(PatchError::OutOfRange);
@@ -463,7 +469,9 @@ impl<F: Float> Patch<F> {
     }
 
     /// Axis-aligned bounding box of the patch's shell in world coordinates: the box
-    /// of its six corners `Pi + σmin·di`, `Pi + σmax·di`. Every surface point lies inside.
+    /// of its six corners `Pi + σmin·di`, `Pi + σmax·di` (with the side walls moved out by the
+    /// reach that [`close_cracks`](crate::crack::close_cracks) set, if any). Every surface
+    /// point lies inside.
     ///
     /// # Accuracy
     /// Conservative up to a few ulps of the box's size.
@@ -490,6 +498,7 @@ impl<F: Float> Patch<F> {
             sigma: self.sigma,
             bbox_min: a(self.bbox.lo),
             bbox_max: a(self.bbox.hi),
+            reach: self.reach,
         }
     }
 

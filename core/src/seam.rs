@@ -26,7 +26,7 @@
 //! from both sides. At the vertices `n_s` is the vertex normal; on a sphere `m = o = n*` and the
 //! correction vanishes (normals stay radial). Points are never changed.
 //!
-//! Memory: `size_of::<Seam<f32>>()` is 192 bytes (`f64`: 384), beside the patch's 216.
+//! Memory: `size_of::<Seam<f32>>()` is 192 bytes (`f64`: 384), beside the patch's 228.
 
 use core::fmt;
 
@@ -104,6 +104,14 @@ pub enum SeamError {
     },
     /// More triangles than the scratch entries can index (`3 × triangles` must fit a `u32`).
     TooManyTriangles,
+    /// [`close_cracks`](crate::crack::close_cracks): the patches and the triangles differ in
+    /// number.
+    PatchCount {
+        /// Patches given.
+        patches: usize,
+        /// Triangles given.
+        triangles: usize,
+    },
     /// A triangle has a vertex index at or above the vertex count, or repeats an index.
     BadIndex {
         /// The triangle.
@@ -121,6 +129,10 @@ impl fmt::Display for SeamError {
             } => write!(
                 f,
                 "seams: {patches} patches, {triangles} triangles and {seams} seams differ in number"
+            ),
+            SeamError::PatchCount { patches, triangles } => write!(
+                f,
+                "cracks: {patches} patches and {triangles} triangles differ in number"
             ),
             SeamError::ScratchTooSmall { needed } => {
                 write!(f, "seams: scratch too small, need {needed} edge entries")
@@ -175,7 +187,43 @@ pub fn fit_seams<F: Float>(
             seams: seams.len(),
         });
     }
-    let Some(needed) = n.checked_mul(3) else {
+    for s in seams.iter_mut() {
+        *s = Seam::default();
+    }
+    let fit = FitMatrix::new();
+    let mut fitted = 0usize;
+    for_each_shared_edge(triangles, vertex_count, scratch, |ta, ja, tb, jb| {
+        let (Some(pa), Some(pb)) = (patches.get(ta), patches.get(tb)) else {
+            return;
+        };
+        let Some((sa, sb)) = fit_edge(&fit, pa, ja, pb, jb) else {
+            return;
+        };
+        if let Some(seam) = seams.get_mut(ta) {
+            seam.set(ja, sa);
+        }
+        if let Some(seam) = seams.get_mut(tb) {
+            seam.set(jb, sb);
+        }
+        fitted += 1;
+    })?;
+    Ok(fitted)
+}
+
+/// Calls `visit(ta, ja, tb, jb)` for every edge shared by exactly two triangles that traverse
+/// it in opposite directions: edge `ja` of triangle `ta` (from its vertex `ja` to `ja + 1`) and
+/// edge `jb` of triangle `tb`, in the order of the edges' sorted vertex keys. `scratch` holds at
+/// least `3 × triangles.len()` entries (contents on return unspecified).
+///
+/// Errors: [`SeamError::TooManyTriangles`], [`SeamError::ScratchTooSmall`] and
+/// [`SeamError::BadIndex`] (an index at or above `vertex_count`, or repeated in a triangle).
+pub(crate) fn for_each_shared_edge(
+    triangles: &[[u32; 3]],
+    vertex_count: usize,
+    scratch: &mut [SeamEdge],
+    mut visit: impl FnMut(usize, usize, usize, usize),
+) -> Result<(), SeamError> {
+    let Some(needed) = triangles.len().checked_mul(3) else {
         return Err(SeamError::TooManyTriangles);
     };
     if u32::try_from(needed).is_err() {
@@ -193,9 +241,6 @@ pub fn fit_seams<F: Float>(
             return Err(SeamError::BadIndex { triangle: t });
         }
     }
-    for s in seams.iter_mut() {
-        *s = Seam::default();
-    }
     let mut slots = edges.iter_mut();
     for (t, tri) in triangles.iter().enumerate() {
         for j in 0..3 {
@@ -210,8 +255,6 @@ pub fn fit_seams<F: Float>(
         }
     }
     heap_sort(edges);
-    let fit = FitMatrix::new();
-    let mut fitted = 0usize;
     let mut rest: &[SeamEdge] = edges;
     while let Some(first) = rest.first() {
         let run = rest.iter().take_while(|e| e.key == first.key).count();
@@ -230,21 +273,9 @@ pub fn fit_seams<F: Float>(
         if edge_ends(tri_a, ja).0 == edge_ends(tri_b, jb).0 {
             continue;
         }
-        let (Some(pa), Some(pb)) = (patches.get(ta), patches.get(tb)) else {
-            continue;
-        };
-        let Some((sa, sb)) = fit_edge(&fit, pa, ja, pb, jb) else {
-            continue;
-        };
-        if let Some(seam) = seams.get_mut(ta) {
-            seam.set(ja, sa);
-        }
-        if let Some(seam) = seams.get_mut(tb) {
-            seam.set(jb, sb);
-        }
-        fitted += 1;
+        visit(ta, ja, tb, jb);
     }
-    Ok(fitted)
+    Ok(())
 }
 
 /// `true` when entry `a` sorts before entry `b` (by key, then slot); `false` out of range.
@@ -408,7 +439,7 @@ impl FitMatrix {
 }
 
 /// A patch's geometry widened to `f64`.
-fn widen<F: Float>(patch: &Patch<F>) -> (Frame<f64>, Shape<f64>) {
+pub(crate) fn widen<F: Float>(patch: &Patch<F>) -> (Frame<f64>, Shape<f64>) {
     let v = |v: V3<F>| V3::new(v.x.to_f64(), v.y.to_f64(), v.z.to_f64());
     let frame = Frame {
         origin: v(patch.frame.origin),

@@ -166,13 +166,31 @@ pub(crate) fn is_valid<F: Float>(shape: &Shape<F>, sigma: [F; 2]) -> bool {
 }
 
 /// Axis-aligned box of the six corners of the shell of `shape` over the height range `sigma`,
-/// world coordinates (`frame` maps the local frame to them).
-pub(crate) fn aabb<F: Float>(shape: &Shape<F>, sigma: [F; 2], frame: &Frame<F>) -> Aabb<F> {
+/// its side walls `Xk = 0` moved outward to `Xk = −reach_k`, world coordinates (`frame` maps
+/// the local frame to them).
+pub(crate) fn aabb<F: Float>(
+    shape: &Shape<F>,
+    sigma: [F; 2],
+    frame: &Frame<F>,
+    reach: [F; 3],
+) -> Aabb<F> {
     let [lo_s, hi_s] = sigma;
     let mut b = Aabb::EMPTY;
-    for (p, d) in shape.p.iter().zip(shape.d.iter()) {
+    // The corners of the triangle whose walls are moved outward by `reach` (barycentric):
+    // corner i has `Xk = −reach_k` for the two other vertices k.
+    let [m0, m1, m2] = reach;
+    let corners = [
+        [F::ONE + m1 + m2, -m1, -m2],
+        [-m0, F::ONE + m0 + m2, -m2],
+        [-m0, -m1, F::ONE + m0 + m1],
+    ];
+    for x in corners {
         for s in [lo_s, hi_s] {
-            b = b.grow(frame.local_to_world(*p + *d * s));
+            let mut q = V3::zero();
+            for ((p, d), w) in shape.p.iter().zip(shape.d.iter()).zip(x) {
+                q = q + (*p + *d * s) * w;
+            }
+            b = b.grow(frame.local_to_world(q));
         }
     }
     // Widen by a few ulps of the box so rounding of the frame cannot exclude a surface point.

@@ -143,6 +143,7 @@ struct Patch {
     e0: Edge,
     e1: Edge,
     e2: Edge,
+    reach: vec3<f32>, // per wall k (opposite vertex k): core's Patch::reach (close_cracks)
 }
 
 fn load_edge(base: u32, a: vec2<f32>, da: vec2<f32>, na: vec3<f32>, nb: vec3<f32>) -> Edge {
@@ -177,8 +178,9 @@ fn load_patch(id: u32) -> Patch {
     let e0 = load_edge(b + 10u, p0, d0, v6.xyz, v7.xyz);
     let e1 = load_edge(b + 15u, p1, d1, v7.xyz, v8.xyz);
     let e2 = load_edge(b + 20u, p2, d2, v8.xyz, v6.xyz);
+    let reach = vec3<f32>(patches[b + 13u].w, patches[b + 18u].w, patches[b + 23u].w);
     return Patch(v0.xyz, v0.w, v1.xyz, v2.xyz, v3.xyz, v1.w, v2.w, v3.w, v4.w, v5.w,
-        v6.xyz, v7.xyz, v8.xyz, d0, d1, d2, e0, e1, e2);
+        v6.xyz, v7.xyz, v8.xyz, d0, d1, d2, e0, e1, e2, reach);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -314,9 +316,9 @@ fn vertex_term(ep: Edge, pi: vec3<f32>, ni: vec3<f32>, xi: f32, xa: f32, xb: f32
     return 0.5 * xi * r1.s + 0.25 * (1.0 - xi) * r2.s;
 }
 
-// Barycentrics of the local point x in the cross-section at its height, projected onto the
-// triangle (negative or non-finite components 0, renormalised; the centroid if all vanish).
-fn bary(pt: Patch, x: vec3<f32>) -> vec3<f32> {
+// Raw barycentrics (w0, w1, w2) of the local point x in the cross-section at its height (0, 0, 1
+// where the cross-section has no area).
+fn bary_raw(pt: Patch, x: vec3<f32>) -> vec3<f32> {
     let s = x.z;
     let a0x = pt.d0.x * s - x.x;
     let a0y = pt.d0.y * s - x.y;
@@ -331,10 +333,15 @@ fn bary(pt: Patch, x: vec3<f32>) -> vec3<f32> {
     let ar = select(1.0, area, area != 0.0);
     let w1 = select(0.0, n1 / ar, area != 0.0);
     let w2 = select(0.0, n2 / ar, area != 0.0);
-    let w0 = 1.0 - w1 - w2;
-    let a = select(0.0, w0, fin(w0) && w0 > 0.0);
-    let b = select(0.0, w1, fin(w1) && w1 > 0.0);
-    let c = select(0.0, w2, fin(w2) && w2 > 0.0);
+    return vec3<f32>(1.0 - w1 - w2, w1, w2);
+}
+
+// Raw barycentrics projected onto the triangle (negative or non-finite components 0,
+// renormalised; the centroid if all vanish).
+fn project(w: vec3<f32>) -> vec3<f32> {
+    let a = select(0.0, w.x, fin(w.x) && w.x > 0.0);
+    let b = select(0.0, w.y, fin(w.y) && w.y > 0.0);
+    let c = select(0.0, w.z, fin(w.z) && w.z > 0.0);
     let m = max(max(a, b), c);
     if (!(m > 0.0) || !fin(m)) {
         return vec3<f32>(1.0 / 3.0, 1.0 / 3.0, 1.0 / 3.0);
@@ -344,6 +351,30 @@ fn bary(pt: Patch, x: vec3<f32>) -> vec3<f32> {
     let cn = c / m;
     let inv = 1.0 / (an + bn + cn);
     return vec3<f32>(an * inv, bn * inv, cn * inv);
+}
+
+// Barycentrics of the local point x in the cross-section at its height, projected onto the
+// triangle.
+fn bary(pt: Patch, x: vec3<f32>) -> vec3<f32> {
+    return project(bary_raw(pt, x));
+}
+
+// The height change of the surface's continuation beyond the triangle's edges, from the
+// projected point q to the raw barycentrics w in the cross-section at height s, along the
+// plane normal to the interpolated vertex normal (core/src/height.rs `beyond_edge`); 0 inside.
+fn beyond_edge(pt: Patch, w: vec3<f32>, q: vec3<f32>, s: f32) -> f32 {
+    let e = w - q;
+    let ox = e.y * pt.p1x + e.z * pt.p2x + s * (e.x * pt.d0.x + e.y * pt.d1.x + e.z * pt.d2.x);
+    let oy = e.z * pt.p2y + s * (e.x * pt.d0.y + e.y * pt.d1.y + e.z * pt.d2.y);
+    let nx = q.x * pt.n0.x + q.y * pt.n1.x + q.z * pt.n2.x;
+    let ny = q.x * pt.n0.y + q.y * pt.n1.y + q.z * pt.n2.y;
+    let nz = q.x * pt.n0.z + q.y * pt.n1.z + q.z * pt.n2.z;
+    let dx = q.x * pt.d0.x + q.y * pt.d1.x + q.z * pt.d2.x;
+    let dy = q.x * pt.d0.y + q.y * pt.d1.y + q.z * pt.d2.y;
+    let nd = nx * dx + ny * dy + nz;
+    let dh = 0.0 - (nx * ox + ny * oy) / nd;
+    let outside = w.x < 0.0 || w.y < 0.0 || w.z < 0.0;
+    return select(0.0, dh, outside && fin(dh));
 }
 
 // Height σS(X) at barycentrics x (summing to one, inside the triangle).
@@ -363,7 +394,9 @@ fn height_at(pt: Patch, x: vec3<f32>) -> f32 {
 // f(τ) at the local point lo + τ·lr.
 fn f_at(pt: Patch, lo: vec3<f32>, lr: vec3<f32>, tau: f32) -> f32 {
     let x = lo + lr * tau;
-    return x.z - height_at(pt, bary(pt, x));
+    let w = bary_raw(pt, x);
+    let q = project(w);
+    return x.z - (height_at(pt, q) + beyond_edge(pt, w, q, x.z));
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -435,7 +468,9 @@ fn shell_interval(pt: Patch, o: vec3<f32>, r: vec3<f32>, tau_lo: f32, tau_hi: f3
         margin = 0.0;
     }
     let sum = w0 + w1 + w2;
-    let polys = array<vec3<f32>, 3>(w0 + margin * sum, w1 + margin * sum, w2 + margin * sum);
+    // Each wall also moves out by its crack reach (core/src/kernel/mod.rs `wall_margins`).
+    let m = pt.reach + vec3<f32>(margin, margin, margin);
+    let polys = array<vec3<f32>, 3>(w0 + m.x * sum, w1 + m.y * sum, w2 + m.z * sum);
     var brk = array<f32, 8>(tau_lo, tau_hi, tau_hi, tau_hi, tau_hi, tau_hi, tau_hi, tau_hi);
     var count = 1u;
     for (var k = 0u; k < 3u; k++) {

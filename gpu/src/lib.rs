@@ -492,7 +492,8 @@ pub fn smooth_record(pd: &PatchData<f32>) -> [f32; PATCH_VEC4 * 4] {
             [e[0], e[1], gd[0], gd[1]],
             [k1, k2, ee, eg[0]],
             [eg[1], gg[0], gg[1], gg[2]],
-            [dot(da, na), dot(gd, na), dot(e, na), 0.0],
+            // The reach of wall j (opposite vertex j) rides in edge j's spare slot.
+            [dot(da, na), dot(gd, na), dot(e, na), pd.reach[j]],
             [dot(da, nb), dot(gd, nb), dot(e, nb), 0.0],
         ];
     }

@@ -21,7 +21,8 @@ use smoothtri::sphere::{curvature, nearest_root};
 use smoothtri::vec::V3;
 use smoothtri::{
     Aabb, Bvh, BvhError, BvhNode, DEFAULT_SAMPLES, FastF32, Float, Hit, KernelStats, Patch,
-    PatchError, Ray, Real, Seam, SeamEdge, SeamError, fit_seams, flat_hit, moller_trumbore,
+    PatchError, Ray, Real, Seam, SeamEdge, SeamError, close_cracks, fit_seams, flat_hit,
+    moller_trumbore,
 };
 
 unsafe extern "C" {
@@ -283,6 +284,28 @@ fn seams<F: Float>(patches: &[Patch<F>], ray: &Ray<F>) -> u32 {
         }
     }
     acc += display_len(&black_box(SeamError::TooManyTriangles));
+    // Crack closing on a copy (it widens the patches' walls and boxes), and its errors.
+    let mut sealed = [ps[0]; COUNT];
+    sealed.copy_from_slice(ps);
+    match close_cracks(&mut sealed, &tris, black_box(9), &mut scratch) {
+        Ok(r) => {
+            acc += r.shared_edges as u32 + r.open_edges as u32 + (r.widest_gap > 0.0) as u32;
+            if let Some(h) = sealed[1].intersect::<4>(ray, c::<F>(0.0), c::<F>(f64::INFINITY)) {
+                acc += h.t.is_fin() as u32;
+            }
+            acc += sealed[2].data().reach.iter().filter(|r| r.is_fin()).count() as u32;
+        }
+        Err(e) => acc += display_len(&e),
+    }
+    for bad in [
+        close_cracks(&mut sealed, &tris, black_box(3), &mut scratch),
+        close_cracks(&mut sealed, &tris, 9, &mut scratch[..5]),
+        close_cracks(&mut sealed, &tris[..2], 9, &mut scratch),
+    ] {
+        if let Err(e) = bad {
+            acc += display_len(&e);
+        }
+    }
     let mut wild = black_box(out[0]);
     wild.common[1][3] = c::<F>(f64::NAN);
     wild.own[2][0] = c::<F>(1e30);

@@ -68,11 +68,11 @@ pub(crate) fn bary_numerators<F: Float>(shape: &Shape<F>, x: V3<F>) -> ([F; 3], 
     (n, n0 + n1 + n2)
 }
 
-/// Coefficients (in `τ`) of the three wall quadratics `num_k(τ) + margin · Σ_j num_j(τ)` along
-/// the local ray: the walls `Xk = −margin` (`Σ_j num_j`, twice the cross-section's area, is
-/// positive in a valid shell).
+/// Coefficients (in `τ`) of the three wall quadratics `num_k(τ) + margin_k · Σ_j num_j(τ)`
+/// along the local ray: the walls `Xk = −margin_k` (`Σ_j num_j`, twice the cross-section's
+/// area, is positive in a valid shell).
 #[inline(always)]
-fn wall_polys<F: Float>(shape: &Shape<F>, ray: &LocalRay<F>, margin: F) -> [[F; 3]; 3] {
+fn wall_polys<F: Float>(shape: &Shape<F>, ray: &LocalRay<F>, margin: [F; 3]) -> [[F; 3]; 3] {
     let o = ray.o;
     let r = ray.r;
     // a_i(τ) − q(τ) = (p_i + o.z·d_i − o) + τ (r.z·d_i − r), in the xy-plane.
@@ -92,20 +92,22 @@ fn wall_polys<F: Float>(shape: &Shape<F>, ray: &LocalRay<F>, margin: F) -> [[F; 
     for ((s, b), c) in sum.iter_mut().zip(w1).zip(w2) {
         *s = *s + b + c;
     }
-    w.map(|mut c| {
+    let mut out = w;
+    for (c, m) in out.iter_mut().zip(margin) {
         for (o, s) in c.iter_mut().zip(sum) {
-            *o += margin * s;
+            *o += m * s;
         }
-        c
-    })
+    }
+    out
 }
 
 /// Maximum number of breakpoints (two interval ends and two roots per wall).
 const MAX_BREAKS: usize = 8;
 
 /// The parameter interval `[τa, τb]` of the local ray inside the shell: the hull of the
-/// sub-intervals of `[τ_lo, τ_hi]` (already clipped to the slab) where all three walls, each
-/// moved outward by the barycentric `margin` (`crate::kernel::wall_margin`), are satisfied.
+/// sub-intervals of `[τ_lo, τ_hi]` (already clipped to the slab) where all three walls, wall
+/// `k` moved outward by the barycentric `margin[k]` (`crate::kernel::wall_margins`), are
+/// satisfied.
 /// Fixed work: at most 8 breakpoints, sorted by a fixed network, 7 midpoint tests.
 #[inline(always)]
 pub(crate) fn shell_interval<F: Float>(
@@ -113,7 +115,7 @@ pub(crate) fn shell_interval<F: Float>(
     ray: &LocalRay<F>,
     tau_lo: F,
     tau_hi: F,
-    margin: F,
+    margin: [F; 3],
 ) -> Option<(F, F)> {
     let polys = wall_polys(shape, ray, margin);
     let mut brk = [tau_hi; MAX_BREAKS];

@@ -191,7 +191,7 @@ pub(crate) fn clip_ray<F: Float>(
         return None;
     }
     let scale = rounding_scale(patch);
-    let (a, b) = shell_interval(&patch.shape, &lray, a, b, wall_margin(&patch.shape, scale))?;
+    let (a, b) = shell_interval(&patch.shape, &lray, a, b, wall_margins(patch, scale))?;
     Some(Clipped {
         t0,
         lray,
@@ -262,6 +262,14 @@ pub(crate) fn wall_margin<F: Float>(shape: &Shape<F>, scale: F) -> F {
     let m = F::from_f64(WALL_MARGIN_ULPS) * F::EPSILON * scale * crate::shell::longest_edge(shape)
         / (p1.x * p2.y);
     if m.is_fin() { m } else { F::ZERO }
+}
+
+/// The three walls' barycentric offsets: [`wall_margin`] plus the patch's crack reach
+/// ([`close_cracks`](crate::crack::close_cracks); 0 unless measured).
+#[inline(always)]
+pub(crate) fn wall_margins<F: Float>(patch: &Patch<F>, scale: F) -> [F; 3] {
+    let m = wall_margin(&patch.shape, scale);
+    patch.reach.map(|r| r + m)
 }
 
 /// The value of `f` within which a sample at the shell interval's ends counts as a zero

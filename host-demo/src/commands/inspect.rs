@@ -330,6 +330,19 @@ pub fn inspect<F: Prec>(name: &str, mesh: &Mesh) -> Result<String> {
             std::mem::size_of::<Seam<F>>(),
             sc.seam_edges
         );
+        let _ = writeln!(
+            s,
+            "cracks closed ({}): {} of {} shared edges part, widest gap {:.3e} ({:.3e} of \
+             diagonal); each side reaches across by {}× the gap (at most {} of its altitude, \
+             smoothtri::close_cracks)",
+            F::PRECISION,
+            sc.cracks.open_edges,
+            sc.cracks.shared_edges,
+            sc.cracks.widest_gap,
+            sc.cracks.widest_gap / diag.max(f64::MIN_POSITIVE),
+            smoothtri::crack::CRACK_REACH,
+            smoothtri::crack::MAX_CRACK_REACH
+        );
     }
     Ok(s)
 }

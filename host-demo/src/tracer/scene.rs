@@ -3,7 +3,10 @@
 
 use std::collections::BTreeMap;
 
-use smoothtri::{Bvh, BvhNode, Float, Hit, Patch, PatchError, Seam, SeamEdge, fit_seams};
+use smoothtri::{
+    Bvh, BvhNode, CrackReport, Float, Hit, Patch, PatchError, Seam, SeamEdge, close_cracks,
+    fit_seams,
+};
 
 use super::{Normals, Prec};
 use crate::error::{DemoError, Result};
@@ -29,6 +32,9 @@ pub struct Scene<F: Float> {
     pub seams: Vec<Seam<F>>,
     /// Shared edges fitted by [`fit_seams`].
     pub seam_edges: usize,
+    /// What [`close_cracks`] measured when the scene was built: the patches reach across
+    /// their shared edges by the gap between the neighbours' edge curves.
+    pub cracks: CrackReport,
     /// The normal [`Scene::shading_normal`] returns: geometric after [`Scene::build`],
     /// seamless after [`Scene::fit_seams`].
     pub normals: Normals,
@@ -36,9 +42,19 @@ pub struct Scene<F: Float> {
     order: Vec<u32>,
 }
 
+/// The accepted triangles' index buffer (same order as the patches).
+fn accepted_triangles(mesh: &Mesh, tri_ids: &[u32]) -> Vec<[u32; 3]> {
+    tri_ids
+        .iter()
+        .map(|&t| mesh.triangles[t as usize])
+        .collect()
+}
+
 impl<F: Prec> Scene<F> {
-    /// Builds the patches and the BVH (no seams: [`Scene::fit_seams`] adds them; until then the
-    /// scene shades with the geometric normal). Fails only when no triangle is accepted.
+    /// Builds the patches, closes the cracks between neighbours ([`close_cracks`] over the
+    /// accepted triangles' index buffer) and builds the BVH (no seams: [`Scene::fit_seams`]
+    /// adds them; until then the scene shades with the geometric normal). Fails only when no
+    /// triangle is accepted.
     pub fn build(mesh: &Mesh) -> Result<Self> {
         let mut patches = Vec::with_capacity(mesh.triangles.len());
         let mut tri_ids = Vec::with_capacity(mesh.triangles.len());
@@ -71,6 +87,12 @@ impl<F: Prec> Scene<F> {
                 ),
             });
         }
+        let tris = accepted_triangles(mesh, &tri_ids);
+        let mut scratch = vec![SeamEdge::default(); 3 * patches.len()];
+        let cracks = close_cracks(&mut patches, &tris, mesh.positions.len(), &mut scratch)
+            .map_err(|e| DemoError::Empty {
+                msg: format!("cannot close the cracks: {e}"),
+            })?;
         let mut nodes = vec![BvhNode::default(); Bvh::<F>::nodes_needed(patches.len())];
         let mut order = vec![0u32; patches.len()];
         let used = Bvh::build(&patches, &mut nodes, &mut order)
@@ -87,6 +109,7 @@ impl<F: Prec> Scene<F> {
             remedied,
             seams: Vec::new(),
             seam_edges: 0,
+            cracks,
             normals: Normals::Geometric,
             nodes,
             order,
@@ -98,12 +121,7 @@ impl<F: Prec> Scene<F> {
     /// on. Only what shades needs them (`render`, `inspect`): fitting costs 66 `f64` normal
     /// evaluations per shared edge, seconds on meshes of 100k triangles.
     pub fn fit_seams(&mut self, mesh: &Mesh) -> Result<()> {
-        // The accepted triangles' index buffer (same order as the patches).
-        let tris: Vec<[u32; 3]> = self
-            .tri_ids
-            .iter()
-            .map(|&t| mesh.triangles[t as usize])
-            .collect();
+        let tris = accepted_triangles(mesh, &self.tri_ids);
         let mut scratch = vec![SeamEdge::default(); 3 * self.patches.len()];
         let mut seams = vec![Seam::default(); self.patches.len()];
         self.seam_edges = fit_seams(
