@@ -220,25 +220,21 @@ pub const FASTF32_HIT: f64 = 1e-3;
 // Seamless shading normals (`crate::seam`)
 
 /// Jump of [`Seam::shading_normal`](crate::Seam::shading_normal) across shared edges, in
-/// degrees (the angle between the two neighbours' shading normals at the same edge point), on
-/// meshes whose neighbouring patches share their edge curves: twice the twist fit's residual.
-/// Measured worst (50 points per edge, `f64` and `f32`): 1.6e-4° on the 8×8 torus (the
-/// geometric normal: 5.83°), 2.5e-4° on the 8×8 teapot's edges with shared curves, 3e-5° on
-/// the cube and the icosphere (`f32` rounding; 0 in `f64`). Asserted by `tests/seam.rs`.
+/// degrees (the angle between the two neighbours' shading normals at the same edge point):
+/// twice the fits' residual, also where the neighbours' edge curves part (the common normal's
+/// frame is built from the edge's shared data). Measured worst (50 points per edge, `f64` and
+/// `f32`): 3e-5° on the 8×8 torus (`f32`; the geometric normal: 5.83°), 4e-5° on the 8×8
+/// teapot's edges with shared curves, 3e-5° on the cube and the icosphere (`f32` rounding; 0
+/// in `f64`), 2e-4° on the irregular icosphere (curves part by 1.3e-4 of the diagonal).
+/// Asserted by `tests/seam.rs`.
 pub const SEAM_JUMP_DEG: f64 = 1e-3;
 
-/// As [`SEAM_JUMP_DEG`] on an irregular mesh, where today's per-face direction field makes
-/// the neighbours' edge curves part (cracks) and the two sides' fits disagree by that: the
-/// icosphere of level 3 with vertices jittered by 0.3 of an edge and normals tilted by up to
-/// 20°. Measured worst: 0.095° (mean 0.0037°; the geometric normal: 33.5°). Asserted by
-/// `tests/seam.rs`.
-pub const SEAM_JUMP_IRREGULAR_DEG: f64 = 0.2;
-
 /// As [`SEAM_JUMP_DEG`] on the built-in teapot (4×4 per Bézier patch; edges of clamped or
-/// folded patches left out), where edge curves part and the geometric normal swings by up to
-/// 27° along some edges. Measured worst: 0.75° (mean 0.011°; the geometric normal: 60.8°).
-/// Asserted by `tests/seam.rs`.
-pub const SEAM_JUMP_TEAPOT_DEG: f64 = 1.5;
+/// folded patches left out), where the geometric normal swings by up to 27° along some edges,
+/// beyond what the twist polynomials follow to [`SEAM_JUMP_DEG`]. Measured worst: 0.025° (mean
+/// 1.3e-4°; the geometric normal: 60.8°); the bound is issue 12's. Asserted by
+/// `tests/seam.rs`.
+pub const SEAM_JUMP_TEAPOT_DEG: f64 = 0.05;
 
 /// The 8×8 torus (major radius 1, minor 0.4): largest angle between the geometric normal of
 /// [`Patch::point_normal`](crate::Patch::point_normal) and the true torus normal at the

@@ -6,11 +6,16 @@
 //! The geometric normals of two neighbouring patches differ along their shared edge (by up to
 //! 5.8° on the 8×8 torus), which shows as creases in shading. [`fit_seams`] fits, once per
 //! mesh, for every edge shared by two patches a *common* edge normal `m(t)` (the average of the
-//! two sides' geometric normals) and each side's *own* normal `o(t)`, both as a twist of the
-//! edge curve's normal `n*(t)` (eq. (3)) about the curve's tangent `T`:
+//! two sides' geometric normals) and each side's *own* normal `o(t)`. The own normal is a twist
+//! of the edge curve's normal `n*(t)` (eq. (3)) about the curve's tangent `T`; the common one
+//! two tilts of the interpolated vertex normal `g(t)`, in a frame built from the edge's shared
+//! data alone (its vertices and their normals: `g = normalize((1 − t)·na + t·nb)`,
+//! `ĝ = normalize(ê × g)` with `ê` the chord, `â = g × ĝ`), so that both neighbours evaluate
+//! the same common normal even where their edge curves part:
 //!
 //! ```text
-//! m(t) = normalize(n*(t) + τ(t)·b̂(t)),   b̂ = T × n* / |T|,   τ(t) = t(1 − t)·Σ_k c_k (2t − 1)^k
+//! o(t) = normalize(n*(t) + τ_o(t)·b̂(t)),   b̂ = T × n* / |T|,
+//! m(t) = normalize(g(t) + τ_b(t)·ĝ(t) + τ_a(t)·â(t)),   τ(t) = t(1 − t)·Σ_k c_k (2t − 1)^k
 //! ```
 //!
 //! with [`TWIST_TERMS`] coefficients `c_k` each, stored per patch in a [`Seam`].
@@ -22,11 +27,11 @@
 //! ```
 //!
 //! (edge `j` runs from `Pj` to `Pj+1`; `β = 0` at the vertices). On edge `j` only `β_j = 1` is
-//! left and `n_s = m_j + (n_g − o_j)`: the common normal up to the own fit's residual, the same
+//! left and `n_s = m_j + (n_g − o_j)`: the common normal up to the fits' residual, the same
 //! from both sides. At the vertices `n_s` is the vertex normal; on a sphere `m = o = n*` and the
 //! correction vanishes (normals stay radial). Points are never changed.
 //!
-//! Memory: `size_of::<Seam<f32>>()` is 192 bytes (`f64`: 384), beside the patch's 228.
+//! Memory: `size_of::<Seam<f32>>()` is 432 bytes (`f64`: 864), beside the patch's 228.
 
 use core::fmt;
 
@@ -44,19 +49,19 @@ use crate::ray::Hit;
 /// Number of twist coefficients per edge and fit (`τ(t) = t(1 − t)·Σ_{k<TWIST_TERMS} c_k
 /// (2t − 1)^k`).
 ///
-/// Eight terms on [`FIT_SAMPLES`] = 33 samples: the jump across edges whose neighbours share
-/// their edge curves is then 1.6e-4° on the 8×8 torus and 2.5e-4° on the 8×8 teapot
-/// ([`SEAM_JUMP_DEG`](crate::accuracy::SEAM_JUMP_DEG)). Measured alternatives: six terms on
-/// 17 samples give 3.6e-3° on the torus but 0.54° on the built-in (coarse) teapot's shared
-/// curves, where the geometric normal swings by up to 27° along an edge (eight: 0.12°); four
-/// on 9 samples 0.06°–0.2° in the design study. Eight terms cost 48 more bytes per patch in
-/// `f32` than six and twice the fitting work.
-pub const TWIST_TERMS: usize = 8;
+/// Twelve terms on [`FIT_SAMPLES`] = 49 samples: the jump across shared edges is then 2e-4° on
+/// the irregular icosphere and 3e-5° on the 8×8 torus
+/// ([`SEAM_JUMP_DEG`](crate::accuracy::SEAM_JUMP_DEG)), and 0.025° on the built-in (coarse)
+/// teapot, where the geometric normal swings by up to 27° along an edge
+/// ([`SEAM_JUMP_TEAPOT_DEG`](crate::accuracy::SEAM_JUMP_TEAPOT_DEG)). Measured alternatives
+/// on that teapot: eight terms on 33 samples 0.23°, ten on 41 0.079°. Each term costs 36
+/// bytes per patch in `f32` (three fits of three edges).
+pub const TWIST_TERMS: usize = 12;
 
 /// Samples per shared edge of the least-squares fit (`t = (s + ½) / FIT_SAMPLES`); see
 /// [`TWIST_TERMS`] for the choice. [`fit_seams`] evaluates `2·FIT_SAMPLES` geometric normals
 /// per shared edge.
-pub const FIT_SAMPLES: usize = 33;
+pub const FIT_SAMPLES: usize = 49;
 
 /// The seam correction of one patch: twist coefficients of its three edges (edge `j` from `Pj`
 /// to `Pj+1`, parameter `t` from 0 at `Pj`; see the [module](self) for the formula). All zeros
@@ -64,12 +69,15 @@ pub const FIT_SAMPLES: usize = 33;
 /// normal. [`fit_seams`] leaves the zeros on boundary and non-manifold edges and on lone
 /// triangles.
 ///
-/// Memory: 192 bytes in `f32`, 384 in `f64` (checked by a test).
+/// Memory: 432 bytes in `f32`, 864 in `f64` (checked by a test).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Seam<F: Float> {
-    /// Per edge, the coefficients of the common edge normal's twist `τ_e` (the same normal,
-    /// fitted in each neighbour's own edge frame).
+    /// Per edge, the coefficients of the common edge normal's tilt across the edge, `τ_b` (the
+    /// same normal, fitted by each neighbour in the frame both build from the edge's vertices
+    /// and their normals).
     pub common: [[F; TWIST_TERMS]; 3],
+    /// Per edge, the coefficients of the common edge normal's tilt along the edge, `τ_a`.
+    pub common_along: [[F; TWIST_TERMS]; 3],
     /// Per edge, the coefficients of this patch's own surface normal's twist `τ_{f,e}` along
     /// the edge.
     pub own: [[F; TWIST_TERMS]; 3],
@@ -455,8 +463,8 @@ pub(crate) fn widen<F: Float>(patch: &Patch<F>) -> (Frame<f64>, Shape<f64>) {
     (frame, shape)
 }
 
-/// One edge's coefficients for one side: (common, own).
-type EdgeFit<F> = ([F; TWIST_TERMS], [F; TWIST_TERMS]);
+/// One edge's coefficients for one side: common across, common along, own.
+type EdgeFit<F> = [[F; TWIST_TERMS]; 3];
 
 /// The twist `(v·b̂)/(v·n*)` of a local unit vector `v` in the edge frame `(n*, b̂)`, `None` when
 /// `v` is (nearly) perpendicular to `n*`.
@@ -491,7 +499,7 @@ fn fit_edge<F: Float>(
     if !((a0 - b1).length() <= tol && (a1 - b0).length() <= tol) {
         return None;
     }
-    let mut ys = [[0.0f64; FIT_SAMPLES]; 4];
+    let mut ys = [[0.0f64; FIT_SAMPLES]; 6];
     for s in 0..FIT_SAMPLES {
         let t = sample_t(s);
         let tb = 1.0 - t;
@@ -502,10 +510,14 @@ fn fit_edge<F: Float>(
         let (ma, mb) = (fa.world_dir_to_local(m), fb.world_dir_to_local(m));
         let (nsa, bsa) = edge_frame(&ea, t)?;
         let (nsb, bsb) = edge_frame(&eb, tb)?;
+        let (ga, ba, aa) = shared_frame(&ea, t)?;
+        let (gb, bb, ab) = shared_frame(&eb, tb)?;
         let vals = [
-            twist_of(ma, nsa, bsa)?,
+            twist_of(ma, ga, ba)?,
+            twist_of(ma, ga, aa)?,
             twist_of(na, nsa, bsa)?,
-            twist_of(mb, nsb, bsb)?,
+            twist_of(mb, gb, bb)?,
+            twist_of(mb, gb, ab)?,
             twist_of(nb, nsb, bsb)?,
         ];
         for (y, v) in ys.iter_mut().zip(vals) {
@@ -515,22 +527,48 @@ fn fit_edge<F: Float>(
         }
     }
     // B's samples lie at its own parameters `1 − t_s = t_{FIT_SAMPLES−1−s}`: reverse them.
-    let [ya_c, ya_o, mut yb_c, mut yb_o] = ys;
+    let [ya_c, ya_a, ya_o, mut yb_c, mut yb_a, mut yb_o] = ys;
     yb_c.reverse();
+    yb_a.reverse();
     yb_o.reverse();
-    let c = [ya_c, ya_o, yb_c, yb_o].map(|y| fit.coefficients(&y).map(F::from_f64));
+    let c = [ya_c, ya_a, ya_o, yb_c, yb_a, yb_o].map(|y| fit.coefficients(&y).map(F::from_f64));
     if !c.iter().flatten().all(|x| x.is_fin()) {
         return None;
     }
-    let [ca, oa, cb, ob] = c;
-    Some(((ca, oa), (cb, ob)))
+    let [ca, aa, oa, cb, ab, ob] = c;
+    Some(([ca, aa, oa], [cb, ab, ob]))
+}
+
+/// The frame of edge `e` at `t` that both neighbours share up to their frames' rounding, built
+/// from the edge's shared data alone (its two vertices and their normals, not the patch's own
+/// edge curve): `g = normalize((1 − t)·na + t·nb)`, `ĝ = normalize(ê × g)` across the edge
+/// (`ê` the chord's direction) and `â = g × ĝ` along it. `None` where it degenerates.
+///
+/// Seen from the other neighbour (which runs the edge the other way, at `1 − t`), `g` is the
+/// same and `ĝ`, `â` change sign, so the tilts fitted by the two sides to the same common
+/// normal are each other's negatives, and the common normal they evaluate is the same.
+#[inline(always)]
+pub(crate) fn shared_frame<F: Float>(e: &EdgeView<F>, t: F) -> Option<(V3<F>, V3<F>, V3<F>)> {
+    let g = (e.na * (F::ONE - t) + e.nb * t).try_normalize()?;
+    let b = (e.b - e.a).cross(g).try_normalize()?;
+    let a = g.cross(b);
+    if a.all_finite() {
+        Some((g, b, a))
+    } else {
+        None
+    }
 }
 
 impl<F: Float> Seam<F> {
     /// Sets edge `j`'s coefficients.
-    fn set(&mut self, j: usize, (common, own): EdgeFit<F>) {
-        if let (Some(c), Some(o)) = (self.common.get_mut(j), self.own.get_mut(j)) {
+    fn set(&mut self, j: usize, [common, along, own]: EdgeFit<F>) {
+        if let (Some(c), Some(a), Some(o)) = (
+            self.common.get_mut(j),
+            self.common_along.get_mut(j),
+            self.own.get_mut(j),
+        ) {
             *c = common;
+            *a = along;
             *o = own;
         }
     }
@@ -542,6 +580,7 @@ impl<F: Float> Seam<F> {
     pub fn is_zero(&self) -> bool {
         self.common
             .iter()
+            .chain(self.common_along.iter())
             .chain(self.own.iter())
             .flatten()
             .all(|&c| c == F::ZERO)
@@ -563,7 +602,7 @@ impl<F: Float> Seam<F> {
     /// Jump across shared edges of meshes whose neighbours share their edge curves within
     /// [`SEAM_JUMP_DEG`](crate::accuracy::SEAM_JUMP_DEG) (torus, teapot, sphere-like meshes);
     /// on irregular meshes the neighbours' curves part and the jump is larger
-    /// ([`SEAM_JUMP_IRREGULAR_DEG`](crate::accuracy::SEAM_JUMP_IRREGULAR_DEG)). On a sphere's
+    /// ([`SEAM_JUMP_TEAPOT_DEG`](crate::accuracy::SEAM_JUMP_TEAPOT_DEG)). On a sphere's
     /// patch radial to [`F64_SPHERE_NORMAL`](crate::accuracy::F64_SPHERE_NORMAL) (`f64`) and
     /// [`F32_SPHERE_NORMAL`](crate::accuracy::F32_SPHERE_NORMAL) (`f32`). On the 8×8 torus
     /// within [`TORUS_8X8_SEAMLESS_NORMAL_MAX_DEG`](crate::accuracy::TORUS_8X8_SEAMLESS_NORMAL_MAX_DEG)
@@ -623,23 +662,28 @@ impl<F: Float> Seam<F> {
         let sum = q.iter().fold(F::ZERO, |s, &v| s + v);
         let mut acc = V3::<F>::zero();
         let mut any = false;
-        for (j, (((qj, (xa, xb)), common), own)) in q
+        let zero = [F::ZERO; TWIST_TERMS];
+        for (j, ((((qj, (xa, xb)), common), along), own)) in q
             .iter()
             .zip(pairs)
             .zip(self.common.iter())
+            .zip(self.common_along.iter())
             .zip(self.own.iter())
             .enumerate()
         {
-            if !(*qj > F::ZERO) || (common == own) {
+            if !(*qj > F::ZERO) || (*common == zero && *along == zero && *own == zero) {
                 continue;
             }
             let t = xb / (xa + xb);
-            let Some((n, b)) = edge_frame(&shape.edge(j), t) else {
+            let e = shape.edge(j);
+            let (Some((n, b)), Some((g, gb, ga))) = (edge_frame(&e, t), shared_frame(&e, t)) else {
                 continue;
             };
-            let (tc, to) = (twist(common, t), twist(own, t));
-            let (Some(m), Some(o)) = ((n + b * tc).try_normalize(), (n + b * to).try_normalize())
-            else {
+            let (tc, ta, to) = (twist(common, t), twist(along, t), twist(own, t));
+            let (Some(m), Some(o)) = (
+                (g + gb * tc + ga * ta).try_normalize(),
+                (n + b * to).try_normalize(),
+            ) else {
                 continue;
             };
             acc = acc + (m - o) * (*qj / sum);

@@ -118,7 +118,7 @@ impl<F: Prec> Scene<F> {
 
     /// Fits the seams of the accepted patches ([`fit_seams`] over their index buffer in
     /// `mesh`, the mesh the scene was built from) and shades with the seamless normal from then
-    /// on. Only what shades needs them (`render`, `inspect`): fitting costs 66 `f64` normal
+    /// on. Only what shades needs them (`render`, `inspect`): fitting costs 98 `f64` normal
     /// evaluations per shared edge, seconds on meshes of 100k triangles.
     pub fn fit_seams(&mut self, mesh: &Mesh) -> Result<()> {
         let tris = accepted_triangles(mesh, &self.tri_ids);
