@@ -7,8 +7,8 @@ mod common;
 use common::*;
 use glam::{DVec3, Vec3};
 use smoothtri::accuracy::{F32_SPHERE_HIT, F32_SPHERE_NORMAL};
-use smoothtri::{Hit, Patch, Ray};
-use smoothtri_demo::scenes::{Mesh, cube, icosphere, torus};
+use smoothtri::{Hit, Patch, Ray, SeamEdge, close_cracks};
+use smoothtri_demo::scenes::{Mesh, cube, icosphere, teapot, torus};
 use smoothtri_gpu::{Gpu, GpuScene};
 use std::sync::Arc;
 
@@ -375,6 +375,80 @@ fn shader_constants_match_the_cpu_kernel() {
     }
 }
 
+/// Each interior edge of `mesh` once: (triangle, its edge, the neighbour, its edge), edges
+/// matched by vertex index.
+fn shared_edges(mesh: &Mesh) -> Vec<(usize, usize, usize, usize)> {
+    let mut first = std::collections::HashMap::new();
+    let mut edges = Vec::new();
+    for (t, tri) in mesh.triangles.iter().enumerate() {
+        for e in 0..3 {
+            let (a, b) = (tri[e], tri[(e + 1) % 3]);
+            if let Some((ta, ea)) = first.insert((a.min(b), a.max(b)), (t, e)) {
+                edges.push((ta, ea, t, e));
+            }
+        }
+    }
+    edges
+}
+
+/// Rays per shared edge of [`rays_at_edges`].
+const RAYS_PER_EDGE: usize = 12;
+
+/// [`RAYS_PER_EDGE`] rays per shared edge, from 2 away, up to 80° off both neighbours' normals, aimed at
+/// points of the first neighbour's edge curve (its ends included), or with `midway` at the
+/// midpoint between the two neighbours' curves.
+fn rays_at_edges(mesh: &Mesh, patches: &[Patch], midway: bool) -> Vec<Ray> {
+    let normal = |p: &Patch, e: usize, t: f32| {
+        let mut w = [0.0f32; 3];
+        w[e] = 1.0 - t;
+        w[(e + 1) % 3] = t;
+        p.point_normal(w[1], w[2]).1
+    };
+    let cos_max = 80f64.to_radians().cos() as f32;
+    let mut rng = Rng(9);
+    let mut rays = Vec::new();
+    for (ta, ea, tb, eb) in shared_edges(mesh) {
+        for k in 0..RAYS_PER_EDGE {
+            let t = if k < 2 { k as f32 } else { rng.f() as f32 };
+            let c = patches[ta].edge_point_normal(ea, t).0;
+            let target = if midway {
+                (c + patches[tb].edge_point_normal(eb, 1.0 - t).0) * 0.5
+            } else {
+                c
+            };
+            let (na, nb) = (
+                normal(&patches[ta], ea, t),
+                normal(&patches[tb], eb, 1.0 - t),
+            );
+            let u = loop {
+                let u = rng.unit().as_vec3();
+                if u.dot(na) >= cos_max && u.dot(nb) >= cos_max {
+                    break u;
+                }
+            };
+            rays.push(Ray::new(target + u * RAY_DIST, -u));
+        }
+    }
+    rays
+}
+
+/// How far [`rays_at_edges`] start from their targets.
+const RAY_DIST: f32 = 2.0;
+
+/// The indices of the `rays` that pass more than 1 % of their length beyond their target on
+/// the GPU.
+fn fell_through(gpu: &Arc<Gpu>, patches: &[Patch], rays: &[Ray]) -> Vec<usize> {
+    let tree = Tree::new(patches);
+    let scene = GpuScene::smooth(gpu, &tree.bvh(patches)).expect("upload");
+    let mut got = vec![None; rays.len()];
+    scene
+        .closest_hit::<N>(rays, 0.0, f32::INFINITY, &mut got)
+        .expect("trace");
+    (0..got.len())
+        .filter(|&i| got[i].is_none_or(|h| h.t > RAY_DIST * 1.01))
+        .collect()
+}
+
 /// Watertightness on the GPU (docs/METHOD.md §8, "Shared edges"; the CPU's
 /// `tests/watertight.rs`): rays aimed from outside at points of shared edge curves (vertices
 /// included), up to 80° off both neighbours' normals, all hit there (or in front), none passes
@@ -387,55 +461,66 @@ fn rays_at_shared_edges_never_fall_through() {
         ("icosphere(2)", icosphere(2, 1.0)),
     ] {
         let patches = patches32(&mesh);
-        // Each interior edge once: (triangle, its edge, the neighbour, its edge).
-        let mut first = std::collections::HashMap::new();
-        let mut edges = Vec::new();
-        for (t, tri) in mesh.triangles.iter().enumerate() {
-            for e in 0..3 {
-                let (a, b) = (tri[e], tri[(e + 1) % 3]);
-                if let Some((ta, ea)) = first.insert((a.min(b), a.max(b)), (t, e)) {
-                    edges.push((ta, ea, t, e));
-                }
-            }
-        }
-        let normal = |p: &Patch, e: usize, t: f32| {
-            let mut w = [0.0f32; 3];
-            w[e] = 1.0 - t;
-            w[(e + 1) % 3] = t;
-            p.point_normal(w[1], w[2]).1
-        };
-        let (dist, slack) = (2.0f32, 0.02f32);
-        let cos_max = 80f64.to_radians().cos() as f32;
-        let mut rng = Rng(9);
-        let mut rays = Vec::new();
-        for &(ta, ea, tb, eb) in &edges {
-            for k in 0..12 {
-                let t = if k < 2 { k as f32 } else { rng.f() as f32 };
-                let c = patches[ta].edge_point_normal(ea, t).0;
-                let (na, nb) = (
-                    normal(&patches[ta], ea, t),
-                    normal(&patches[tb], eb, 1.0 - t),
-                );
-                let u = loop {
-                    let u = rng.unit().as_vec3();
-                    if u.dot(na) >= cos_max && u.dot(nb) >= cos_max {
-                        break u;
-                    }
-                };
-                rays.push(Ray::new(c + u * dist, -u));
-            }
-        }
-        let tree = Tree::new(&patches);
-        let scene = GpuScene::smooth(&gpu, &tree.bvh(&patches)).expect("upload");
-        let mut got = vec![None; rays.len()];
-        scene
-            .closest_hit::<N>(&rays, 0.0, f32::INFINITY, &mut got)
-            .expect("trace");
-        let through = got
-            .iter()
-            .filter(|h| h.is_none_or(|h| h.t > dist + slack))
-            .count();
+        let rays = rays_at_edges(&mesh, &patches, false);
+        let through = fell_through(&gpu, &patches, &rays).len();
         eprintln!("{name}: {through} of {} rays fell through", rays.len());
         assert_eq!(through, 0, "{name}");
+    }
+}
+
+/// The teapot, whose neighbours' edge curves part (by up to 1.4e-2 of the diagonal): rays aimed
+/// midway between the two curves fall through the WGSL kernel as built; once `close_cracks`
+/// has set the patches' reach (docs/METHOD.md §8, "Cracks") the GPU lets exactly the rays
+/// through that the CPU does, at least fifty times fewer, and each of them at an edge whose
+/// gap exceeds what `MAX_CRACK_REACH` bridges (a reach at the cap: edges of patches whose
+/// normals the remedy clamped hard).
+#[test]
+fn rays_into_cracks_once_closed() {
+    let Some(gpu) = gpu() else { return };
+    let mesh = teapot(4);
+    let mut patches: Vec<Patch> = (0..mesh.triangles.len())
+        .map(|t| {
+            let (p, n) = mesh.triangle(t);
+            Patch::new_or_tilted(p.map(|x| x.as_vec3()), n.map(|x| x.as_vec3())).expect("patch")
+        })
+        .collect();
+    let rays = rays_at_edges(&mesh, &patches, true);
+    let before = fell_through(&gpu, &patches, &rays).len();
+    let mut scratch = vec![SeamEdge::default(); 3 * patches.len()];
+    close_cracks(
+        &mut patches,
+        &mesh.triangles,
+        mesh.positions.len(),
+        &mut scratch,
+    )
+    .expect("close cracks");
+    let after = fell_through(&gpu, &patches, &rays);
+    let tree = Tree::new(&patches);
+    let bvh = tree.bvh(&patches);
+    let cpu: Vec<usize> = (0..rays.len())
+        .filter(|&i| {
+            bvh.closest_hit::<N>(&rays[i], 0.0, f32::INFINITY)
+                .expect("trace")
+                .is_none_or(|h| h.t > RAY_DIST * 1.01)
+        })
+        .collect();
+    eprintln!(
+        "teapot: {before} of {} rays into the cracks fell through as built, {} once closed \
+         (CPU: {})",
+        rays.len(),
+        after.len(),
+        cpu.len()
+    );
+    assert_eq!(after, cpu, "GPU and CPU disagree");
+    assert!(after.len() * 50 < before, "{} of {before}", after.len());
+    let edges = shared_edges(&mesh);
+    let cap = smoothtri::crack::MAX_CRACK_REACH as f32;
+    for &i in &after {
+        let (ta, ea, tb, eb) = edges[i / RAYS_PER_EDGE];
+        let wall = |t: usize, e: usize| patches[t].data().reach[(e + 2) % 3];
+        assert!(
+            wall(ta, ea) >= cap || wall(tb, eb) >= cap,
+            "ray {i} fell through at an edge whose reach is below the cap"
+        );
     }
 }
