@@ -18,7 +18,7 @@
 
 use crate::patch::Patch;
 use crate::real::Float;
-use crate::seam::{SeamEdge, SeamError, for_each_shared_edge, widen};
+use crate::seam::{SeamEdge, SeamError, edge_bary, for_each_shared_edge, widen};
 use crate::shell;
 use crate::surface;
 
@@ -164,16 +164,6 @@ fn edge_gap<F: Float>(pa: &Patch<F>, ja: usize, pb: &Patch<F>, jb: usize) -> f64
         widest = widest.max(d);
     }
     widest
-}
-
-/// `x` with `x_j = 1 − t`, `x_{j+1} = t` (the point at `t` on edge `j`), the third zero.
-#[inline(always)]
-fn edge_bary(j: usize, t: f64) -> [f64; 3] {
-    match j % 3 {
-        0 => [1.0 - t, t, 0.0],
-        1 => [0.0, 1.0 - t, t],
-        _ => [t, 0.0, 1.0 - t],
-    }
 }
 
 /// Sets the reach of `patch`'s wall over edge `j` (from `Pj` to `Pj+1`, the wall opposite

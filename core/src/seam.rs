@@ -352,7 +352,7 @@ fn edge_ends(tri: &[u32; 3], j: usize) -> (u32, u32) {
 
 /// `x` with `x_j = 1 − t`, `x_{j+1} = t` (the point at `t` on edge `j`), the third zero.
 #[inline(always)]
-fn edge_bary(j: usize, t: f64) -> [f64; 3] {
+pub(crate) fn edge_bary(j: usize, t: f64) -> [f64; 3] {
     match j % 3 {
         0 => [1.0 - t, t, 0.0],
         1 => [0.0, 1.0 - t, t],
