@@ -458,3 +458,36 @@ fn fit_errors_and_non_manifold_edges() {
     let empty = Mesh::default();
     assert_eq!(fit64(&empty, &[], 0, 0, 0).unwrap().0, 0);
 }
+
+/// The stress meshes of `tests/stress_meshes.rs`, whose neighbours' curves part (boxes and
+/// cylinders with averaged normals, an icosphere with noisy normals): the shading normal's jump
+/// is within [`SEAM_JUMP_DEG`], as where curves are shared (clamped and folded patches left out,
+/// as on the teapot).
+#[test]
+fn stress_mesh_jumps() {
+    for (name, mesh) in [
+        (
+            "box 1x2x4, averaged normals",
+            box_mesh(1.0, 2.0, 4.0).to_mesh(),
+        ),
+        ("cylinder, 8 sides", cylinder(8).to_mesh()),
+        (
+            "icosphere(2), normals tilted ≤ 20°",
+            noisy_sphere(&mut Rng(7), 20.0).to_mesh(),
+        ),
+    ] {
+        let (patches, seams, _) = build::<f64>(&mesh);
+        let (smax, smean, gmax, gmean) = jumps(&mesh, &patches, &seams, false);
+        let (p32, s32, _) = build::<f32>(&mesh);
+        let (smax32, _, _, _) = jumps(&mesh, &p32, &s32, false);
+        eprintln!(
+            "{name}: jump of the shading normal max {smax:.5}° mean {smean:.5}° (f32 max \
+             {smax32:.5}°), geometric max {gmax:.3}° mean {gmean:.3}°"
+        );
+        assert!(
+            smax <= SEAM_JUMP_DEG && smax32 <= SEAM_JUMP_DEG,
+            "{name}: {smax}°, {smax32}°"
+        );
+        assert!(smax * 20.0 < gmax, "{name}");
+    }
+}

@@ -225,8 +225,9 @@ pub const FASTF32_HIT: f64 = 1e-3;
 /// frame is built from the edge's shared data). Measured worst (50 points per edge, `f64` and
 /// `f32`): 3e-5° on the 8×8 torus (`f32`; the geometric normal: 5.83°), 4e-5° on the 8×8
 /// teapot's edges with shared curves, 3e-5° on the cube and the icosphere (`f32` rounding; 0
-/// in `f64`), 2e-4° on the irregular icosphere (curves part by 1.3e-4 of the diagonal).
-/// Asserted by `tests/seam.rs`.
+/// in `f64`), 2e-4° on the irregular icosphere (curves part by 1.3e-4 of the diagonal), 3e-5°
+/// (`f32`) on the stress meshes (box and cylinder with averaged normals, icosphere with noisy
+/// normals). Asserted by `tests/seam.rs`.
 pub const SEAM_JUMP_DEG: f64 = 1e-3;
 
 /// As [`SEAM_JUMP_DEG`] on the built-in teapot (4×4 per Bézier patch; edges of clamped or
