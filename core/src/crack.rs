@@ -71,10 +71,10 @@ pub struct CrackReport {
 
 /// Measures, for every edge shared by two patches, the gap between the two neighbours' edge
 /// curves at [`CRACK_SAMPLES`] points (in `f64` whatever `F`), and sets each neighbour's
-/// reach across that edge to [`CRACK_REACH`] times the widest gap (over the wall's
-/// altitude, in barycentric units, at most [`MAX_CRACK_REACH`]); the patches' bounding boxes grow to match. Reaches of
-/// boundary edges, non-manifold edges and lone triangles are reset to 0, so calling it again
-/// gives the same patches.
+/// reach across that edge to [`CRACK_REACH`] times the widest gap (over the wall's altitude,
+/// in barycentric units, at most [`MAX_CRACK_REACH`]); the patches' bounding boxes grow to
+/// match. Reaches of boundary edges, non-manifold edges and lone triangles are reset to 0, so
+/// calling it again gives the same patches.
 ///
 /// `patches[i]` must be the patch of triangle `triangles[i]` (vertex indices in the patch's
 /// vertex order, `< vertex_count`); `scratch` holds at least `3 × triangles.len()` entries
@@ -91,8 +91,9 @@ pub struct CrackReport {
 ///
 /// # Accuracy
 /// A crossing found in a patch's reach lies on the band that continues the patch beyond its
-/// edge, within the hit's `t_error` of it; the band extends at most `CRACK_REACH · gap` from
-/// the edge curve. The reported normal there is the edge's (barycentrics are projected).
+/// edge, within the hit's `t_error` of it; the band extends at most `CRACK_REACH · gap` (and
+/// at most [`MAX_CRACK_REACH`] of the altitude) from the edge curve, and within the patch's
+/// height range. The reported normal there is the edge's (barycentrics are projected).
 /// # Panics
 /// Never.
 pub fn close_cracks<F: Float>(
