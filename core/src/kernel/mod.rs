@@ -85,9 +85,10 @@ pub const EXTENT_EDGES: f64 = 4.0;
 /// one ray in ten aimed exactly at a shared edge, in `f32` and in `f64`, before this margin).
 /// With each domain widened by more than the wall's rounding, a crossing at the edge lies
 /// strictly inside both patches' intervals, and the closest-hit rule of the BVH keeps one.
-/// Beyond its edge a patch continues as its edge values (barycentrics are projected onto the
-/// triangle), so a crossing found in the margin is off the patch's surface by at most the
-/// margin's width, half of the [`ROUNDING_ULPS`] allowance that every `t_error` carries.
+/// Beyond its edge a patch continues along its tangent plane there (`crate::height`
+/// `beyond_edge`, the continuation [`close_cracks`](crate::crack::close_cracks) relies on), so
+/// a crossing found in the margin is off the patch's surface by at most the margin's width,
+/// half of the [`ROUNDING_ULPS`] allowance that every `t_error` carries.
 /// `tests/watertight.rs` aims thousands of rays per mesh at shared edge points from
 /// directions up to 80° off both neighbours' normals: none falls through in `f32` or `f64`.
 pub const WALL_MARGIN_ULPS: f64 = 8.0;
