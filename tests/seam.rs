@@ -190,20 +190,26 @@ fn teapot_jumps() {
             SEAM_JUMP_DEG,
         ),
     ] {
-        let (patches, seams, _) = build::<f64>(&mesh);
-        let (smax, smean, gmax, gmean) = jumps(&mesh, &patches, &seams, shared);
-        let (p32, s32, _) = build::<f32>(&mesh);
-        let (smax32, _, _, _) = jumps(&mesh, &p32, &s32, shared);
-        eprintln!(
-            "{name}: jump of the shading normal max {smax:.5}° mean {smean:.5}° (f32 max \
-             {smax32:.5}°), geometric max {gmax:.3}° mean {gmean:.3}°"
-        );
-        assert!(
-            smax <= bound && smax32 <= bound,
-            "{name}: {smax}°, {smax32}°"
-        );
-        assert!(smax * 20.0 < gmax, "{name}");
+        assert_jumps(name, &mesh, shared, bound);
     }
+}
+
+/// Measures the jumps of [`jumps`] in `f64` and `f32`, prints them, and asserts that both are
+/// within `bound` and far below the geometric normal's.
+fn assert_jumps(name: &str, mesh: &Mesh, shared: bool, bound: f64) {
+    let (patches, seams, _) = build::<f64>(mesh);
+    let (smax, smean, gmax, gmean) = jumps(mesh, &patches, &seams, shared);
+    let (p32, s32, _) = build::<f32>(mesh);
+    let (smax32, _, _, _) = jumps(mesh, &p32, &s32, shared);
+    eprintln!(
+        "{name}: jump of the shading normal max {smax:.5}° mean {smean:.5}° (f32 max \
+         {smax32:.5}°), geometric max {gmax:.3}° mean {gmean:.3}°"
+    );
+    assert!(
+        smax <= bound && smax32 <= bound,
+        "{name}: {smax}°, {smax32}°"
+    );
+    assert!(smax * 20.0 < gmax, "{name}");
 }
 
 /// On the irregular mesh the two neighbours' edge curves part; the common normal's frame is
@@ -476,18 +482,6 @@ fn stress_mesh_jumps() {
             noisy_sphere(&mut Rng(7), 20.0).to_mesh(),
         ),
     ] {
-        let (patches, seams, _) = build::<f64>(&mesh);
-        let (smax, smean, gmax, gmean) = jumps(&mesh, &patches, &seams, false);
-        let (p32, s32, _) = build::<f32>(&mesh);
-        let (smax32, _, _, _) = jumps(&mesh, &p32, &s32, false);
-        eprintln!(
-            "{name}: jump of the shading normal max {smax:.5}° mean {smean:.5}° (f32 max \
-             {smax32:.5}°), geometric max {gmax:.3}° mean {gmean:.3}°"
-        );
-        assert!(
-            smax <= SEAM_JUMP_DEG && smax32 <= SEAM_JUMP_DEG,
-            "{name}: {smax}°, {smax32}°"
-        );
-        assert!(smax * 20.0 < gmax, "{name}");
+        assert_jumps(name, &mesh, false, SEAM_JUMP_DEG);
     }
 }
