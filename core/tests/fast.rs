@@ -1,12 +1,22 @@
 //! `FastF32` (feature `micromath`): the error of the crate's fast square root, and how far it
 //! moves the surface and the hits, within the named bounds of [`smoothtri::accuracy`].
-//! Run with `cargo test --features micromath --test fast -- --nocapture` (prints the measured
-//! worst values).
+//! Run with `cargo test -p smoothtri --features micromath --test fast -- --nocapture` (prints
+//! the measured worst values). It lives in the core package, whose only dev-dependency is
+//! proptest, so the feature rebuilds the core alone; the random patches are the suite's
+//! (`tests/common/random.rs`).
 #![cfg(feature = "micromath")]
+// Test code: indexing and unwrapping are how a test fails; not every shared helper is used.
+#![allow(
+    dead_code,
+    clippy::indexing_slicing,
+    clippy::unwrap_used,
+    clippy::expect_used
+)]
 
-mod common;
-use common::*;
+#[path = "../../tests/common/random.rs"]
+mod random;
 use glam::Vec3;
+use random::*;
 use smoothtri::accuracy::{FASTF32_HIT, FASTF32_SQRT_REL, FASTF32_SURFACE};
 use smoothtri::{DPatch, FastF32, Float, Patch, Ray};
 
