@@ -25,6 +25,7 @@
 //! [`KERNEL_HEIGHT_VS_SURFACE`](crate::accuracy::KERNEL_HEIGHT_VS_SURFACE) of the triangle's
 //! size on random patches (the unit test below).
 
+use crate::field::{SECTION_NEWTON_STEPS, Section};
 use crate::geometry::Shape;
 use crate::lanes::LaneOps;
 use crate::real::Float;
@@ -38,9 +39,9 @@ pub(crate) struct EdgePrep<F> {
     a: V3<F>,
     /// Edge vector `e = B − A`.
     e: V3<F>,
-    /// Direction field at `A` (`z = 1`).
+    /// Direction field at `A` (`z = 1` for parallel sections).
     da: V3<F>,
-    /// `gd = dB − dA` (`z = 0`).
+    /// `gd = dB − dA` (`z = 0` for parallel sections).
     gd: V3<F>,
     /// Curvatures of `S¹` (anchor `A`, axis `nA`) and `S²` (anchor `B`, axis `nB`).
     k: [F; 2],
@@ -61,8 +62,10 @@ pub(crate) struct Prepared<F> {
     p: [F; 3],
     /// Unit vertex normals.
     n: [V3<F>; 3],
-    /// Direction field at the vertices (`z = 1`).
+    /// Direction field at the vertices (`z = 1` for parallel sections).
     d: [V3<F>; 3],
+    /// The point-to-section map ([`crate::field`]).
+    section: Section<F>,
     /// The edges.
     edges: [EdgePrep<F>; 3],
 }
@@ -100,6 +103,7 @@ impl<F: Float> Prepared<F> {
             p: [p1.x, p2.x, p2.y],
             n: shape.n,
             d: shape.d,
+            section: Section::new(shape),
             edges: [edge(0), edge(1), edge(2)],
         }
     }
@@ -224,7 +228,8 @@ fn edge_point_normal<L: LaneOps>(ep: &EdgePrep<L::F>, t: L) -> (L3<L>, L3<L>) {
     let g = L3 {
         x: L::splat(ep.da.x) + t * gd.x,
         y: L::splat(ep.da.y) + t * gd.y,
-        z: one,
+        // 1 exactly for parallel sections (`da.z = 1`, `gd.z = 0`).
+        z: L::splat(ep.da.z) + t * gd.z,
     };
     let [g0, g1, g2c] = ep.gg.map(L::splat);
     let gg = g0 + t * (g1 + t * g2c);
@@ -329,17 +334,43 @@ fn vertex_term<L: LaneOps>(
     c::<L>(0.5) * xi * s1 + c::<L>(0.25) * (one - xi) * s2
 }
 
+/// The line parameter `λ` of the section through each local point ([`Section::param`] over
+/// lanes: `x.z` for parallel sections, else [`SECTION_NEWTON_STEPS`] Newton steps).
+#[inline(always)]
+fn section_param<L: LaneOps>(sec: &Section<L::F>, x: L3<L>) -> L {
+    if sec.parallel {
+        return x.z;
+    }
+    let [k0, k1, k2] = sec.k.map(L3::<L>::splat);
+    let [a0, a1, a2] = sec.kd.map(L::splat);
+    let (c0, c1, c2, c3) = (
+        k0.dot(x),
+        k1.dot(x) - a0,
+        k2.dot(x) - a1,
+        L::splat(L::F::ZERO) - a2,
+    );
+    let (two, three) = (c::<L>(2.0), c::<L>(3.0));
+    let mut l = x.z * L::splat(sec.inv_mean);
+    for _ in 0..SECTION_NEWTON_STEPS {
+        let g = c0 + l * (c1 + l * (c2 + l * c3));
+        let dg = c1 + l * (two * c2 + three * l * c3);
+        let next = l - g / dg;
+        l = L::select(next.finite(), next, l);
+    }
+    l
+}
+
 /// Barycentrics of local points, projected onto the triangle like
-/// [`crate::surface::project_bary`]: the cross-section at each point's height (vertices
-/// `Pi + z·di`), negative or non-finite components set to 0, renormalised (the centroid if all
-/// vanish).
+/// [`crate::surface::project_bary`]: the section through each point (parameter `λ` of
+/// [`section_param`], vertices `Pi + λ·di`), negative or non-finite components set to 0,
+/// renormalised (the centroid if all vanish).
 #[inline(always)]
 fn bary<L: LaneOps>(pr: &Prepared<L::F>, x: L3<L>) -> ([L; 3], L) {
     let zero = L::splat(L::F::ZERO);
     let one = c::<L>(1.0);
     let [p1x, p2x, p2y] = pr.p.map(L::splat);
     let [d0, d1, d2] = pr.d;
-    let s = x.z;
+    let s = section_param(&pr.section, x);
     let ax = |px: L, d: V3<L::F>| px + L::splat(d.x) * s - x.x;
     let ay = |py: L, d: V3<L::F>| py + L::splat(d.y) * s - x.y;
     let (a0x, a0y) = (ax(zero, d0), ay(zero, d0));
@@ -384,18 +415,27 @@ fn beyond_edge<L: LaneOps>(pr: &Prepared<L::F>, x: [L; 3], xp: [L; 3], s: L) -> 
     let [q0, q1, q2] = xp;
     let (e0, e1, e2) = (x0 - q0, x1 - q1, x2 - q2);
     let sp = |v: L::F| L::splat(v);
-    // The offset Σ (x_i − xp_i)(Pi + s·di) in the cross-section (xy).
+    // The offset o = Σ (x_i − xp_i)(Pi + s·di) within the section of the point (its z is 0
+    // for parallel sections).
     let ox = e1 * p1x + e2 * p2x + s * (e0 * sp(d0.x) + e1 * sp(d1.x) + e2 * sp(d2.x));
     let oy = e2 * p2y + s * (e0 * sp(d0.y) + e1 * sp(d1.y) + e2 * sp(d2.y));
     let nx = q0 * sp(n0.x) + q1 * sp(n1.x) + q2 * sp(n2.x);
     let ny = q0 * sp(n0.y) + q1 * sp(n1.y) + q2 * sp(n2.y);
     let nz = q0 * sp(n0.z) + q1 * sp(n1.z) + q2 * sp(n2.z);
     // Along the line field: a step dX moves the surface point by Σ dX_i (Pi + σ·di) + D·dσ
-    // (D = Σ xp_i di, D.z = 1), tangent to the plane ⟂ n when dσ = −n·offset / n·D.
+    // (D the unit-height direction at xp), tangent to the plane ⟂ n when
+    // dσ = o.z − n·o / n·D (the point's height is o.z above xp's section point).
     let dx = q0 * sp(d0.x) + q1 * sp(d1.x) + q2 * sp(d2.x);
     let dy = q0 * sp(d0.y) + q1 * sp(d1.y) + q2 * sp(d2.y);
-    let nd = nx * dx + ny * dy + nz;
-    let dh = zero - (nx * ox + ny * oy) / nd;
+    let dh = if pr.section.parallel {
+        let nd = nx * dx + ny * dy + nz;
+        zero - (nx * ox + ny * oy) / nd
+    } else {
+        let oz = s * (e0 * sp(d0.z) + e1 * sp(d1.z) + e2 * sp(d2.z));
+        let vz = q0 * sp(d0.z) + q1 * sp(d1.z) + q2 * sp(d2.z);
+        let nd = (nx * dx + ny * dy) / vz + nz;
+        oz - (nx * ox + ny * oy + nz * oz) / nd
+    };
     let outside = L::or(L::or(x0.lt(zero), x1.lt(zero)), x2.lt(zero));
     L::select(L::and(outside, dh.finite()), dh, zero)
 }
@@ -444,6 +484,17 @@ pub(crate) fn height_at<L: LaneOps>(pr: &Prepared<L::F>, [x0, x1, x2]: [L; 3]) -
         x: x0 * sp(d0.x) + x1 * sp(d1.x) + x2 * sp(d2.x),
         y: x0 * sp(d0.y) + x1 * sp(d1.y) + x2 * sp(d2.y),
         z: x0 + x1 + x2,
+    };
+    // Unit height (`crate::field::unit_height_dir`): parallel sections have `Vz = Σ Xi`.
+    let dir = if pr.section.parallel {
+        dir
+    } else {
+        let inv = c::<L>(1.0) / (x0 * sp(d0.z) + x1 * sp(d1.z) + x2 * sp(d2.z));
+        L3 {
+            x: dir.x * inv,
+            y: dir.y * inv,
+            z: c::<L>(1.0),
+        }
     };
     let dd = dir.dot(dir);
     let [e0, e1, e2] = &pr.edges;
@@ -623,9 +674,19 @@ pub(crate) fn derivatives<F: Float>(
     let [d0, d1, d2] = shape.d;
     let dir = d0 * x0 + d1 * x1 + d2 * x2;
     let [s1, s2] = s.d;
+    if pr.section.parallel {
+        return [
+            p1 - p0 + (d1 - d0) * s.v + dir * s1,
+            p2 - p0 + (d2 - d0) * s.v + dir * s2,
+        ];
+    }
+    // D = V / Vz: ∂D/∂Xk = ((dk − d0) − D·(dk.z − d0.z)) / Vz.
+    let inv = F::ONE / dir.z;
+    let dir = dir * inv;
+    let dd = |dk: V3<F>| (dk - d0 - dir * (dk.z - d0.z)) * inv;
     [
-        p1 - p0 + (d1 - d0) * s.v + dir * s1,
-        p2 - p0 + (d2 - d0) * s.v + dir * s2,
+        p1 - p0 + dd(d1) * s.v + dir * s1,
+        p2 - p0 + dd(d2) * s.v + dir * s2,
     ]
 }
 

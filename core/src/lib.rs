@@ -59,6 +59,7 @@ mod edge;
 pub mod error;
 #[cfg(feature = "micromath")]
 pub mod fast;
+pub mod field;
 pub mod geometry;
 mod height;
 pub mod kernel;
@@ -79,6 +80,7 @@ pub use crack::{CrackReport, close_cracks};
 pub use error::PatchError;
 #[cfg(feature = "micromath")]
 pub use fast::FastF32;
+pub use field::LineField;
 pub use geometry::PatchData;
 pub use kernel::flat::{flat_hit, moller_trumbore};
 pub use kernel::{DEFAULT_SAMPLES, KernelStats};

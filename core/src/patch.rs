@@ -9,6 +9,7 @@
 use crate::aabb::Aabb;
 use crate::edge;
 use crate::error::PatchError;
+use crate::field::LineField;
 use crate::geometry::{Frame, PatchData, Shape};
 use crate::kernel::{self, DEFAULT_SAMPLES, KernelStats};
 use crate::ray::{Hit, Ray};
@@ -93,6 +94,23 @@ impl<F: Float> Patch<F> {
     /// # Panics
     /// Never.
     pub fn new(p: [F::Vec3; 3], n: [F::Vec3; 3]) -> Result<Self, PatchError> {
+        Self::with_field(p, n, LineField::Face)
+    }
+
+    /// Builds the patch of triangle `p` with vertex normals `n` like [`Patch::new`], on the
+    /// line field `field` ([`LineField`]): [`LineField::Face`] is [`Patch::new`] (the paper's
+    /// construction); [`LineField::Vertex`] sweeps the same lines over an edge as the patch on
+    /// the other side of it, so neighbours built from the same vertices and normals meet
+    /// (their edge curves coincide to rounding) while spheres stay exact.
+    ///
+    /// Preconditions, errors and accuracy as [`Patch::new`].
+    /// # Panics
+    /// Never.
+    pub fn with_field(
+        p: [F::Vec3; 3],
+        n: [F::Vec3; 3],
+        field: LineField,
+    ) -> Result<Self, PatchError> {
         let [p0, p1, p2] = p.map(F::from_glam);
         let [n0, n1, n2] = n.map(F::from_glam);
         if ![p0, p1, p2, n0, n1, n2].iter().all(|v| v.all_finite()) {
@@ -168,6 +186,17 @@ impl<F: Float> Patch<F> {
             *ddst = *ndst * (F::ONE / cos);
             ddst.z = F::ONE;
         }
+        if field == LineField::Vertex {
+            // One scale for the three normals (the largest height, so `di.z ≤ 1`), unless
+            // they make equal angles with the face to rounding: then the face field is the
+            // same field, with parallel sections (kept exactly, `di.z = 1`).
+            let [w0, w1, w2] = nl.map(|v| v.z);
+            let (lo, hi) = (w0.min(w1).min(w2), w0.max(w1).max(w2));
+            if hi - lo > F::from_f64(4.0) * F::EPSILON * hi {
+                let inv = F::ONE / hi;
+                dl = nl.map(|v| v * inv);
+            }
+        }
         let mut pl = [V3::zero(), to_local(e), to_local(f)];
         // Exact zeros where the frame guarantees them.
         pl[1].y = F::ZERO;
@@ -216,7 +245,24 @@ impl<F: Float> Patch<F> {
     /// # Panics
     /// Never.
     pub fn new_or_tilted(p: [F::Vec3; 3], n: [F::Vec3; 3]) -> Result<Self, PatchError> {
-        let first = match Self::new(p, n) {
+        Self::new_or_tilted_with(p, n, LineField::Face)
+    }
+
+    /// [`Patch::new_or_tilted`] on the line field `field` ([`Patch::with_field`]). The clamp
+    /// acts on this patch's normals only, so a clamped patch no longer shares its edges'
+    /// lines with its neighbours ([`crate::crack::close_cracks`] closes what parts).
+    ///
+    /// Work is bounded: at most 7 constructions.
+    /// # Accuracy
+    /// As [`Patch::new`] for the (possibly clamped) normals.
+    /// # Panics
+    /// Never.
+    pub fn new_or_tilted_with(
+        p: [F::Vec3; 3],
+        n: [F::Vec3; 3],
+        field: LineField,
+    ) -> Result<Self, PatchError> {
+        let first = match Self::with_field(p, n, field) {
             Ok(patch) => return Ok(patch),
             Err(
                 e @ (PatchError::NonFinite
@@ -246,7 +292,7 @@ impl<F: Float> Patch<F> {
                     None => F::to_glam(nf),
                 }
             });
-            if let Ok(mut patch) = Self::new(p, clamped) {
+            if let Ok(mut patch) = Self::with_field(p, clamped, field) {
                 patch.remedy = (k + 1) as u8;
                 return Ok(patch);
             }

@@ -149,11 +149,18 @@ pub(crate) fn cross2_poly<F: Float>(u0: V3<F>, u1: V3<F>, v0: V3<F>, v1: V3<F>) 
     [c(u0, v0), c(u0, v1) + c(u1, v0), c(u1, v1)]
 }
 
-/// The shell of `shape` over the height range `sigma` is valid when its cross-section keeps at
-/// least a quarter of the triangle's area (same orientation) over the whole range.
-pub(crate) fn is_valid<F: Float>(shape: &Shape<F>, sigma: [F; 2]) -> bool {
-    let [c0, c1, c2] = section_area_poly(shape);
-    let [lo, hi] = sigma;
+/// The range of the line parameter `λ` over the shell of height range `sigma`: `λ = z / Vz(X)`
+/// with `Vz` between the smallest and the largest `di.z` (all positive), so
+/// `[σmin, σmax] / min(di.z)` contains it (`σmin ≤ 0 ≤ σmax`); `sigma` itself for parallel
+/// sections (`di.z = 1`).
+pub(crate) fn lambda_range<F: Float>(shape: &Shape<F>, sigma: [F; 2]) -> [F; 2] {
+    let [d0, d1, d2] = shape.d;
+    let dz = d0.z.min(d1.z).min(d2.z);
+    sigma.map(|s| s / dz)
+}
+
+/// The minimum of `c0 + c1·s + c2·s²` over `[lo, hi]`.
+fn quadratic_min<F: Float>([c0, c1, c2]: [F; 3], [lo, hi]: [F; 2]) -> F {
     let eval = |s: F| c0 + s * (c1 + s * c2);
     let mut m = eval(lo).min(eval(hi));
     if c2 != F::ZERO {
@@ -162,7 +169,42 @@ pub(crate) fn is_valid<F: Float>(shape: &Shape<F>, sigma: [F; 2]) -> bool {
             m = m.min(eval(v));
         }
     }
-    m >= F::from_f64(0.25) * c0 && c0 > F::ZERO
+    m
+}
+
+/// The shell of `shape` over the height range `sigma` is valid when its cross-section keeps at
+/// least a quarter of the triangle's area (same orientation) over the whole range. For tilted
+/// sections ([`crate::field`]) the measure is the map's orientation
+/// `det[A1 − A0, A2 − A0, V(X)] = K(λ)·V(X)` (quadratic in `λ`, linear in `X`, so checked at
+/// the three vertices over [`lambda_range`]): at least a quarter of its value on the triangle.
+pub(crate) fn is_valid<F: Float>(shape: &Shape<F>, sigma: [F; 2]) -> bool {
+    if crate::field::parallel(shape) {
+        let c = section_area_poly(shape);
+        let [c0, _, _] = c;
+        return quadratic_min(c, sigma) >= F::from_f64(0.25) * c0 && c0 > F::ZERO;
+    }
+    let sec = crate::field::Section::new(shape);
+    let [k0, k1, k2] = sec.k;
+    let range = lambda_range(shape, sigma);
+    shape.d.iter().all(|&d| {
+        let c = [k0.dot(d), k1.dot(d), k2.dot(d)];
+        let [c0, _, _] = c;
+        range.iter().all(|l| l.is_fin())
+            && c0 > F::ZERO
+            && quadratic_min(c, range) >= F::from_f64(0.25) * c0
+    })
+}
+
+/// The corners of the triangle whose walls `Xk = 0` are moved out to `Xk = −margin_k`, as
+/// barycentrics: corner `i` has `Xk = −margin_k` for the two other vertices `k`.
+#[inline(always)]
+pub(crate) fn moved_corners<F: Float>(margin: [F; 3]) -> [[F; 3]; 3] {
+    let [m0, m1, m2] = margin;
+    [
+        [F::ONE + m1 + m2, -m1, -m2],
+        [-m0, F::ONE + m0 + m2, -m2],
+        [-m0, -m1, F::ONE + m0 + m1],
+    ]
 }
 
 /// Axis-aligned box of the six corners of the shell of `shape` over the height range `sigma`,
@@ -174,17 +216,11 @@ pub(crate) fn aabb<F: Float>(
     frame: &Frame<F>,
     reach: [F; 3],
 ) -> Aabb<F> {
-    let [lo_s, hi_s] = sigma;
+    // Every shell point is `P(X) + λ·V(X)` with `λ` in `lambda_range` (`sigma` itself for
+    // parallel sections): a convex combination of the six corners.
+    let [lo_s, hi_s] = lambda_range(shape, sigma);
     let mut b = Aabb::EMPTY;
-    // The corners of the triangle whose walls are moved outward by `reach` (barycentric):
-    // corner i has `Xk = −reach_k` for the two other vertices k.
-    let [m0, m1, m2] = reach;
-    let corners = [
-        [F::ONE + m1 + m2, -m1, -m2],
-        [-m0, F::ONE + m0 + m2, -m2],
-        [-m0, -m1, F::ONE + m0 + m1],
-    ];
-    for x in corners {
+    for x in moved_corners(reach) {
         for s in [lo_s, hi_s] {
             let mut q = V3::zero();
             for ((p, d), w) in shape.p.iter().zip(shape.d.iter()).zip(x) {

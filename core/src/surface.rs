@@ -1,7 +1,8 @@
 //! The surface point and normal (docs/METHOD.md §5, the paper's eqs. (4)–(5), with the ½ that makes
 //! the weights sum to one).
 //!
-//! For barycentrics `X`, `P = Σ Xi Pi` and `D = Σ Xi di`. For each vertex `i`, the edge opposite
+//! For barycentrics `X`, `P = Σ Xi Pi` and `D = Σ Xi di / Σ Xi di.z` (the line field of unit
+//! height, [`crate::field`]). For each vertex `i`, the edge opposite
 //! it (edge `i+1`) gives `Ci = c(ti)`, `Ni = n*(ti)` with `ti = Xi+2 / (Xi+1 + Xi+2)`; the spheres
 //! `Ŝ¹` (anchor `Pi`, axis `ni`, through `Ci`) and `Ŝ²` (anchor `Ci`, axis `Ni`, through `Pi`)
 //! meet the line `P + s·D` at `s¹`, `s²`. The surface is the height field
@@ -9,6 +10,7 @@
 
 use crate::dual::{Dual, split};
 use crate::edge::edge_point_normal;
+use crate::field::unit_height_dir;
 use crate::geometry::Shape;
 use crate::real::{Float, Real};
 use crate::sphere::{curvature, nearest_root};
@@ -39,13 +41,13 @@ pub(crate) fn project_bary<F: Float>(w1: F, w2: F) -> [F; 3] {
     }
 }
 
-/// The local-frame line `P(X) + s·D(X)` of barycentrics `x`.
+/// The local-frame line `P(X) + s·D(X)` of barycentrics `x`, `D` of unit height
+/// ([`unit_height_dir`]), so `s` is the height over the triangle's plane.
 #[inline(always)]
 fn base_line<S: Real>(shape: &Shape<S::F>, x: [S; 3]) -> (V3<S>, V3<S>) {
     let [x0, x1, x2] = x;
     let [p0, p1, p2] = shape.p.map(V3::<S>::lift);
-    let [d0, d1, d2] = shape.d.map(V3::<S>::lift);
-    (p0 * x0 + p1 * x1 + p2 * x2, d0 * x0 + d1 * x1 + d2 * x2)
+    (p0 * x0 + p1 * x1 + p2 * x2, unit_height_dir(shape, x))
 }
 
 /// The term of vertex `i` in eq. (5): `½ (Xi·s¹ + ((1 − Xi)/2)·s²)`.

@@ -1,9 +1,12 @@
 //! Clipping a ray to a patch's shell (docs/METHOD.md §8 step 1): the slab `σmin ≤ σ ≤ σmax` and the
-//! three side walls `Xi = 0`, each wall a quadratic in the ray parameter.
+//! three side walls `Xi = 0`, each wall a quadratic in the ray parameter (parallel sections) or
+//! a ruled surface whose lines the ray meets where a quadratic in the edge parameter vanishes
+//! (tilted sections, [`crate::field`]).
 
+use crate::field::Section;
 use crate::geometry::Shape;
 use crate::real::Float;
-use crate::shell::cross2_poly;
+use crate::shell::{cross2_poly, moved_corners};
 use crate::vec::V3;
 
 /// A ray in a patch's local frame, re-based at `t0` so that polynomials in `τ = t − t0` stay
@@ -52,13 +55,18 @@ pub(crate) fn quadratic_roots<F: Float>(c: [F; 3]) -> [Option<F>; 2] {
     [ok(r1), ok(r2)]
 }
 
-/// The three barycentric numerators of the local point `x` in the cross-section `A(σ = x.z)`
-/// and their sum (twice the cross-section's area).
+/// The three barycentric numerators of the local point `x` in its cross-section `A(λ)`
+/// (`λ` from `sec`, [`Section::param`]; `x.z` for parallel sections) and their sum (twice the
+/// cross-section's projected area).
 #[inline(always)]
-pub(crate) fn bary_numerators<F: Float>(shape: &Shape<F>, x: V3<F>) -> ([F; 3], F) {
+pub(crate) fn bary_numerators<F: Float>(
+    shape: &Shape<F>,
+    sec: &Section<F>,
+    x: V3<F>,
+) -> ([F; 3], F) {
     let [p0, p1, p2] = shape.p;
     let [d0, d1, d2] = shape.d;
-    let s = x.z;
+    let s = sec.param(x);
     let a0 = p0 + d0 * s - x;
     let a1 = p1 + d1 * s - x;
     let a2 = p2 + d2 * s - x;
@@ -101,6 +109,55 @@ fn wall_polys<F: Float>(shape: &Shape<F>, ray: &LocalRay<F>, margin: [F; 3]) -> 
     out
 }
 
+/// Where the local ray meets the walls `Xk = −margin_k` of a shell with tilted sections: each
+/// wall is the ruled surface of the lines `p(t) + λ·g(t)` between two moved corners (base
+/// point and direction linear in `t`), and the ray meets the line of `t` where the permuted
+/// inner product of their Plücker coordinates, `r·(p × g) + g·(o × r)`, vanishes: a quadratic
+/// in `t`. Each root gives the ray parameter of the meeting point. Up to two per wall, `None`
+/// where there is none (or it is not finite).
+#[inline(always)]
+fn ruled_wall_crossings<F: Float>(
+    shape: &Shape<F>,
+    ray: &LocalRay<F>,
+    margin: [F; 3],
+) -> [Option<F>; 6] {
+    let corner = |x: [F; 3]| {
+        let mut b = V3::zero();
+        let mut g = V3::zero();
+        for ((p, d), w) in shape.p.iter().zip(shape.d.iter()).zip(x) {
+            b = b + *p * w;
+            g = g + *d * w;
+        }
+        (b, g)
+    };
+    let [c0, c1, c2] = moved_corners(margin).map(corner);
+    let (o, r) = (ray.o, ray.r);
+    let m = o.cross(r);
+    let mut out = [None; 6];
+    // Wall k (opposite vertex k) runs from corner k+1 to corner k+2.
+    let walls = [(c1, c2), (c2, c0), (c0, c1)];
+    for (k, ((pa, ga), (pb, gb))) in walls.into_iter().enumerate() {
+        let (pe, ge) = (pb - pa, gb - ga);
+        let q = [
+            r.dot(pa.cross(ga)) + ga.dot(m),
+            r.dot(pa.cross(ge) + pe.cross(ga)) + ge.dot(m),
+            r.dot(pe.cross(ge)),
+        ];
+        for (j, t) in quadratic_roots(q).into_iter().enumerate() {
+            let tau = t.and_then(|t| {
+                let (p, g) = (pa + pe * t, ga + ge * t);
+                let rg = r.cross(g);
+                let tau = (p - o).cross(g).dot(rg) / rg.length2();
+                if tau.is_fin() { Some(tau) } else { None }
+            });
+            if let Some(slot) = out.get_mut(2 * k + j) {
+                *slot = tau;
+            }
+        }
+    }
+    out
+}
+
 /// Maximum number of breakpoints (two interval ends and two roots per wall).
 const MAX_BREAKS: usize = 8;
 
@@ -117,20 +174,33 @@ pub(crate) fn shell_interval<F: Float>(
     tau_hi: F,
     margin: [F; 3],
 ) -> Option<(F, F)> {
-    let polys = wall_polys(shape, ray, margin);
+    let sec = Section::new(shape);
+    let polys = if sec.parallel {
+        wall_polys(shape, ray, margin)
+    } else {
+        [[F::ZERO; 3]; 3]
+    };
+    let mut roots = [None; 6];
+    if sec.parallel {
+        for (slots, poly) in roots.chunks_exact_mut(2).zip(polys) {
+            for (slot, x) in slots.iter_mut().zip(quadratic_roots(poly)) {
+                *slot = x;
+            }
+        }
+    } else {
+        roots = ruled_wall_crossings(shape, ray, margin);
+    }
     let mut brk = [tau_hi; MAX_BREAKS];
     let mut count = 1usize;
     if let Some(b) = brk.get_mut(0) {
         *b = tau_lo;
     }
-    for poly in polys {
-        for x in quadratic_roots(poly).into_iter().flatten() {
-            if x > tau_lo && x < tau_hi {
-                if let Some(slot) = brk.get_mut(count) {
-                    *slot = x;
-                }
-                count += 1;
+    for x in roots.into_iter().flatten() {
+        if x > tau_lo && x < tau_hi {
+            if let Some(slot) = brk.get_mut(count) {
+                *slot = x;
             }
+            count += 1;
         }
     }
     // Fixed insertion sort network over all slots (unused slots hold τ_hi, which sorts last).
@@ -144,9 +214,17 @@ pub(crate) fn shell_interval<F: Float>(
         }
     }
     let inside = |tau: F| {
-        polys
-            .iter()
-            .all(|&[c0, c1, c2]| c0 + tau * (c1 + tau * c2) >= F::ZERO)
+        if sec.parallel {
+            polys
+                .iter()
+                .all(|&[c0, c1, c2]| c0 + tau * (c1 + tau * c2) >= F::ZERO)
+        } else {
+            // The point's barycentrics in its section: `Xk + margin_k ≥ 0`.
+            let (n, area) = bary_numerators(shape, &sec, ray.at(tau));
+            n.iter()
+                .zip(margin)
+                .all(|(&nk, m)| nk + m * area >= F::ZERO)
+        }
     };
     let mut first: Option<F> = None;
     let mut last: Option<F> = None;

@@ -27,6 +27,7 @@ pub mod refine;
 
 pub(crate) use packet::crossings_packet;
 
+use crate::field::Section;
 use crate::geometry::Shape;
 use crate::height::{self, Prepared, f_lanes};
 use crate::lanes::Lane;
@@ -390,7 +391,7 @@ pub(crate) struct Crossing<F> {
 /// its height.
 #[inline(always)]
 pub(crate) fn bary_at<F: Float>(shape: &Shape<F>, x: V3<F>) -> [F; 3] {
-    let ([_, n1, n2], area) = bary_numerators(shape, x);
+    let ([_, n1, n2], area) = bary_numerators(shape, &Section::new(shape), x);
     let inv = F::ONE / area;
     project_bary(n1 * inv, n2 * inv)
 }
