@@ -693,6 +693,7 @@ pub(crate) fn derivatives<F: Float>(
 #[cfg(test)]
 pub(crate) mod tests {
     use super::*;
+    use crate::field::LineField;
     use crate::lanes::LANES;
     use crate::patch::Patch;
     use crate::surface;
@@ -719,13 +720,24 @@ pub(crate) mod tests {
         seed: u64,
         count: usize,
     ) -> impl Iterator<Item = (Patch<f64>, f64)> {
+        random_patches_on(seed, count, LineField::Face)
+    }
+
+    /// [`random_patches`] on the line field `field`.
+    pub(crate) fn random_patches_on(
+        seed: u64,
+        count: usize,
+        field: LineField,
+    ) -> impl Iterator<Item = (Patch<f64>, f64)> {
         let mut rng = Rng(seed);
         (0..count).filter_map(move |_| {
             let p = [rng.vec() * 3.0, rng.vec() * 3.0, rng.vec() * 3.0];
             let nf = (p[1] - p[0]).cross(p[2] - p[0]).normalize_or_zero();
             let n = [0, 1, 2].map(|_| (nf + rng.vec() * 0.6).normalize_or_zero());
             let size = (p[1] - p[0]).length().max((p[2] - p[0]).length());
-            Patch::<f64>::new(p, n).ok().map(|patch| (patch, size))
+            Patch::<f64>::with_field(p, n, field)
+                .ok()
+                .map(|patch| (patch, size))
         })
     }
 
@@ -733,7 +745,8 @@ pub(crate) mod tests {
     fn equals_the_generic_height_within_rounding() {
         let mut worst = 0.0f64;
         let mut tested = 0;
-        for (patch, size) in random_patches(7, 400) {
+        let fields = [LineField::Face, LineField::Vertex];
+        for (patch, size) in fields.into_iter().flat_map(|f| random_patches_on(7, 400, f)) {
             tested += 1;
             let pr = Prepared::new(&patch.shape);
             let mut xs = [[0.0; 3]; 66];
@@ -756,7 +769,7 @@ pub(crate) mod tests {
                 }
             }
         }
-        assert!(tested > 300, "{tested}");
+        assert!(tested > 600, "{tested}");
         assert!(
             worst < crate::accuracy::KERNEL_HEIGHT_VS_SURFACE,
             "worst {worst:e}"
@@ -767,7 +780,8 @@ pub(crate) mod tests {
     fn jet_derivatives_equal_the_dual_number_derivatives() {
         let mut worst = 0.0f64;
         let mut tested = 0;
-        for (patch, size) in random_patches(11, 300) {
+        let fields = [LineField::Face, LineField::Vertex];
+        for (patch, size) in fields.into_iter().flat_map(|f| random_patches_on(11, 300, f)) {
             tested += 1;
             let pr = Prepared::new(&patch.shape);
             for i in 0..=8 {
@@ -781,8 +795,65 @@ pub(crate) mod tests {
                 }
             }
         }
-        assert!(tested > 200, "{tested}");
+        assert!(tested > 400, "{tested}");
         // Same derivatives of the same surface, different rounding (exact either way).
         assert!(worst < 1e-9, "worst {worst:e}");
+    }
+
+    /// A point built on the line of barycentrics `X` at parameter `λ` (inside the shell and up
+    /// to a tenth of the triangle beyond its edges) is mapped back to that `λ` and `X`, by the
+    /// scalar [`Section::param`] and by the lanes, on patches whose sections are tilted.
+    #[test]
+    fn section_param_recovers_the_line() {
+        let (mut worst_l, mut worst_x, mut tested) = (0.0f64, 0.0f64, 0);
+        let mut rng = Rng(3);
+        for (patch, size) in random_patches_on(13, 400, LineField::Vertex) {
+            let shape = &patch.shape;
+            if crate::field::parallel(shape) {
+                continue;
+            }
+            tested += 1;
+            let sec = Section::new(shape);
+            let pr = Prepared::new(shape);
+            let [lo, hi] = crate::shell::lambda_range(shape, patch.sigma);
+            let mut pts = [(V3::zero(), 0.0, [0.0; 3]); LANES];
+            for slot in pts.iter_mut() {
+                let (w1, w2) = (rng.unit() * 1.2 - 0.1, rng.unit() * 1.2 - 0.1);
+                let (w1, w2) = if w1 + w2 > 1.1 { (1.0 - w1, 1.0 - w2) } else { (w1, w2) };
+                let x = [1.0 - w1 - w2, w1, w2];
+                let l = lo + (hi - lo) * rng.unit();
+                let mut q = V3::zero();
+                for ((p, d), w) in shape.p.iter().zip(shape.d.iter()).zip(x) {
+                    q = q + (*p + *d * l) * w;
+                }
+                *slot = (q, l, x);
+            }
+            let lane = |c: usize| {
+                wide::f64x8::new(core::array::from_fn(|i| {
+                    let q = pts.get(i).map(|p| p.0).unwrap_or(V3::zero());
+                    [q.x, q.y, q.z].get(c).copied().unwrap_or_default()
+                }))
+            };
+            let lanes = section_param(
+                &sec,
+                L3 {
+                    x: lane(0),
+                    y: lane(1),
+                    z: lane(2),
+                },
+            )
+            .to_array();
+            for ((q, l, x), ll) in pts.into_iter().zip(lanes) {
+                let got = sec.param(q);
+                worst_l = worst_l.max((got - l).abs() / size).max((ll - l).abs() / size);
+                let (n, area) = crate::kernel::clip::bary_numerators(shape, &sec, q);
+                for (nk, xk) in n.into_iter().zip(x) {
+                    worst_x = worst_x.max((nk / area - xk).abs());
+                }
+            }
+        }
+        assert!(tested > 300, "{tested}");
+        assert!(worst_l < 1e-12, "λ: {worst_l:e} of the size");
+        assert!(worst_x < 1e-12, "X: {worst_x:e}");
     }
 }
