@@ -5,17 +5,20 @@
 mod common;
 use common::*;
 use smoothtri::accuracy::SHELL_CLEARANCE;
-use smoothtri::{DPatch, Patch};
+use smoothtri::{DPatch, LineField, Patch};
 
 #[test]
 fn height_range_and_box_contain_dense_samples() {
     let mut rng = Rng(7);
     let grid = bary_grid(40);
-    for deg in [10.0, 20.0, 30.0, 40.0, 50.0] {
+    let cases = [LineField::Face, LineField::Vertex]
+        .into_iter()
+        .flat_map(|f| [10.0, 20.0, 30.0, 40.0, 50.0].map(|deg| (f, deg)));
+    for (field, deg) in cases {
         let mut worst = f64::NEG_INFINITY;
         for _ in 0..400 {
             let (p, n) = random_patch(&mut rng, deg);
-            let patch = DPatch::new(p, n).unwrap();
+            let patch = DPatch::with_field(p, n, field).unwrap();
             let (lo, hi) = patch.height_range();
             let (bmin, bmax) = (patch.bounds().min(), patch.bounds().max());
             for &(w1, w2) in &grid {
@@ -34,7 +37,7 @@ fn height_range_and_box_contain_dense_samples() {
             }
         }
         eprintln!(
-            "normals ≤ {deg}°: closest approach to the shell's faces {:.3} of its width \
+            "{field:?} field, normals ≤ {deg}°: closest approach to the shell's faces {:.3} of its width \
              (bound {SHELL_CLEARANCE})",
             -worst
         );

@@ -1,0 +1,125 @@
+//! The shared line field ([`LineField::Vertex`], docs/METHOD.md §2 "Line fields") in the ray
+//! kernel: patches whose sections are tilted (the point-to-section map is a cubic, solved by
+//! Newton) are hit where the generic evaluation puts their surface, within `t_error`, in `f64`
+//! and `f32`, by single rays and packets.
+
+mod common;
+use common::*;
+use glam::DVec3;
+use smoothtri::accuracy::F32_VS_F64_POINT;
+use smoothtri::lanes::LANES;
+use smoothtri::{Bvh, BvhNode, DPatch, DRay, Float, LineField, Patch, Ray};
+
+/// Random patches (well-shaped, normals within 40° of the face) on the shared field, whose
+/// normals make unequal angles with the face (tilted sections); rays from outside, up to 50°
+/// off the surface normal, aimed at surface points of a barycentric grid (edges and vertices
+/// included): every ray hits, at the target within its `t_error` (`f64`; `f32`, at points a
+/// tenth of the triangle inside its edges, within its `t_error` plus twice
+/// [`F32_VS_F64_POINT`] of the scale: the f32 patch's own surface, on rounded input, along a
+/// ray up to 50° off its normal).
+#[test]
+fn tilted_sections_are_hit_on_the_surface() {
+    let mut rng = Rng(21);
+    let grid = bary_grid(6);
+    let (mut rays, mut worst64, mut worst32) = (0usize, 0.0f64, 0.0f64);
+    for _ in 0..200 {
+        let (p, n) = random_patch(&mut rng, 40.0);
+        let patch = DPatch::with_field(p, n, LineField::Vertex).unwrap();
+        let p32 = Patch::<f32>::with_field(
+            p.map(|x| x.as_vec3()),
+            n.map(|x| x.as_vec3()),
+            LineField::Vertex,
+        )
+        .unwrap();
+        let size = (p[1] - p[0]).length();
+        let scale = p.iter().fold(size, |m, v| m.max(v.abs().max_element()));
+        for &(w1, w2) in &grid {
+            let (x, nrm) = patch.point_normal(w1, w2);
+            let u = loop {
+                let u = rng.unit();
+                if u.dot(nrm) >= 50f64.to_radians().cos() {
+                    break u;
+                }
+            };
+            let dist = size;
+            let o = x + u * dist;
+            let h = patch
+                .intersect::<8>(&DRay::new(o, -u), 0.0, f64::INFINITY)
+                .unwrap_or_else(|| panic!("f64 miss at ({w1}, {w2}) of {p:?} {n:?}"));
+            let err = (h.t - dist).abs();
+            assert!(
+                err <= h.t_error + 1e-12 * size,
+                "f64: |{} − {dist}| = {err:e} > t_error {:e}",
+                h.t,
+                h.t_error
+            );
+            worst64 = worst64.max(err / size);
+            // f32 input rounding moves the patch's edges: a ray aimed at an edge may then pass
+            // beside it (and hit the continuation in the wall margin); f32 is compared inside.
+            if w1.min(w2).min(1.0 - w1 - w2) < 0.1 {
+                rays += 1;
+                continue;
+            }
+            let h = p32
+                .intersect::<8>(&Ray::new(o.as_vec3(), (-u).as_vec3()), 0.0, f32::INFINITY)
+                .unwrap_or_else(|| panic!("f32 miss at ({w1}, {w2}) of {p:?} {n:?}"));
+            let err = (h.t as f64 - dist).abs();
+            assert!(
+                err <= h.t_error as f64 + 2.0 * F32_VS_F64_POINT * scale,
+                "f32: |{} − {dist}| = {err:e} > t_error {:e}",
+                h.t,
+                h.t_error
+            );
+            worst32 = worst32.max(err / scale);
+            rays += 1;
+        }
+    }
+    eprintln!("{rays} rays: worst |t − target| {worst64:.1e} (f64) of the size, {worst32:.1e} (f32) of the scale");
+}
+
+/// Packets of eight rays agree with single rays on the irregular icosphere built on the shared
+/// field: the same rays hit, within their `t_error`s.
+#[test]
+fn packets_agree_on_tilted_sections() {
+    fn check<F: Float>(conv: fn(DVec3) -> F::Vec3) -> usize {
+        let m = irregular();
+        let ps: Vec<Patch<F>> = (0..m.triangles.len())
+            .map(|t| {
+                let (p, n) = m.triangle(t);
+                Patch::<F>::with_field(p.map(conv), n.map(conv), LineField::Vertex).unwrap()
+            })
+            .collect();
+        let mut nodes = vec![BvhNode::<F>::default(); Bvh::<F>::nodes_needed(ps.len())];
+        let mut order = vec![0u32; ps.len()];
+        let bvh = Bvh::build(&ps, &mut nodes, &mut order).unwrap();
+        let mut rng = Rng(5);
+        let inf = F::from_f64(f64::INFINITY);
+        let mut hits = 0;
+        for _ in 0..200 {
+            let rays: [Ray<F>; LANES] = core::array::from_fn(|_| {
+                let o = rng.unit() * 3.0;
+                let target = rng.unit() * 0.5;
+                Ray::new(conv(o), conv((target - o).normalize()))
+            });
+            let got = bvh.closest_hit_packet::<4>(&rays, F::ZERO, inf).unwrap();
+            for (ray, g) in rays.iter().zip(got) {
+                let want = bvh.closest_hit::<4>(ray, F::ZERO, inf).unwrap();
+                match (g, want) {
+                    (Some(g), Some(w)) => {
+                        hits += 1;
+                        let (gt, wt) = (g.t.to_f64(), w.t.to_f64());
+                        let allowed = g.t_error.to_f64()
+                            + w.t_error.to_f64()
+                            + 8.0 * F::EPSILON.to_f64() * wt;
+                        assert!((gt - wt).abs() <= allowed, "|{gt} − {wt}| > {allowed:e}");
+                    }
+                    (None, None) => {}
+                    (g, w) => panic!("packet {g:?} vs single {w:?}"),
+                }
+            }
+        }
+        hits
+    }
+    assert!(check::<f64>(|v| v) > 1000);
+    assert!(check::<f32>(|v| v.as_vec3()) > 1000);
+}
