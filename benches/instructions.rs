@@ -10,7 +10,7 @@
 use std::hint::black_box;
 use std::process::Command;
 
-use smoothtri::{Patch, flat_hit, moller_trumbore};
+use smoothtri::{LineField, Patch, flat_hit, moller_trumbore};
 use smoothtri_demo::scenes::torus;
 
 mod common;
@@ -28,6 +28,8 @@ const CASES: &[(&str, &str, usize)] = &[
     ("scene_smooth_8x8_f32_N4", "camera ray", 160 * 120),
     ("scene_smooth_8x8_f32_N8", "camera ray", 160 * 120),
     ("scene_packets_8x8_f32_N8", "camera ray", 160 * 120),
+    ("scene_tilted_sphere_face_f32_N4", "camera ray", 160 * 120),
+    ("scene_tilted_sphere_vertex_f32_N4", "camera ray", 160 * 120),
     ("scene_flat_equal_error_f32", "camera ray", 160 * 120),
     ("construct_f32", "patch", 128),
 ];
@@ -46,7 +48,11 @@ macro_rules! per_patch {
 
 /// The 160×120 camera rays through the BVH of the 8×8 torus, `reps` times.
 fn scene_smooth<const N: usize>(reps: usize) -> usize {
-    let scene = Scene::new(&torus(8, 8, 1.0, 0.4));
+    scene_rays::<N>(&Scene::new(&torus(8, 8, 1.0, 0.4)), reps)
+}
+
+/// The 160×120 camera rays through the BVH of `scene`, `reps` times.
+fn scene_rays<const N: usize>(scene: &Scene, reps: usize) -> usize {
     let bvh = scene.bvh();
     let rays = camera_rays(160, 120);
     let mut hits = 0;
@@ -81,6 +87,14 @@ fn run_case(name: &str, reps: usize) -> usize {
         "smooth_f64_N8" => per_patch!(s, reps, s.p64, s.rays64, 8, f64::INFINITY),
         "scene_smooth_8x8_f32_N4" => scene_smooth::<4>(reps),
         "scene_smooth_8x8_f32_N8" => scene_smooth::<8>(reps),
+        "scene_tilted_sphere_face_f32_N4" => scene_rays::<4>(
+            &Scene::new_on(&tilted_normal_sphere(), LineField::Face),
+            reps,
+        ),
+        "scene_tilted_sphere_vertex_f32_N4" => scene_rays::<4>(
+            &Scene::new_on(&tilted_normal_sphere(), LineField::Vertex),
+            reps,
+        ),
         "scene_packets_8x8_f32_N8" => {
             let scene = Scene::new(&torus(8, 8, 1.0, 0.4));
             let bvh = scene.bvh();

@@ -74,7 +74,9 @@ fn tilted_sections_are_hit_on_the_surface() {
             rays += 1;
         }
     }
-    eprintln!("{rays} rays: worst |t − target| {worst64:.1e} (f64) of the size, {worst32:.1e} (f32) of the scale");
+    eprintln!(
+        "{rays} rays: worst |t − target| {worst64:.1e} (f64) of the size, {worst32:.1e} (f32) of the scale"
+    );
 }
 
 /// Packets of eight rays agree with single rays on the irregular icosphere built on the shared

@@ -304,7 +304,10 @@ fn shared_line_field_closes_the_cracks() {
     }
     for (name, mesh) in [
         ("teapot", scenes::teapot(4)),
-        ("box 1x2x4, averaged normals", box_mesh(1.0, 2.0, 4.0).to_mesh()),
+        (
+            "box 1x2x4, averaged normals",
+            box_mesh(1.0, 2.0, 4.0).to_mesh(),
+        ),
     ] {
         let (_, e32, e64) = measure_on(name, &mesh, true, LineField::Vertex);
         assert_eq!(e32[..3], [0, 0, 0], "{name}, cracks closed: f32");

@@ -3,8 +3,8 @@
 #![allow(dead_code)]
 
 use glam::{DVec3, Vec3};
-use smoothtri::{Bvh, BvhNode, DPatch, DRay, Patch, Ray};
-use smoothtri_demo::scenes::{Mesh, torus, torus_distance};
+use smoothtri::{Bvh, BvhNode, DPatch, DRay, LineField, Patch, Ray};
+use smoothtri_demo::scenes::{Mesh, icosphere, torus, torus_distance};
 
 /// Deterministic SplitMix64.
 pub struct Rng(pub u64);
@@ -29,10 +29,30 @@ pub fn triangles32(m: &Mesh) -> Vec<([Vec3; 3], [Vec3; 3])> {
 }
 
 pub fn patches32(m: &Mesh) -> Vec<Patch> {
+    patches32_on(m, LineField::Face)
+}
+
+/// [`patches32`] on the line field `field`.
+pub fn patches32_on(m: &Mesh, field: LineField) -> Vec<Patch> {
     triangles32(m)
         .into_iter()
-        .map(|(p, n)| Patch::new(p, n).unwrap())
+        .map(|(p, n)| Patch::with_field(p, n, field).unwrap())
         .collect()
+}
+
+/// The unit icosphere of level 3 with each vertex normal tilted from the radius by up to 20°
+/// (a fixed pattern): on the shared line field ([`LineField::Vertex`]) its patches' sections
+/// are tilted, so the kernel runs the section's Newton steps and the ruled walls.
+pub fn tilted_normal_sphere() -> Mesh {
+    let mut m = icosphere(3, 1.0);
+    for (i, n) in m.normals.iter_mut().enumerate() {
+        let k = i as f64;
+        let axis = DVec3::new((1.3 * k).sin(), (2.1 * k).cos(), (0.7 * k).sin());
+        let side = axis.cross(*n).normalize_or_zero();
+        let a = (20.0 * (0.5 + 0.5 * (3.7 * k).sin())).to_radians();
+        *n = *n * a.cos() + side * a.sin();
+    }
+    m
 }
 
 /// Rays aimed at random points of patch `k`'s triangle from random directions above it:
@@ -116,7 +136,10 @@ pub struct Scene {
 }
 impl Scene {
     pub fn new(m: &Mesh) -> Self {
-        let patches = patches32(m);
+        Self::new_on(m, LineField::Face)
+    }
+    pub fn new_on(m: &Mesh, field: LineField) -> Self {
+        let patches = patches32_on(m, field);
         let mut nodes = vec![BvhNode::default(); Bvh::<f32>::nodes_needed(patches.len())];
         let mut order = vec![0u32; patches.len()];
         let used = Bvh::build(&patches, &mut nodes, &mut order)

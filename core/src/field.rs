@@ -15,7 +15,7 @@
 //!   field equals the face field. Elsewhere the sections at constant `λ` are tilted planes: the
 //!   point `x` lies in the section of `λ` where the cubic
 //!   `g(λ) = det[A1(λ) − A0(λ), A2(λ) − A0(λ), x − A0(λ)]` (`Ai(λ) = Pi + λ·di`) vanishes,
-//!   solved by [`SECTION_NEWTON_STEPS`] Newton steps ([`Section::param`]).
+//!   solved by [`SECTION_NEWTON_STEPS`] Newton steps (`Section::param`).
 
 use crate::geometry::Shape;
 use crate::real::Float;
@@ -36,7 +36,7 @@ pub enum LineField {
 }
 
 /// Newton steps that locate a point's section `λ` in a [`LineField::Vertex`] patch whose
-/// sections are tilted ([`Section::param`]): a fixed count, so the work per point is bounded.
+/// sections are tilted (`Section::param`): a fixed count, so the work per point is bounded.
 ///
 /// Derivation. The start `λ0 = z / mean(di.z)` errs by at most the spread of `di.z` over their
 /// mean, a relative `ρ`; Newton on the cubic (its derivative `≈ −2·area·Vz` stays away from 0

@@ -746,7 +746,10 @@ pub(crate) mod tests {
         let mut worst = 0.0f64;
         let mut tested = 0;
         let fields = [LineField::Face, LineField::Vertex];
-        for (patch, size) in fields.into_iter().flat_map(|f| random_patches_on(7, 400, f)) {
+        for (patch, size) in fields
+            .into_iter()
+            .flat_map(|f| random_patches_on(7, 400, f))
+        {
             tested += 1;
             let pr = Prepared::new(&patch.shape);
             let mut xs = [[0.0; 3]; 66];
@@ -781,7 +784,10 @@ pub(crate) mod tests {
         let mut worst = 0.0f64;
         let mut tested = 0;
         let fields = [LineField::Face, LineField::Vertex];
-        for (patch, size) in fields.into_iter().flat_map(|f| random_patches_on(11, 300, f)) {
+        for (patch, size) in fields
+            .into_iter()
+            .flat_map(|f| random_patches_on(11, 300, f))
+        {
             tested += 1;
             let pr = Prepared::new(&patch.shape);
             for i in 0..=8 {
@@ -814,12 +820,15 @@ pub(crate) mod tests {
             }
             tested += 1;
             let sec = Section::new(shape);
-            let pr = Prepared::new(shape);
             let [lo, hi] = crate::shell::lambda_range(shape, patch.sigma);
             let mut pts = [(V3::zero(), 0.0, [0.0; 3]); LANES];
             for slot in pts.iter_mut() {
                 let (w1, w2) = (rng.unit() * 1.2 - 0.1, rng.unit() * 1.2 - 0.1);
-                let (w1, w2) = if w1 + w2 > 1.1 { (1.0 - w1, 1.0 - w2) } else { (w1, w2) };
+                let (w1, w2) = if w1 + w2 > 1.1 {
+                    (1.0 - w1, 1.0 - w2)
+                } else {
+                    (w1, w2)
+                };
                 let x = [1.0 - w1 - w2, w1, w2];
                 let l = lo + (hi - lo) * rng.unit();
                 let mut q = V3::zero();
@@ -845,7 +854,9 @@ pub(crate) mod tests {
             .to_array();
             for ((q, l, x), ll) in pts.into_iter().zip(lanes) {
                 let got = sec.param(q);
-                worst_l = worst_l.max((got - l).abs() / size).max((ll - l).abs() / size);
+                worst_l = worst_l
+                    .max((got - l).abs() / size)
+                    .max((ll - l).abs() / size);
                 let (n, area) = crate::kernel::clip::bary_numerators(shape, &sec, q);
                 for (nk, xk) in n.into_iter().zip(x) {
                     worst_x = worst_x.max((nk / area - xk).abs());

@@ -21,7 +21,7 @@ use smoothtri::sphere::{curvature, nearest_root};
 use smoothtri::vec::V3;
 use smoothtri::{
     Aabb, Bvh, BvhError, BvhNode, DEFAULT_SAMPLES, FastF32, Float, Hit, KernelStats, Patch,
-    PatchError, Ray, Real, Seam, SeamEdge, SeamError, close_cracks, fit_seams, flat_hit,
+    LineField, PatchError, Ray, Real, Seam, SeamEdge, SeamError, close_cracks, fit_seams, flat_hit,
     moller_trumbore,
 };
 
@@ -161,6 +161,22 @@ fn exercise<F: Float>() -> u32 {
         }
     }
     acc += display_len(&black_box(PatchError::ZeroNormal { vertex: 1 }));
+    // The shared line field: a patch with tilted sections (normals at unequal angles to the
+    // face), its evaluation and its kernel (the section's Newton steps, the ruled walls).
+    let uneven = [v::<F>(0.3, 0.3, 0.9), n[1], n[2]];
+    for field in [LineField::Face, black_box(LineField::Vertex)] {
+        for r in [
+            Patch::<F>::with_field(p, uneven, field),
+            Patch::<F>::new_or_tilted_with(p, steep, field),
+        ] {
+            if let Ok(q) = r {
+                let ray = Ray::<F>::new(v::<F>(2.0, 2.0, 2.0), v::<F>(-1.0, -1.0, -1.0));
+                let h = q.intersect::<4>(&ray, c::<F>(0.0), c::<F>(f64::INFINITY));
+                acc += h.map_or(0, |h| h.t.is_fin() as u32);
+                acc += F::from_glam(q.point(c::<F>(0.1), c::<F>(0.7))).all_finite() as u32;
+            }
+        }
+    }
     let Ok(patch) = Patch::<F>::new_or_tilted(p, n) else {
         return acc;
     };
