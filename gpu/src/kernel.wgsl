@@ -47,6 +47,8 @@ const ROUNDING_ULPS: f32 = 16.0;
 // Side walls moved outward by this many ulps of L (the CPU's `kernel::WALL_MARGIN_ULPS`), so
 // that neighbours' domains overlap at shared edges.
 const WALL_MARGIN_ULPS: f32 = 8.0;
+// core/src/field.rs SECTION_NEWTON_STEPS.
+const SECTION_NEWTON_STEPS: u32 = 6u;
 // Status bits.
 const STATUS_CORRUPT: u32 = 1u;
 const STATUS_STACK: u32 = 2u;
@@ -106,9 +108,11 @@ fn fin3(v: vec3<f32>) -> bool {
 // EdgePrep in core/src/height.rs), computed once on the host at upload.
 struct Edge {
     a: vec2<f32>,   // A (local z = 0)
-    da: vec2<f32>,  // dA (local z = 1)
+    da: vec2<f32>,  // dA (xy; its z is daz)
     e: vec2<f32>,   // e = B − A (z = 0)
-    gd: vec2<f32>,  // gd = dB − dA (z = 0)
+    gd: vec2<f32>,  // gd = dB − dA (xy; its z is gdz)
+    daz: f32,       // dA.z (1 for parallel sections)
+    gdz: f32,       // dB.z − dA.z (0 for parallel sections)
     na: vec3<f32>,  // unit normal at A
     nb: vec3<f32>,  // unit normal at B
     k1: f32,        // κ(S¹): anchor A, axis nA
@@ -144,16 +148,26 @@ struct Patch {
     e1: Edge,
     e2: Edge,
     reach: vec3<f32>, // per wall k (opposite vertex k): core's Patch::reach (close_cracks)
+    dz: vec3<f32>,    // the di.z (all 1 for parallel sections, core/src/field.rs)
+    tilted: bool,     // some di.z differs from 1: the section of a point is found by Newton
+    // The point-to-section cubic (core/src/field.rs `Section`): (A1 − A0) × (A2 − A0) =
+    // k0 + λ·k1 + λ²·k2, kd = (kj·d0), inv_mean = 1 / mean(di.z).
+    k0: vec3<f32>,
+    k1: vec3<f32>,
+    k2: vec3<f32>,
+    kd: vec3<f32>,
+    inv_mean: f32,
 }
 
-fn load_edge(base: u32, a: vec2<f32>, da: vec2<f32>, na: vec3<f32>, nb: vec3<f32>) -> Edge {
+fn load_edge(base: u32, a: vec2<f32>, da: vec2<f32>, daz: f32, dbz: f32, na: vec3<f32>,
+    nb: vec3<f32>) -> Edge {
     let v0 = patches[base];
     let v1 = patches[base + 1u];
     let v2 = patches[base + 2u];
     let v3 = patches[base + 3u];
     let v4 = patches[base + 4u];
-    return Edge(a, da, v0.xy, v0.zw, na, nb, v1.x, v1.y, v1.z, v1.w, v2.x, v2.y, v2.z, v2.w,
-        v3.xyz, v4.xyz);
+    return Edge(a, da, v0.xy, v0.zw, daz, dbz - daz, na, nb, v1.x, v1.y, v1.z, v1.w, v2.x, v2.y,
+        v2.z, v2.w, v3.xyz, v4.xyz);
 }
 
 // The caller has checked id < patch_count (so every index below is inside the buffer).
@@ -175,12 +189,24 @@ fn load_patch(id: u32) -> Patch {
     let d0 = vec2<f32>(v6.w, v7.w);
     let d1 = vec2<f32>(v8.w, v9.x);
     let d2 = vec2<f32>(v9.y, v9.z);
-    let e0 = load_edge(b + 10u, p0, d0, v6.xyz, v7.xyz);
-    let e1 = load_edge(b + 15u, p1, d1, v7.xyz, v8.xyz);
-    let e2 = load_edge(b + 20u, p2, d2, v8.xyz, v6.xyz);
+    let dz = vec3<f32>(patches[b + 14u].w, patches[b + 19u].w, patches[b + 24u].w);
+    let e0 = load_edge(b + 10u, p0, d0, dz.x, dz.y, v6.xyz, v7.xyz);
+    let e1 = load_edge(b + 15u, p1, d1, dz.y, dz.z, v7.xyz, v8.xyz);
+    let e2 = load_edge(b + 20u, p2, d2, dz.z, dz.x, v8.xyz, v6.xyz);
     let reach = vec3<f32>(patches[b + 13u].w, patches[b + 18u].w, patches[b + 23u].w);
+    let tilted = dz.x != 1.0 || dz.y != 1.0 || dz.z != 1.0;
+    let q1 = vec3<f32>(v3.w, 0.0, 0.0);
+    let q2 = vec3<f32>(v4.w, v5.w, 0.0);
+    let c1 = vec3<f32>(d1 - d0, dz.y - dz.x);
+    let c2 = vec3<f32>(d2 - d0, dz.z - dz.x);
+    let k0 = cross(q1, q2);
+    let k1 = cross(q1, c2) + cross(c1, q2);
+    let k2 = cross(c1, c2);
+    let d0v = vec3<f32>(d0, dz.x);
+    let kd = vec3<f32>(dot(k0, d0v), dot(k1, d0v), dot(k2, d0v));
     return Patch(v0.xyz, v0.w, v1.xyz, v2.xyz, v3.xyz, v1.w, v2.w, v3.w, v4.w, v5.w,
-        v6.xyz, v7.xyz, v8.xyz, d0, d1, d2, e0, e1, e2, reach);
+        v6.xyz, v7.xyz, v8.xyz, d0, d1, d2, e0, e1, e2, reach, dz, tilted, k0, k1, k2, kd,
+        3.0 / (dz.x + dz.y + dz.z));
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -260,8 +286,8 @@ struct PointNormal {
 fn edge_point_normal(ep: Edge, t: f32) -> PointNormal {
     let u = t - 1.0;
     let e = vec3<f32>(ep.e, 0.0);
-    let gd = vec3<f32>(ep.gd, 0.0);
-    let g = vec3<f32>(ep.da.x + t * gd.x, ep.da.y + t * gd.y, 1.0);
+    let gd = vec3<f32>(ep.gd, ep.gdz);
+    let g = vec3<f32>(ep.da.x + t * gd.x, ep.da.y + t * gd.y, ep.daz + t * gd.z);
     let gg = ep.gg0 + t * (ep.gg1 + t * ep.gg2);
     let dgg = ep.gg1 + 2.0 * t * ep.gg2;
     let eg = ep.eg0 + t * ep.eg1;
@@ -316,10 +342,38 @@ fn vertex_term(ep: Edge, pi: vec3<f32>, ni: vec3<f32>, xi: f32, xa: f32, xb: f32
     return 0.5 * xi * r1.s + 0.25 * (1.0 - xi) * r2.s;
 }
 
-// Raw barycentrics (w0, w1, w2) of the local point x in the cross-section at its height (0, 0, 1
-// where the cross-section has no area).
-fn bary_raw(pt: Patch, x: vec3<f32>) -> vec3<f32> {
-    let s = x.z;
+// The line parameter λ of the section through the local point x (core/src/field.rs
+// `Section::param`): x.z for parallel sections, else SECTION_NEWTON_STEPS Newton steps on the
+// cubic g(λ) = det[A1 − A0, A2 − A0, x − A0] from x.z / mean(di.z).
+fn section_param(pt: Patch, x: vec3<f32>) -> f32 {
+    if (!pt.tilted) {
+        return x.z;
+    }
+    let c0 = dot(pt.k0, x);
+    let c1 = dot(pt.k1, x) - pt.kd.x;
+    let c2 = dot(pt.k2, x) - pt.kd.y;
+    let c3 = -pt.kd.z;
+    var l = x.z * pt.inv_mean;
+    for (var i = 0u; i < SECTION_NEWTON_STEPS; i++) {
+        let g = c0 + l * (c1 + l * (c2 + l * c3));
+        let dg = c1 + l * (2.0 * c2 + 3.0 * l * c3);
+        let next = l - g / dg;
+        l = select(l, next, fin(next));
+    }
+    return l;
+}
+
+// The barycentric numerators (n0, n1, n2) of the local point x in its section (parameter λ of
+// section_param) and their sum, twice the section's projected area (core clip.rs
+// `bary_numerators`), with λ in .w of the second.
+struct Numerators {
+    n: vec3<f32>,
+    area: f32,
+    s: f32,
+}
+
+fn bary_numerators(pt: Patch, x: vec3<f32>) -> Numerators {
+    let s = section_param(pt, x);
     let a0x = pt.d0.x * s - x.x;
     let a0y = pt.d0.y * s - x.y;
     let a1x = pt.p1x + pt.d1.x * s - x.x;
@@ -329,11 +383,18 @@ fn bary_raw(pt: Patch, x: vec3<f32>) -> vec3<f32> {
     let n1 = a2x * a0y - a2y * a0x;
     let n2 = a0x * a1y - a0y * a1x;
     let n0 = a1x * a2y - a1y * a2x;
-    let area = n0 + n1 + n2;
+    return Numerators(vec3<f32>(n0, n1, n2), n0 + n1 + n2, s);
+}
+
+// Raw barycentrics (w0, w1, w2) of the local point x in its section (0, 0, 1 where the
+// section has no area), with the section's λ in .w.
+fn bary_raw(pt: Patch, x: vec3<f32>) -> vec4<f32> {
+    let nm = bary_numerators(pt, x);
+    let area = nm.area;
     let ar = select(1.0, area, area != 0.0);
-    let w1 = select(0.0, n1 / ar, area != 0.0);
-    let w2 = select(0.0, n2 / ar, area != 0.0);
-    return vec3<f32>(1.0 - w1 - w2, w1, w2);
+    let w1 = select(0.0, nm.n.y / ar, area != 0.0);
+    let w2 = select(0.0, nm.n.z / ar, area != 0.0);
+    return vec4<f32>(1.0 - w1 - w2, w1, w2, nm.s);
 }
 
 // Raw barycentrics projected onto the triangle (negative or non-finite components 0,
@@ -356,7 +417,7 @@ fn project(w: vec3<f32>) -> vec3<f32> {
 // Barycentrics of the local point x in the cross-section at its height, projected onto the
 // triangle.
 fn bary(pt: Patch, x: vec3<f32>) -> vec3<f32> {
-    return project(bary_raw(pt, x));
+    return project(bary_raw(pt, x).xyz);
 }
 
 // The height change of the surface's continuation beyond the triangle's edges, from the
@@ -371,8 +432,17 @@ fn beyond_edge(pt: Patch, w: vec3<f32>, q: vec3<f32>, s: f32) -> f32 {
     let nz = q.x * pt.n0.z + q.y * pt.n1.z + q.z * pt.n2.z;
     let dx = q.x * pt.d0.x + q.y * pt.d1.x + q.z * pt.d2.x;
     let dy = q.x * pt.d0.y + q.y * pt.d1.y + q.z * pt.d2.y;
-    let nd = nx * dx + ny * dy + nz;
-    let dh = 0.0 - (nx * ox + ny * oy) / nd;
+    var dh = 0.0;
+    if (pt.tilted) {
+        // The point is o.z above the section point of q (core height.rs `beyond_edge`).
+        let oz = s * dot(e, pt.dz);
+        let vz = dot(q, pt.dz);
+        let nd = (nx * dx + ny * dy) / vz + nz;
+        dh = oz - (nx * ox + ny * oy + nz * oz) / nd;
+    } else {
+        let nd = nx * dx + ny * dy + nz;
+        dh = 0.0 - (nx * ox + ny * oy) / nd;
+    }
     let outside = w.x < 0.0 || w.y < 0.0 || w.z < 0.0;
     return select(0.0, dh, outside && fin(dh));
 }
@@ -380,8 +450,13 @@ fn beyond_edge(pt: Patch, w: vec3<f32>, q: vec3<f32>, s: f32) -> f32 {
 // Height σS(X) at barycentrics x (summing to one, inside the triangle).
 fn height_at(pt: Patch, x: vec3<f32>) -> f32 {
     let base = vec3<f32>(x.y * pt.p1x + x.z * pt.p2x, x.z * pt.p2y, 0.0);
-    let dir = vec3<f32>(x.x * pt.d0.x + x.y * pt.d1.x + x.z * pt.d2.x,
+    var dir = vec3<f32>(x.x * pt.d0.x + x.y * pt.d1.x + x.z * pt.d2.x,
         x.x * pt.d0.y + x.y * pt.d1.y + x.z * pt.d2.y, x.x + x.y + x.z);
+    if (pt.tilted) {
+        // Unit height (core/src/field.rs `unit_height_dir`).
+        let inv = 1.0 / dot(x, pt.dz);
+        dir = vec3<f32>(dir.x * inv, dir.y * inv, 1.0);
+    }
     let dd = dot(dir, dir);
     let p0 = vec3<f32>(0.0, 0.0, 0.0);
     let p1 = vec3<f32>(pt.p1x, 0.0, 0.0);
@@ -395,8 +470,8 @@ fn height_at(pt: Patch, x: vec3<f32>) -> f32 {
 fn f_at(pt: Patch, lo: vec3<f32>, lr: vec3<f32>, tau: f32) -> f32 {
     let x = lo + lr * tau;
     let w = bary_raw(pt, x);
-    let q = project(w);
-    return x.z - (height_at(pt, q) + beyond_edge(pt, w, q, x.z));
+    let q = project(w.xyz);
+    return x.z - (height_at(pt, q) + beyond_edge(pt, w.xyz, q, w.w));
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -437,13 +512,58 @@ fn quadratic_roots(c: vec3<f32>) -> Roots {
     return Roots(vec2<f32>(r1, r2), vec2<bool>(fin(r1), fin(r2)));
 }
 
-fn inside(polys: array<vec3<f32>, 3>, tau: f32) -> bool {
+// Whether the ray point at τ is inside the walls Xk = −m_k: the wall polynomials for parallel
+// sections, the point's barycentrics in its section for tilted ones.
+fn inside(pt: Patch, polys: array<vec3<f32>, 3>, m: vec3<f32>, o: vec3<f32>, r: vec3<f32>,
+    tau: f32) -> bool {
+    if (pt.tilted) {
+        let nm = bary_numerators(pt, o + r * tau);
+        return nm.n.x + m.x * nm.area >= 0.0 && nm.n.y + m.y * nm.area >= 0.0
+            && nm.n.z + m.z * nm.area >= 0.0;
+    }
     var ok_all = true;
     for (var k = 0u; k < 3u; k++) {
         let c = polys[k];
         ok_all = ok_all && (c.x + tau * (c.y + tau * c.z) >= 0.0);
     }
     return ok_all;
+}
+
+// Base point and direction of the line over the barycentrics x (local frame).
+struct Line {
+    p: vec3<f32>,
+    g: vec3<f32>,
+}
+
+fn line_at(pt: Patch, x: vec3<f32>) -> Line {
+    let p = vec3<f32>(x.y * pt.p1x + x.z * pt.p2x, x.z * pt.p2y, 0.0);
+    let g = vec3<f32>(x.x * pt.d0 + x.y * pt.d1 + x.z * pt.d2, dot(x, pt.dz));
+    return Line(p, g);
+}
+
+// Where the ray o + τ·r meets wall k (from moved corner a to moved corner b) of a shell with
+// tilted sections (core clip.rs `ruled_wall_crossings`): the Plücker side product of the ray
+// with the wall's line at t, a quadratic in t; each root's ray parameter, or not ok.
+fn ruled_crossings(la: Line, lb: Line, o: vec3<f32>, r: vec3<f32>) -> Roots {
+    let pe = lb.p - la.p;
+    let ge = lb.g - la.g;
+    let m = cross(o, r);
+    let q = vec3<f32>(dot(r, cross(la.p, la.g)) + dot(la.g, m),
+        dot(r, cross(la.p, ge) + cross(pe, la.g)) + dot(ge, m), dot(r, cross(pe, ge)));
+    let ts = quadratic_roots(q);
+    var out = Roots(vec2<f32>(0.0, 0.0), vec2<bool>(false, false));
+    for (var j = 0u; j < 2u; j++) {
+        if (ts.ok[j]) {
+            let t = ts.r[j];
+            let p = la.p + pe * t;
+            let g = la.g + ge * t;
+            let rg = cross(r, g);
+            let tau = dot(cross(p - o, g), rg) / dot(rg, rg);
+            out.r[j] = tau;
+            out.ok[j] = fin(tau);
+        }
+    }
+    return out;
 }
 
 // [τa, τb]: the hull of the sub-intervals of [τ_lo, τ_hi] inside all three walls (at most 8
@@ -471,10 +591,24 @@ fn shell_interval(pt: Patch, o: vec3<f32>, r: vec3<f32>, tau_lo: f32, tau_hi: f3
     // Each wall also moves out by its crack reach (core/src/kernel/mod.rs `wall_margins`).
     let m = pt.reach + vec3<f32>(margin, margin, margin);
     let polys = array<vec3<f32>, 3>(w0 + m.x * sum, w1 + m.y * sum, w2 + m.z * sum);
+    // Tilted sections: the moved corners' lines (core shell.rs `moved_corners`).
+    let c0 = line_at(pt, vec3<f32>(1.0 + m.y + m.z, -m.y, -m.z));
+    let c1 = line_at(pt, vec3<f32>(-m.x, 1.0 + m.x + m.z, -m.z));
+    let c2 = line_at(pt, vec3<f32>(-m.x, -m.y, 1.0 + m.x + m.y));
     var brk = array<f32, 8>(tau_lo, tau_hi, tau_hi, tau_hi, tau_hi, tau_hi, tau_hi, tau_hi);
     var count = 1u;
     for (var k = 0u; k < 3u; k++) {
-        let rs = quadratic_roots(polys[k]);
+        var rs = quadratic_roots(polys[k]);
+        if (pt.tilted) {
+            // Wall k runs from corner k+1 to corner k+2.
+            if (k == 0u) {
+                rs = ruled_crossings(c1, c2, o, r);
+            } else if (k == 1u) {
+                rs = ruled_crossings(c2, c0, o, r);
+            } else {
+                rs = ruled_crossings(c0, c1, o, r);
+            }
+        }
         for (var m = 0u; m < 2u; m++) {
             let x = rs.r[m];
             if (rs.ok[m] && x > tau_lo && x < tau_hi && count < 8u) {
@@ -500,7 +634,7 @@ fn shell_interval(pt: Patch, o: vec3<f32>, r: vec3<f32>, tau_lo: f32, tau_hi: f3
     for (var k = 0u; k < 7u; k++) {
         let a = brk[k];
         let b = brk[k + 1u];
-        if (b > a && inside(polys, 0.5 * (a + b))) {
+        if (b > a && inside(pt, polys, m, o, r, 0.5 * (a + b))) {
             if (!has) {
                 first = a;
             }
@@ -512,7 +646,7 @@ fn shell_interval(pt: Patch, o: vec3<f32>, r: vec3<f32>, tau_lo: f32, tau_hi: f3
         return Span(first, last, true);
     }
     // A ray that only touches the shell at a point can still cross the surface there.
-    if (tau_hi <= tau_lo && inside(polys, tau_lo)) {
+    if (tau_hi <= tau_lo && inside(pt, polys, m, o, r, tau_lo)) {
         return Span(tau_lo, tau_lo, true);
     }
     return Span(0.0, 0.0, false);
@@ -871,8 +1005,8 @@ struct EdgeJet {
 fn edge_jet(ep: Edge, t: f32) -> EdgeJet {
     let zero = vec3<f32>(0.0);
     let e = vec3<f32>(ep.e, 0.0);
-    let gd = vec3<f32>(ep.gd, 0.0);
-    let g = JV(vec3<f32>(ep.da, 1.0) + gd * t, gd, zero);
+    let gd = vec3<f32>(ep.gd, ep.gdz);
+    let g = JV(vec3<f32>(ep.da, ep.daz) + gd * t, gd, zero);
     let w1 = JV(e * t, e, zero);
     let w2 = JV(e * (t - 1.0), e, zero);
     let s1 = root_j(w1, g, ep.na, ep.k1);
@@ -935,11 +1069,17 @@ fn normal_local(pt: Patch, x: vec3<f32>) -> vec3<f32> {
     let p0 = vec3<f32>(0.0, 0.0, 0.0);
     let p1 = vec3<f32>(pt.p1x, 0.0, 0.0);
     let p2 = vec3<f32>(pt.p2x, pt.p2y, 0.0);
-    let d0 = vec3<f32>(pt.d0, 1.0);
-    let d1 = vec3<f32>(pt.d1, 1.0);
-    let d2 = vec3<f32>(pt.d2, 1.0);
+    let d0 = vec3<f32>(pt.d0, pt.dz.x);
+    let d1 = vec3<f32>(pt.d1, pt.dz.y);
+    let d2 = vec3<f32>(pt.d2, pt.dz.z);
     let base = GV(p0 * x.x + p1 * x.y + p2 * x.z, p1 - p0, p2 - p0);
-    let dir = GV(d0 * x.x + d1 * x.y + d2 * x.z, d1 - d0, d2 - d0);
+    var dir = GV(d0 * x.x + d1 * x.y + d2 * x.z, d1 - d0, d2 - d0);
+    if (pt.tilted) {
+        // D = V / Vz: ∂D/∂Xk = ((dk − d0) − D·(dk.z − d0.z)) / Vz.
+        let inv = 1.0 / dir.v.z;
+        let dv = dir.v * inv;
+        dir = GV(dv, (dir.d1 - dv * dir.d1.z) * inv, (dir.d2 - dv * dir.d2.z) * inv);
+    }
     let h = vertex_term_g(pt.e1, p0, pt.n0, x0, x1, x2, base, dir)
         + vertex_term_g(pt.e2, p1, pt.n1, x1, x2, x0, base, dir)
         + vertex_term_g(pt.e0, p2, pt.n2, x2, x0, x1, base, dir);

@@ -114,13 +114,6 @@ pub enum GpuError {
     StackOverflow,
     /// A device error while tracing (validation, out of memory, lost device, mapping).
     Device(String),
-    /// A smooth patch whose line-field sections are tilted ([`smoothtri::LineField::Vertex`]
-    /// on a face whose vertex normals make unequal angles with it): the shader has the
-    /// parallel-section kernel only, so such scenes are refused rather than traced wrong.
-    TiltedSections {
-        /// Index of the first such patch.
-        patch: usize,
-    },
 }
 
 impl fmt::Display for GpuError {
@@ -149,11 +142,6 @@ impl fmt::Display for GpuError {
             ),
             GpuError::StackOverflow => f.write_str("GPU BVH traversal stack overflow"),
             GpuError::Device(m) => write!(f, "GPU device error: {m}"),
-            GpuError::TiltedSections { patch } => write!(
-                f,
-                "patch {patch} is built on the shared line field with tilted sections, which \
-                 the GPU kernel does not trace yet (build the scene on the face field)"
-            ),
         }
     }
 }
@@ -506,7 +494,8 @@ pub fn smooth_record(pd: &PatchData<f32>) -> [f32; PATCH_VEC4 * 4] {
             [eg[1], gg[0], gg[1], gg[2]],
             // The reach of wall j (opposite vertex j) rides in edge j's spare slot.
             [dot(da, na), dot(gd, na), dot(e, na), pd.reach[j]],
-            [dot(da, nb), dot(gd, nb), dot(e, nb), 0.0],
+            // d_j.z (1 for parallel sections) rides in the last spare slot.
+            [dot(da, nb), dot(gd, nb), dot(e, nb), da[2]],
         ];
     }
     let all = head.iter().chain(edges.iter().flatten());
@@ -606,13 +595,6 @@ impl GpuScene {
             count("order", order.len())?,
             count("patch", patches.len())?,
         ];
-        if kind == SceneKind::Smooth
-            && let Some(patch) = patches
-                .iter()
-                .position(|pd| pd.d.iter().any(|d| d[2] != 1.0))
-        {
-            return Err(GpuError::TiltedSections { patch });
-        }
         let records = match kind {
             SceneKind::Smooth => f32_bytes(patches.iter().flat_map(smooth_record)),
             SceneKind::Flat => f32_bytes(patches.iter().flat_map(flat_record)),

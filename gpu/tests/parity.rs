@@ -7,7 +7,7 @@ mod common;
 use common::*;
 use glam::{DVec3, Vec3};
 use smoothtri::accuracy::{F32_SPHERE_HIT, F32_SPHERE_NORMAL};
-use smoothtri::{Hit, Patch, Ray, SeamEdge, close_cracks};
+use smoothtri::{Hit, LineField, Patch, Ray, SeamEdge, close_cracks};
 use smoothtri_demo::scenes::{Mesh, cube, icosphere, teapot, torus};
 use smoothtri_gpu::{Gpu, GpuScene};
 use std::sync::Arc;
@@ -347,7 +347,7 @@ fn grazing_rays_give_finite_answers() {
     assert!(hits > 1000, "{hits}");
 }
 
-/// The shader's refinement, rounding and wall-margin constants are the CPU kernel's (one source of truth per figure:
+/// The shader's refinement, rounding, wall-margin and section-Newton constants are the CPU kernel's (one source of truth per figure:
 /// the WGSL repeats them, this test keeps them equal).
 #[test]
 fn shader_constants_match_the_cpu_kernel() {
@@ -373,6 +373,16 @@ fn shader_constants_match_the_cpu_kernel() {
     ] {
         assert_eq!(value(name), cpu, "{name}");
     }
+    let decl = "const SECTION_NEWTON_STEPS: u32 = ";
+    let at = smoothtri_gpu::SHADER
+        .find(decl)
+        .expect("SECTION_NEWTON_STEPS declared");
+    let rest = &smoothtri_gpu::SHADER[at + decl.len()..];
+    let steps: usize = rest[..rest.find("u;").expect("a u32")]
+        .trim()
+        .parse()
+        .expect("a number");
+    assert_eq!(steps, smoothtri::field::SECTION_NEWTON_STEPS);
 }
 
 /// Each interior edge of `mesh` once: (triangle, its edge, the neighbour, its edge), edges
@@ -523,4 +533,64 @@ fn rays_into_cracks_once_closed() {
             "ray {i} fell through at an edge whose reach is below the cap"
         );
     }
+}
+
+/// The icosphere of level 3 with each vertex normal tilted from the radius by up to 20° (a fixed
+/// pattern): on the shared line field its patches' sections are tilted.
+fn tilted_normal_sphere() -> Mesh {
+    let mut m = icosphere(3, 1.0);
+    for (i, n) in m.normals.iter_mut().enumerate() {
+        let k = i as f64;
+        let axis = DVec3::new((1.3 * k).sin(), (2.1 * k).cos(), (0.7 * k).sin());
+        let a = (20.0 * (0.5 + 0.5 * (3.7 * k).sin())).to_radians();
+        *n = *n * a.cos() + axis.cross(*n).normalize_or_zero() * a.sin();
+    }
+    m
+}
+
+/// The shared line field (`LineField::Vertex`, docs/METHOD.md §2 "Line fields"): patches whose
+/// sections are tilted (the shader's Newton steps for a point's section, the ruled walls) match
+/// the CPU kernel on random rays, and rays aimed at their shared edge curves never fall
+/// through, with no crack closure.
+#[test]
+fn shared_line_field_matches_the_cpu() {
+    let Some(gpu) = gpu() else { return };
+    let mesh = tilted_normal_sphere();
+    let patches: Vec<Patch> = (0..mesh.triangles.len())
+        .map(|t| {
+            let (p, n) = mesh.triangle(t);
+            let (p, n) = (p.map(|x| x.as_vec3()), n.map(|x| x.as_vec3()));
+            Patch::with_field(p, n, LineField::Vertex).expect("patch")
+        })
+        .collect();
+    let tilted = patches
+        .iter()
+        .filter(|p| p.data().d.iter().any(|d| d[2] != 1.0))
+        .count();
+    assert!(tilted * 2 > patches.len(), "{tilted} tilted");
+    let mut rng = Rng(17);
+    let rays: Vec<Ray> = (0..1500)
+        .map(|_| {
+            let (o, d) = random_ray(&mut rng, 1.1);
+            Ray::new(o.as_vec3(), d.as_vec3())
+        })
+        .collect();
+    let tree = Tree::new(&patches);
+    let bvh = tree.bvh(&patches);
+    let near = |ray: &Ray| cpu_near_silhouette(&bvh, ray);
+    let (s, _) = compare(
+        "tilted-normal icosphere, shared field",
+        &gpu,
+        &patches,
+        &rays,
+        &near,
+    );
+    assert!(s.hits > 900, "{s:?}");
+    let at = rays_at_edges(&mesh, &patches, false);
+    let through = fell_through(&gpu, &patches, &at).len();
+    eprintln!(
+        "shared field: {through} of {} rays at shared edges fell through",
+        at.len()
+    );
+    assert_eq!(through, 0);
 }

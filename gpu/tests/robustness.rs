@@ -302,23 +302,3 @@ fn timed_trace_returns_the_same_hits_and_a_kernel_time() {
     }
     still_works(&gpu);
 }
-
-/// A patch on the shared line field with tilted sections ([`smoothtri::LineField::Vertex`],
-/// normals at unequal angles to the face) is refused with a typed error, not traced wrong;
-/// the same triangle on the face field uploads.
-#[test]
-fn tilted_sections_are_refused() {
-    let Some(gpu) = gpu() else { return };
-    let p = [Vec3::ZERO, Vec3::X, Vec3::Y];
-    let n = [Vec3::Z, Vec3::new(0.3, 0.0, 1.0), Vec3::new(0.0, 0.1, 1.0)];
-    let tilted = [Patch::with_field(p, n, smoothtri::LineField::Vertex).expect("patch")];
-    let tree = Tree::new(&tilted);
-    match GpuScene::smooth(&gpu, &tree.bvh(&tilted)) {
-        Err(GpuError::TiltedSections { patch: 0 }) => {}
-        other => panic!("{:?}", other.map(|_| "uploaded")),
-    }
-    let face = [Patch::new(p, n).expect("patch")];
-    let tree = Tree::new(&face);
-    GpuScene::smooth(&gpu, &tree.bvh(&face)).expect("the face field uploads");
-    still_works(&gpu);
-}
