@@ -16,7 +16,7 @@ use crate::commands::{self, MeshSource};
 use crate::error::Result;
 use crate::scenes::SCENE_NAMES;
 use crate::tessellate::Level;
-use crate::tracer::{Mode, Normals, Precision};
+use crate::tracer::{Field, Mode, Normals, Precision};
 
 /// Ray tracing of smooth surfaces from triangle meshes with vertex normals.
 #[derive(Parser, Debug)]
@@ -96,6 +96,10 @@ struct RenderArgs {
     /// patches' exact geometric normal.
     #[arg(long, value_enum, default_value = "seamless")]
     normals: Normals,
+    /// The line field of the patches: face (the paper's construction) or vertex (shared by
+    /// neighbours, so their edge curves meet).
+    #[arg(long, value_enum, default_value = "face")]
+    field: Field,
 }
 
 #[derive(Args, Debug)]
@@ -142,6 +146,10 @@ struct TraceArgs {
     /// Kernel precision.
     #[arg(long, value_enum, default_value = "f32")]
     precision: Precision,
+    /// The line field of the patches: face (the paper's construction) or vertex (shared by
+    /// neighbours, so their edge curves meet).
+    #[arg(long, value_enum, default_value = "face")]
+    field: Field,
 }
 
 #[derive(Args, Debug)]
@@ -163,6 +171,10 @@ struct InspectArgs {
     /// Precision of the patches whose rejections are reported.
     #[arg(long, value_enum, default_value = "f32")]
     precision: Precision,
+    /// The line field of the patches: face (the paper's construction) or vertex (shared by
+    /// neighbours, so their edge curves meet).
+    #[arg(long, value_enum, default_value = "face")]
+    field: Field,
 }
 
 #[derive(Args, Debug)]
@@ -232,6 +244,7 @@ pub fn run(cli: Cli) -> Result<()> {
             mask: a.mask,
             gpu: a.gpu,
             normals: a.normals,
+            field: a.field.into(),
         }),
         Cmd::Precision(a) => commands::precision::run(PrecisionOptions {
             source: a.src.into(),
@@ -249,6 +262,7 @@ pub fn run(cli: Cli) -> Result<()> {
             rays: a.rays,
             iterations: a.iterations,
             precision: a.precision,
+            field: a.field.into(),
         }),
         Cmd::Eval(a) => commands::eval::run(EvalOptions {
             source: a.src.into(),
@@ -258,6 +272,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Cmd::Inspect(a) => commands::inspect::run(InspectOptions {
             source: a.src.into(),
             precision: a.precision,
+            field: a.field.into(),
         }),
         Cmd::Tessellate(a) => commands::tessellate::run(TessellateOptions {
             source: a.src.into(),

@@ -477,6 +477,49 @@ fn eval_of_vertices_is_exact() {
     );
 }
 
+/// `--field vertex` builds the patches on the shared line field: `inspect` reports the
+/// teapot's accepted neighbours' edge curves meeting (to rounding; 5.6e-4 of the diagonal on
+/// the paper's field), and `render` and `trace` run on it.
+#[test]
+fn shared_line_field_from_the_command_line() {
+    let d = tmp();
+    let crack = |out: &str| -> f64 {
+        let line = out
+            .lines()
+            .find(|l| l.starts_with("crack width"))
+            .expect("crack line");
+        let rel = line.split('(').nth(1).expect("relative width");
+        rel.split_whitespace()
+            .next()
+            .expect("a number")
+            .parse()
+            .expect("a float")
+    };
+    let face = ok(d.path(), &["inspect", "--scene", "teapot"]);
+    let shared = ok(
+        d.path(),
+        &["inspect", "--scene", "teapot", "--field", "vertex"],
+    );
+    assert!(shared.out.contains("line field: vertex"), "{}", shared.out);
+    assert!(crack(&face.out) > 1e-4, "{}", face.out);
+    assert!(crack(&shared.out) < 1e-14, "{}", shared.out);
+    ok(
+        d.path(),
+        &[
+            "render", "--scene", "teapot", "--field", "vertex", "--width", "32", "--height", "24",
+            "--out", "t.png",
+        ],
+    );
+    write(d.path(), "r.csv", "ox,oy,oz,dx,dy,dz\n0,0,5,0,0,-1\n");
+    let r = ok(
+        d.path(),
+        &[
+            "trace", "--scene", "teapot", "--field", "vertex", "--rays", "r.csv",
+        ],
+    );
+    assert!(r.out.lines().count() == 2, "{}", r.out);
+}
+
 #[test]
 fn inspect_reports() {
     let d = tmp();

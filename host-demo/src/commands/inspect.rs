@@ -5,7 +5,7 @@ use std::collections::HashMap;
 use std::fmt::Write as _;
 
 use glam::DVec3;
-use smoothtri::{DPatch, Patch, Seam, SeamEdge, fit_seams};
+use smoothtri::{DPatch, LineField, Patch, Seam, SeamEdge, fit_seams};
 
 use super::MeshSource;
 use crate::error::Result;
@@ -19,14 +19,16 @@ pub struct InspectOptions {
     pub source: MeshSource,
     /// Precision of the patches whose rejections are reported.
     pub precision: Precision,
+    /// The line field the patches are built on.
+    pub field: LineField,
 }
 
 /// Loads the mesh and prints the report of [`inspect`] on stdout.
 pub fn run(a: InspectOptions) -> Result<()> {
     let (name, mesh) = a.source.load(false)?;
     let text = match a.precision {
-        Precision::F32 => inspect::<f32>(&name, &mesh)?,
-        Precision::F64 => inspect::<f64>(&name, &mesh)?,
+        Precision::F32 => inspect::<f32>(&name, &mesh, a.field)?,
+        Precision::F64 => inspect::<f64>(&name, &mesh, a.field)?,
     };
     print!("{text}");
     Ok(())
@@ -84,12 +86,13 @@ fn key(p: DVec3) -> [u64; 3] {
 }
 
 /// Measures the cracks and normal jumps between f64 patches across shared edges (edges matched
-/// by exact vertex positions; the second patch's edge is walked in the matching direction).
-pub fn cracks(mesh: &Mesh) -> Cracks {
+/// by exact vertex positions; the second patch's edge is walked in the matching direction),
+/// the patches on `field`.
+pub fn cracks(mesh: &Mesh, field: LineField) -> Cracks {
     let patches: Vec<Option<DPatch>> = (0..mesh.triangles.len())
         .map(|t| {
             let (p, n) = mesh.triangle(t);
-            Patch::<f64>::new(p, n).ok()
+            Patch::<f64>::with_field(p, n, field).ok()
         })
         .collect();
     // Seams over the accepted patches (the index buffer of those triangles); a triangle the
@@ -181,8 +184,8 @@ pub fn cracks(mesh: &Mesh) -> Cracks {
     c
 }
 
-/// The report of `smoothtri inspect` for precision `F`.
-pub fn inspect<F: Prec>(name: &str, mesh: &Mesh) -> Result<String> {
+/// The report of `smoothtri inspect` for precision `F`, the patches on `field`.
+pub fn inspect<F: Prec>(name: &str, mesh: &Mesh, field: LineField) -> Result<String> {
     let mut s = String::new();
     let (lo, hi) = mesh.bounds();
     let diag = (hi - lo).length();
@@ -198,7 +201,16 @@ pub fn inspect<F: Prec>(name: &str, mesh: &Mesh) -> Result<String> {
         "bounding box: min ({}, {}, {})  max ({}, {}, {})  diagonal {}",
         lo.x, lo.y, lo.z, hi.x, hi.y, hi.z, diag
     );
-    let scene = Scene::<F>::build(mesh).and_then(|mut sc| sc.fit_seams(mesh).map(|()| sc));
+    let scene =
+        Scene::<F>::build_on(mesh, field).and_then(|mut sc| sc.fit_seams(mesh).map(|()| sc));
+    let _ = writeln!(
+        s,
+        "line field: {}",
+        match field {
+            LineField::Face => "face (the paper's construction; --field vertex shares edges)",
+            LineField::Vertex => "vertex (shared by neighbours: their edge curves meet)",
+        }
+    );
     let scene = match scene {
         Ok(sc) => Some(sc),
         Err(e) => {
@@ -278,7 +290,7 @@ pub fn inspect<F: Prec>(name: &str, mesh: &Mesh) -> Result<String> {
     if degenerate > 0 {
         let _ = writeln!(s, "  ({degenerate} triangles with zero area left out)");
     }
-    let c = cracks(mesh);
+    let c = cracks(mesh, field);
     let _ = writeln!(
         s,
         "shared edges: {} interior, {} boundary, {} non-manifold ({} samples per edge, f64 patches)",

@@ -4,7 +4,7 @@
 use std::sync::Arc;
 
 use glam::Vec3;
-use smoothtri::{Hit, Ray};
+use smoothtri::{Hit, LineField, Ray};
 use smoothtri_gpu::{Gpu, GpuScene};
 
 use crate::camera::{Camera, Up};
@@ -45,6 +45,8 @@ pub struct RenderOptions {
     pub gpu: bool,
     /// The normal the smooth mode shades with.
     pub normals: Normals,
+    /// The line field the patches are built on (`smoothtri::LineField`).
+    pub field: LineField,
 }
 
 /// One rendered panel and its primary-hit mask.
@@ -68,10 +70,20 @@ pub(crate) fn render_panel_in(
     n: usize,
     note: bool,
 ) -> Result<Panel> {
-    render_panel_with(prec, mesh, cam, mode, n, note, Normals::default())
+    render_panel_with(
+        prec,
+        mesh,
+        cam,
+        mode,
+        n,
+        note,
+        Normals::default(),
+        LineField::Face,
+    )
 }
 
-/// [`render_panel_in`] shading smooth hits with `normals`.
+/// [`render_panel_in`] shading smooth hits with `normals`, the patches on `field`.
+#[allow(clippy::too_many_arguments)]
 fn render_panel_with(
     prec: Precision,
     mesh: &Mesh,
@@ -80,10 +92,11 @@ fn render_panel_with(
     n: usize,
     note: bool,
     normals: Normals,
+    field: LineField,
 ) -> Result<Panel> {
     match prec {
-        Precision::F32 => render_panel::<f32>(mesh, cam, mode, n, note, normals),
-        Precision::F64 => render_panel::<f64>(mesh, cam, mode, n, note, normals),
+        Precision::F32 => render_panel::<f32>(mesh, cam, mode, n, note, normals, field),
+        Precision::F64 => render_panel::<f64>(mesh, cam, mode, n, note, normals, field),
     }
 }
 
@@ -105,6 +118,7 @@ pub(crate) fn side_by_side(panels: &[(&Image, String)]) -> Image {
 
 /// Builds the scene in precision `F` and renders one panel in `mode` with budget `n`; `note`
 /// prints the scene's note about skipped or clamped triangles.
+#[allow(clippy::too_many_arguments)]
 fn render_panel<F: Prec>(
     mesh: &Mesh,
     cam: &Camera,
@@ -112,8 +126,9 @@ fn render_panel<F: Prec>(
     n: usize,
     note: bool,
     normals: Normals,
+    field: LineField,
 ) -> Result<Panel> {
-    let mut scene = build_scene::<F>(mesh, note)?;
+    let mut scene = build_scene::<F>(mesh, note, field)?;
     // Only the smooth mode shades with the seams.
     if normals == Normals::Seamless && mode == Mode::Smooth {
         scene.fit_seams(mesh)?;
@@ -123,10 +138,10 @@ fn render_panel<F: Prec>(
     Ok(Panel::from(r))
 }
 
-/// The scene of `mesh` in precision `F`; `note` prints its note about skipped or clamped
-/// triangles.
-fn build_scene<F: Prec>(mesh: &Mesh, note: bool) -> Result<Scene<F>> {
-    let scene = Scene::<F>::build(mesh)?;
+/// The scene of `mesh` in precision `F` on `field`; `note` prints its note about skipped or
+/// clamped triangles.
+fn build_scene<F: Prec>(mesh: &Mesh, note: bool, field: LineField) -> Result<Scene<F>> {
+    let scene = Scene::<F>::build_on(mesh, field)?;
     if let Some(text) = scene.rejected_note().filter(|_| note) {
         eprintln!("{text}");
     }
@@ -156,6 +171,7 @@ pub fn gpu_error(e: smoothtri_gpu::GpuError) -> DemoError {
 }
 
 /// [`render_panel`] on the GPU (f32).
+#[allow(clippy::too_many_arguments)]
 fn render_panel_gpu(
     gpu: &Arc<Gpu>,
     mesh: &Mesh,
@@ -164,8 +180,9 @@ fn render_panel_gpu(
     n: usize,
     note: bool,
     normals: Normals,
+    field: LineField,
 ) -> Result<Panel> {
-    let mut scene = build_scene::<f32>(mesh, note)?;
+    let mut scene = build_scene::<f32>(mesh, note, field)?;
     scene.normals = normals;
     let r = render_gpu(gpu, &scene, cam, mode, n, mesh.diagonal())?;
     Ok(Panel::from(r))
@@ -321,8 +338,8 @@ pub fn run(a: RenderOptions) -> Result<()> {
     };
     let mut panels = Vec::new();
     let panel = |m: Mode, n: usize, note: bool| match &gpu {
-        Some(g) => render_panel_gpu(g, &mesh, &cam, m, n, note, a.normals),
-        None => render_panel_with(a.precision, &mesh, &cam, m, n, note, a.normals),
+        Some(g) => render_panel_gpu(g, &mesh, &cam, m, n, note, a.normals, a.field),
+        None => render_panel_with(a.precision, &mesh, &cam, m, n, note, a.normals, a.field),
     };
     for (k, &m) in modes.iter().enumerate() {
         panels.push(panel(m, a.iterations, k == 0)?);

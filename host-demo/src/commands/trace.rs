@@ -2,7 +2,7 @@
 
 use std::fmt::Write as _;
 
-use smoothtri::Ray;
+use smoothtri::{LineField, Ray};
 
 use super::MeshSource;
 use crate::csvio::{display_name, num, read_text, rows, vec3};
@@ -21,20 +21,27 @@ pub struct TraceOptions {
     pub iterations: usize,
     /// Kernel precision.
     pub precision: Precision,
+    /// The line field the patches are built on.
+    pub field: LineField,
 }
 
 /// Loads the mesh and traces the rays in the chosen precision.
 pub fn run(a: TraceOptions) -> Result<()> {
     let (_, mesh) = a.source.load(false)?;
     match a.precision {
-        Precision::F32 => trace::<f32>(&mesh, &a.rays, a.iterations),
-        Precision::F64 => trace::<f64>(&mesh, &a.rays, a.iterations),
+        Precision::F32 => trace::<f32>(&mesh, &a.rays, a.iterations, a.field),
+        Precision::F64 => trace::<f64>(&mesh, &a.rays, a.iterations, a.field),
     }
 }
 
 /// Traces the rays of `rays_path` (`-` for stdin) against `mesh` in precision `F` and prints
-/// the closest hit with `t > 0` of each as CSV on stdout.
-pub fn trace<F: Prec>(mesh: &Mesh, rays_path: &str, iterations: usize) -> Result<()> {
+/// the closest hit with `t > 0` of each as CSV on stdout, the patches on `field`.
+pub fn trace<F: Prec>(
+    mesh: &Mesh,
+    rays_path: &str,
+    iterations: usize,
+    field: LineField,
+) -> Result<()> {
     let t = tracer::<F>(Mode::Smooth, iterations)?;
     let text = read_text(rays_path)?;
     let rays_path = display_name(rays_path);
@@ -52,7 +59,7 @@ pub fn trace<F: Prec>(mesh: &Mesh, rays_path: &str, iterations: usize) -> Result
         }
         rays.push(Ray::<F>::new(F::v(o), F::v(d)));
     }
-    let scene = Scene::<F>::build(mesh)?;
+    let scene = Scene::<F>::build_on(mesh, field)?;
     if let Some(note) = scene.rejected_note() {
         eprintln!("{note}");
     }

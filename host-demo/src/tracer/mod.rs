@@ -34,6 +34,26 @@ impl Mode {
     }
 }
 
+/// The line field the patches are built on (`--field`; [`smoothtri::LineField`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
+pub enum Field {
+    /// The paper's field (`di = ni / (ni·Nf)`): the reference construction. Neighbours' edge
+    /// curves part where a face sees its vertex normals at unequal angles.
+    #[default]
+    Face,
+    /// The shared field (lines along the vertex normals): neighbours' edge curves meet.
+    Vertex,
+}
+
+impl From<Field> for smoothtri::LineField {
+    fn from(f: Field) -> Self {
+        match f {
+            Field::Face => smoothtri::LineField::Face,
+            Field::Vertex => smoothtri::LineField::Vertex,
+        }
+    }
+}
+
 /// Which normal the smooth mode shades with (`render --normals`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
 pub enum Normals {

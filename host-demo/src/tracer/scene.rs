@@ -4,8 +4,8 @@
 use std::collections::BTreeMap;
 
 use smoothtri::{
-    Bvh, BvhNode, CrackReport, Float, Hit, Patch, PatchError, Seam, SeamEdge, close_cracks,
-    fit_seams,
+    Bvh, BvhNode, CrackReport, Float, Hit, LineField, Patch, PatchError, Seam, SeamEdge,
+    close_cracks, fit_seams,
 };
 
 use super::{Normals, Prec};
@@ -56,6 +56,12 @@ impl<F: Prec> Scene<F> {
     /// adds them; until then the scene shades with the geometric normal). Fails only when no
     /// triangle is accepted.
     pub fn build(mesh: &Mesh) -> Result<Self> {
+        Self::build_on(mesh, LineField::Face)
+    }
+
+    /// [`Scene::build`] with the patches on the line field `field` ([`LineField::Vertex`]:
+    /// neighbours share their edges' lines, so their edge curves meet; docs/METHOD.md §2).
+    pub fn build_on(mesh: &Mesh, field: LineField) -> Result<Self> {
         let mut patches = Vec::with_capacity(mesh.triangles.len());
         let mut tri_ids = Vec::with_capacity(mesh.triangles.len());
         let mut patch_of_tri = vec![None; mesh.triangles.len()];
@@ -63,7 +69,7 @@ impl<F: Prec> Scene<F> {
         let mut remedied = Vec::new();
         for (t, slot) in patch_of_tri.iter_mut().enumerate() {
             let (p, n) = mesh.triangle(t);
-            match Patch::<F>::new_or_tilted(p.map(F::v), n.map(F::v)) {
+            match Patch::<F>::new_or_tilted_with(p.map(F::v), n.map(F::v), field) {
                 Ok(patch) => {
                     if let Some(deg) = patch.normal_clamp() {
                         remedied.push((t as u32, deg));
