@@ -125,3 +125,56 @@ fn packets_agree_on_tilted_sections() {
     assert!(check::<f64>(|v| v) > 1000);
     assert!(check::<f32>(|v| v.as_vec3()) > 1000);
 }
+
+/// The remedy per vertex (`clamp_vertex_normals`): on the 8-sided cylinder with averaged
+/// normals (up to 72° from a face) it clamps vertex normals until every patch is accepted on
+/// the shared field, leaves the others bit for bit, and reports typed errors for bad input.
+#[test]
+fn vertex_clamps_resolve_the_cylinder_and_errors_are_typed() {
+    use smoothtri::{SeamError, VertexClamp, clamp_vertex_normals};
+    let m = cylinder(8).to_mesh();
+    let n = m.positions.len();
+    let mut out = vec![DVec3::ZERO; n];
+    let mut scratch = vec![VertexClamp::<f64>::default(); n];
+    let r = clamp_vertex_normals(
+        &m.positions,
+        &m.normals,
+        &m.triangles,
+        &mut out,
+        &mut scratch,
+    )
+    .unwrap();
+    assert!(r.clamped > 0 && r.unresolved == 0, "{r:?}");
+    let moved = out.iter().zip(&m.normals).filter(|(a, b)| a != b).count();
+    assert_eq!(moved, r.clamped);
+    for tri in &m.triangles {
+        let p = tri.map(|i| m.positions[i as usize]);
+        let nn = tri.map(|i| out[i as usize]);
+        assert!(DPatch::with_field(p, nn, LineField::Vertex).is_ok());
+    }
+    let bad = [[0u32, 1, n as u32]];
+    assert_eq!(
+        clamp_vertex_normals(&m.positions, &m.normals, &bad, &mut out, &mut scratch),
+        Err(SeamError::BadIndex { triangle: 0 })
+    );
+    assert!(matches!(
+        clamp_vertex_normals(
+            &m.positions,
+            &m.normals,
+            &m.triangles,
+            &mut out,
+            &mut scratch[..1]
+        ),
+        Err(SeamError::ScratchTooSmall { .. })
+    ));
+    assert!(matches!(
+        clamp_vertex_normals(
+            &m.positions,
+            &m.normals[..1],
+            &m.triangles,
+            &mut out,
+            &mut scratch
+        ),
+        Err(SeamError::LengthMismatch { .. })
+    ));
+}

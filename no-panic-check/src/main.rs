@@ -20,9 +20,9 @@ use smoothtri::dual::Dual;
 use smoothtri::sphere::{curvature, nearest_root};
 use smoothtri::vec::V3;
 use smoothtri::{
-    Aabb, Bvh, BvhError, BvhNode, DEFAULT_SAMPLES, FastF32, Float, Hit, KernelStats, Patch,
-    LineField, PatchError, Ray, Real, Seam, SeamEdge, SeamError, close_cracks, fit_seams, flat_hit,
-    moller_trumbore,
+    Aabb, Bvh, BvhError, BvhNode, DEFAULT_SAMPLES, FastF32, Float, Hit, KernelStats, LineField,
+    Patch, PatchError, Ray, Real, Seam, SeamEdge, SeamError, VertexClamp, clamp_vertex_normals,
+    close_cracks, fit_seams, flat_hit, moller_trumbore,
 };
 
 unsafe extern "C" {
@@ -343,6 +343,45 @@ fn seams<F: Float>(patches: &[Patch<F>], ray: &Ray<F>) -> u32 {
     acc
 }
 
+/// The remedy per vertex: a square pyramid whose apex normal is steep for every face, its
+/// report, and its three error paths.
+fn vertex_clamps<F: Float>() -> u32 {
+    let pos = [
+        v::<F>(0.0, 0.0, 0.0),
+        v::<F>(1.0, 0.0, 0.0),
+        v::<F>(1.0, 1.0, 0.0),
+        v::<F>(0.0, 1.0, 0.0),
+        v::<F>(0.5, 0.5, 0.2),
+    ];
+    let nrm = [
+        v::<F>(-1.0, -1.0, 1.0),
+        v::<F>(1.0, -1.0, 1.0),
+        v::<F>(1.0, 1.0, 1.0),
+        v::<F>(-1.0, 1.0, 1.0),
+        black_box(v::<F>(1.0, 0.0, 0.05)),
+    ];
+    let tris = [[0u32, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4]];
+    let mut out = nrm;
+    let mut scratch = [VertexClamp::<F>::default(); 5];
+    let mut acc = 0;
+    match clamp_vertex_normals(&pos, &nrm, &tris, &mut out, &mut scratch) {
+        Ok(r) => {
+            acc += (r.clamped + r.unresolved) as u32 + F::from_glam(out[4]).all_finite() as u32
+        }
+        Err(e) => acc += display_len(&e),
+    }
+    for r in [
+        clamp_vertex_normals(&pos, &nrm, &[[0, 1, 9]], &mut out, &mut scratch),
+        clamp_vertex_normals(&pos, &nrm, &tris, &mut out, &mut scratch[..2]),
+        clamp_vertex_normals(&pos, &nrm[..2], &tris, &mut out, &mut scratch),
+    ] {
+        if let Err(e) = r {
+            acc += display_len(&e);
+        }
+    }
+    acc
+}
+
 /// Entry point: aligns the stack as the C ABI expects, then calls [`main`].
 #[cfg(target_arch = "x86_64")]
 #[unsafe(naked)]
@@ -354,6 +393,7 @@ pub extern "C" fn _start() -> ! {
 extern "C" fn main() -> ! {
     let r = exercise::<f32>() + exercise::<f64>() + exercise::<FastF32>();
     let r = r + lanes::<f32>() + lanes::<f64>() + lanes::<FastF32>();
+    let r = r + vertex_clamps::<f32>() + vertex_clamps::<f64>() + vertex_clamps::<FastF32>();
     // SAFETY: libc's exit, linked from the C library (only the start files are left out).
     unsafe { exit(if black_box(r) >= 3 { 0 } else { 1 }) }
 }

@@ -355,6 +355,17 @@ pub fn inspect<F: Prec>(name: &str, mesh: &Mesh, field: LineField) -> Result<Str
             smoothtri::crack::CRACK_REACH,
             smoothtri::crack::MAX_CRACK_REACH
         );
+        if let Some(vc) = sc.vertex_clamps {
+            let _ = writeln!(
+                s,
+                "remedy per vertex ({}): {} vertex normals clamped (one normal for all faces \
+                 around the vertex, smoothtri::clamp_vertex_normals); {} triangles still \
+                 clamped per patch",
+                F::PRECISION,
+                vc.clamped,
+                vc.unresolved
+            );
+        }
     }
     Ok(s)
 }

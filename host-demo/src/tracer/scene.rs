@@ -5,7 +5,7 @@ use std::collections::BTreeMap;
 
 use smoothtri::{
     Bvh, BvhNode, CrackReport, Float, Hit, LineField, Patch, PatchError, Seam, SeamEdge,
-    close_cracks, fit_seams,
+    VertexClamp, VertexClampReport, clamp_vertex_normals, close_cracks, fit_seams,
 };
 
 use super::{Normals, Prec};
@@ -32,6 +32,9 @@ pub struct Scene<F: Float> {
     pub seams: Vec<Seam<F>>,
     /// Shared edges fitted by [`fit_seams`].
     pub seam_edges: usize,
+    /// The per-vertex remedy on the shared line field ([`clamp_vertex_normals`]; `None` on the
+    /// face field, whose remedy is per patch).
+    pub vertex_clamps: Option<VertexClampReport>,
     /// What [`close_cracks`] measured when the scene was built: the patches reach across
     /// their shared edges by the gap between the neighbours' edge curves.
     pub cracks: CrackReport,
@@ -60,8 +63,26 @@ impl<F: Prec> Scene<F> {
     }
 
     /// [`Scene::build`] with the patches on the line field `field` ([`LineField::Vertex`]:
-    /// neighbours share their edges' lines, so their edge curves meet; docs/METHOD.md §2).
+    /// neighbours share their edges' lines, so their edge curves meet; docs/METHOD.md §2). On
+    /// the shared field the steep-normal remedy acts per vertex first
+    /// ([`clamp_vertex_normals`]: one clamped normal for all faces around a vertex), and per
+    /// patch only where that does not suffice.
     pub fn build_on(mesh: &Mesh, field: LineField) -> Result<Self> {
+        let (normals, vertex_clamps) = match field {
+            LineField::Face => (None, None),
+            LineField::Vertex => {
+                let pos: Vec<F::Vec3> = mesh.positions.iter().map(|p| F::v(*p)).collect();
+                let nrm: Vec<F::Vec3> = mesh.normals.iter().map(|n| F::v(*n)).collect();
+                let mut out = nrm.clone();
+                let mut scratch = vec![VertexClamp::<F>::default(); pos.len()];
+                let report =
+                    clamp_vertex_normals(&pos, &nrm, &mesh.triangles, &mut out, &mut scratch)
+                        .map_err(|e| DemoError::Empty {
+                            msg: format!("cannot clamp the vertex normals: {e}"),
+                        })?;
+                (Some(out), Some(report))
+            }
+        };
         let mut patches = Vec::with_capacity(mesh.triangles.len());
         let mut tri_ids = Vec::with_capacity(mesh.triangles.len());
         let mut patch_of_tri = vec![None; mesh.triangles.len()];
@@ -69,7 +90,11 @@ impl<F: Prec> Scene<F> {
         let mut remedied = Vec::new();
         for (t, slot) in patch_of_tri.iter_mut().enumerate() {
             let (p, n) = mesh.triangle(t);
-            match Patch::<F>::new_or_tilted_with(p.map(F::v), n.map(F::v), field) {
+            let n = match &normals {
+                Some(shared) => mesh.triangles[t].map(|i| shared[i as usize]),
+                None => n.map(F::v),
+            };
+            match Patch::<F>::new_or_tilted_with(p.map(F::v), n, field) {
                 Ok(patch) => {
                     if let Some(deg) = patch.normal_clamp() {
                         remedied.push((t as u32, deg));
@@ -115,6 +140,7 @@ impl<F: Prec> Scene<F> {
             remedied,
             seams: Vec::new(),
             seam_edges: 0,
+            vertex_clamps,
             cracks,
             normals: Normals::Geometric,
             nodes,
