@@ -71,38 +71,10 @@ impl Tree {
     }
 }
 
-/// A tiny deterministic PRNG (SplitMix64), the one of `tests/common/mod.rs`.
-pub struct Rng(pub u64);
-impl Rng {
-    pub fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-    /// Uniform in [0, 1).
-    pub fn f(&mut self) -> f64 {
-        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
-    }
-    pub fn range(&mut self, a: f64, b: f64) -> f64 {
-        a + (b - a) * self.f()
-    }
-    /// Uniform on the unit sphere.
-    pub fn unit(&mut self) -> DVec3 {
-        loop {
-            let v = DVec3::new(
-                self.range(-1.0, 1.0),
-                self.range(-1.0, 1.0),
-                self.range(-1.0, 1.0),
-            );
-            let l = v.length();
-            if l > 1e-3 && l <= 1.0 {
-                return v / l;
-            }
-        }
-    }
-}
+// The suite's PRNG and random geometry (SplitMix64 `Rng`), shared by file.
+#[path = "../../../tests/common/random.rs"]
+mod random;
+pub use random::Rng;
 
 /// The random rays of `tests/kernel.rs`: from 4–8 away, aimed within `target_radius` of the
 /// origin, directions not of unit length.
