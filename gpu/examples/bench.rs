@@ -9,7 +9,8 @@
 //! Scenes: the 8×8 torus (smooth) beside the flat 35×35 torus (the coarsest flat grid of equal
 //! error, README) and the flat 8×8 torus; the teapot (992 triangles) beside its own flat
 //! triangles; a 100 352-triangle wavy torus with generated (angle-weighted) normals beside its
-//! own flat triangles. The smooth scenes are built as a renderer builds them (`Scene::build`:
+//! own flat triangles; an icosphere with tilted normals on the paper's and on the shared line
+//! field (tilted sections). The smooth scenes are built as a renderer builds them (`Scene::build`:
 //! patches, cracks closed, BVH). Two rates, each the best of `--repeat` runs after a warm-up that compiles
 //! the pipelines: over the whole call (ray upload, dispatch, readback: on a discrete GPU this is
 //! mostly the PCIe transfers) and over the kernel's own GPU time (timestamp queries, where the
@@ -20,7 +21,7 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use glam::DVec3;
-use smoothtri::{Bvh, BvhNode, Patch, Ray};
+use smoothtri::{Bvh, BvhNode, LineField, Patch, Ray};
 use smoothtri_demo::mesh::{Mesh, angle_weighted_normals};
 use smoothtri_demo::scenes::{teapot, torus};
 use smoothtri_demo::{Camera, Scene};
@@ -54,6 +55,20 @@ fn opts() -> Result<Opts, String> {
         }
     }
     Ok(o)
+}
+
+/// The unit icosphere of level 3 with each vertex normal tilted from the radius by up to 20°
+/// (the pattern of `benches/common`): on the shared line field its sections are tilted, so
+/// the shader runs the section's Newton steps and the ruled walls.
+fn tilted_normal_sphere() -> Mesh {
+    let mut m = smoothtri_demo::scenes::icosphere(3, 1.0);
+    for (i, n) in m.normals.iter_mut().enumerate() {
+        let k = i as f64;
+        let axis = DVec3::new((1.3 * k).sin(), (2.1 * k).cos(), (0.7 * k).sin());
+        let a = (20.0 * (0.5 + 0.5 * (3.7 * k).sin())).to_radians();
+        *n = *n * a.cos() + axis.cross(*n).normalize_or_zero() * a.sin();
+    }
+    m
 }
 
 /// A torus of `n × n` quads whose minor radius waves (`0.4 + 0.03·sin 7u·sin 5v`), normals
@@ -162,7 +177,7 @@ fn opt(v: Option<f64>) -> String {
 }
 
 /// A smooth scene and the flat scenes it is compared with.
-type Case = (&'static str, Mesh, Vec<(&'static str, Mesh)>);
+type Case = (&'static str, Mesh, LineField, Vec<(&'static str, Mesh)>);
 
 fn main() -> Result<(), String> {
     let o = opts()?;
@@ -188,6 +203,7 @@ fn main() -> Result<(), String> {
         (
             "torus 8×8",
             torus(8, 8, 1.0, 0.4),
+            LineField::Face,
             vec![
                 ("flat torus 35×35 (equal error)", torus(35, 35, 1.0, 0.4)),
                 ("flat torus 8×8 (same mesh)", torus(8, 8, 1.0, 0.4)),
@@ -196,15 +212,29 @@ fn main() -> Result<(), String> {
         (
             "teapot",
             teapot(4),
+            LineField::Face,
             vec![("flat teapot (same mesh)", teapot(4))],
         ),
         (
             "wavy torus, generated normals",
             wavy_torus(224),
+            LineField::Face,
             vec![("flat (same mesh)", wavy_torus(224))],
         ),
+        (
+            "icosphere(3), normals tilted ≤ 20°, paper's field",
+            tilted_normal_sphere(),
+            LineField::Face,
+            vec![("flat (same mesh)", tilted_normal_sphere())],
+        ),
+        (
+            "icosphere(3), normals tilted ≤ 20°, shared field",
+            tilted_normal_sphere(),
+            LineField::Vertex,
+            vec![("flat (same mesh)", tilted_normal_sphere())],
+        ),
     ];
-    for (name, mesh, flats) in cases {
+    for (name, mesh, field, flats) in cases {
         let cam = Camera::for_mesh(&mesh, 30.0, 35.0, o.width, o.height);
         let rays: Vec<Ray> = (0..o.height)
             .flat_map(|y| (0..o.width).map(move |x| (x, y)))
@@ -214,7 +244,7 @@ fn main() -> Result<(), String> {
             })
             .collect();
         // As a renderer builds it: patches, cracks closed, BVH (`Scene::build`).
-        let b = Scene::<f32>::build(&mesh).map_err(|e| e.to_string())?;
+        let b = Scene::<f32>::build_on(&mesh, field).map_err(|e| e.to_string())?;
         let bvh = b.bvh();
         let smooth = GpuScene::smooth(&gpu, &bvh).map_err(|e| e.to_string())?;
         let s = rate(&smooth, o.iterations, &rays, o.repeat).map_err(|e| e.to_string())?;

@@ -26,6 +26,10 @@ const EARLY_STOP: f32 = 0.25;
 override FLAT: u32 = 0u;
 // 0: closest hit; 1: any hit (shadow rays).
 override ANY_HIT: u32 = 0u;
+// 1: the scene has patches with tilted sections (the shared line field, core/src/field.rs);
+// 0: every section is parallel, and the pipeline compiles without the tilted branches (they
+// cost the parallel path about a fifth of its rate when present).
+override TILTED: u32 = 1u;
 
 // Interior bracketing samples K (the CPU's DEFAULT_SAMPLES): K + 2 = 8 points.
 const SAMPLES: u32 = 6u;
@@ -150,13 +154,6 @@ struct Patch {
     reach: vec3<f32>, // per wall k (opposite vertex k): core's Patch::reach (close_cracks)
     dz: vec3<f32>,    // the di.z (all 1 for parallel sections, core/src/field.rs)
     tilted: bool,     // some di.z differs from 1: the section of a point is found by Newton
-    // The point-to-section cubic (core/src/field.rs `Section`): (A1 − A0) × (A2 − A0) =
-    // k0 + λ·k1 + λ²·k2, kd = (kj·d0), inv_mean = 1 / mean(di.z).
-    k0: vec3<f32>,
-    k1: vec3<f32>,
-    k2: vec3<f32>,
-    kd: vec3<f32>,
-    inv_mean: f32,
 }
 
 fn load_edge(base: u32, a: vec2<f32>, da: vec2<f32>, daz: f32, dbz: f32, na: vec3<f32>,
@@ -189,24 +186,16 @@ fn load_patch(id: u32) -> Patch {
     let d0 = vec2<f32>(v6.w, v7.w);
     let d1 = vec2<f32>(v8.w, v9.x);
     let d2 = vec2<f32>(v9.y, v9.z);
-    let dz = vec3<f32>(patches[b + 14u].w, patches[b + 19u].w, patches[b + 24u].w);
+    // Without the tilted branches every di.z is 1 (a constant the compiler folds).
+    let dz = select(vec3<f32>(patches[b + 14u].w, patches[b + 19u].w, patches[b + 24u].w),
+        vec3<f32>(1.0), TILTED == 0u);
     let e0 = load_edge(b + 10u, p0, d0, dz.x, dz.y, v6.xyz, v7.xyz);
     let e1 = load_edge(b + 15u, p1, d1, dz.y, dz.z, v7.xyz, v8.xyz);
     let e2 = load_edge(b + 20u, p2, d2, dz.z, dz.x, v8.xyz, v6.xyz);
     let reach = vec3<f32>(patches[b + 13u].w, patches[b + 18u].w, patches[b + 23u].w);
     let tilted = dz.x != 1.0 || dz.y != 1.0 || dz.z != 1.0;
-    let q1 = vec3<f32>(v3.w, 0.0, 0.0);
-    let q2 = vec3<f32>(v4.w, v5.w, 0.0);
-    let c1 = vec3<f32>(d1 - d0, dz.y - dz.x);
-    let c2 = vec3<f32>(d2 - d0, dz.z - dz.x);
-    let k0 = cross(q1, q2);
-    let k1 = cross(q1, c2) + cross(c1, q2);
-    let k2 = cross(c1, c2);
-    let d0v = vec3<f32>(d0, dz.x);
-    let kd = vec3<f32>(dot(k0, d0v), dot(k1, d0v), dot(k2, d0v));
     return Patch(v0.xyz, v0.w, v1.xyz, v2.xyz, v3.xyz, v1.w, v2.w, v3.w, v4.w, v5.w,
-        v6.xyz, v7.xyz, v8.xyz, d0, d1, d2, e0, e1, e2, reach, dz, tilted, k0, k1, k2, kd,
-        3.0 / (dz.x + dz.y + dz.z));
+        v6.xyz, v7.xyz, v8.xyz, d0, d1, d2, e0, e1, e2, reach, dz, tilted);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -286,8 +275,9 @@ struct PointNormal {
 fn edge_point_normal(ep: Edge, t: f32) -> PointNormal {
     let u = t - 1.0;
     let e = vec3<f32>(ep.e, 0.0);
-    let gd = vec3<f32>(ep.gd, ep.gdz);
-    let g = vec3<f32>(ep.da.x + t * gd.x, ep.da.y + t * gd.y, ep.daz + t * gd.z);
+    let gd = vec3<f32>(ep.gd, select(ep.gdz, 0.0, TILTED == 0u));
+    let g = vec3<f32>(ep.da.x + t * gd.x, ep.da.y + t * gd.y,
+        select(ep.daz + t * gd.z, 1.0, TILTED == 0u));
     let gg = ep.gg0 + t * (ep.gg1 + t * ep.gg2);
     let dgg = ep.gg1 + 2.0 * t * ep.gg2;
     let eg = ep.eg0 + t * ep.eg1;
@@ -346,17 +336,27 @@ fn vertex_term(ep: Edge, pi: vec3<f32>, ni: vec3<f32>, xi: f32, xa: f32, xb: f32
 // `Section::param`): x.z for parallel sections, else SECTION_NEWTON_STEPS Newton steps on the
 // cubic g(λ) = det[A1 − A0, A2 − A0, x − A0] from x.z / mean(di.z).
 fn section_param(pt: Patch, x: vec3<f32>) -> f32 {
-    if (!pt.tilted) {
+    if (TILTED == 0u || !pt.tilted) {
         return x.z;
     }
-    let c0 = dot(pt.k0, x);
-    let c1 = dot(pt.k1, x) - pt.kd.x;
-    let c2 = dot(pt.k2, x) - pt.kd.y;
-    let c3 = -pt.kd.z;
-    var l = x.z * pt.inv_mean;
+    // (A1 − A0) × (A2 − A0) = k0 + λ·k1 + λ²·k2 (formed here, only for tilted sections, so
+    // the parallel path carries none of it).
+    let q1 = vec3<f32>(pt.p1x, 0.0, 0.0);
+    let q2 = vec3<f32>(pt.p2x, pt.p2y, 0.0);
+    let d0 = vec3<f32>(pt.d0, pt.dz.x);
+    let c1 = vec3<f32>(pt.d1 - pt.d0, pt.dz.y - pt.dz.x);
+    let c2 = vec3<f32>(pt.d2 - pt.d0, pt.dz.z - pt.dz.x);
+    let k0 = cross(q1, q2);
+    let k1 = cross(q1, c2) + cross(c1, q2);
+    let k2 = cross(c1, c2);
+    let c0 = dot(k0, x);
+    let cc1 = dot(k1, x) - dot(k0, d0);
+    let cc2 = dot(k2, x) - dot(k1, d0);
+    let c3 = -dot(k2, d0);
+    var l = x.z * 3.0 / (pt.dz.x + pt.dz.y + pt.dz.z);
     for (var i = 0u; i < SECTION_NEWTON_STEPS; i++) {
-        let g = c0 + l * (c1 + l * (c2 + l * c3));
-        let dg = c1 + l * (2.0 * c2 + 3.0 * l * c3);
+        let g = c0 + l * (cc1 + l * (cc2 + l * c3));
+        let dg = cc1 + l * (2.0 * cc2 + 3.0 * l * c3);
         let next = l - g / dg;
         l = select(l, next, fin(next));
     }
@@ -433,7 +433,7 @@ fn beyond_edge(pt: Patch, w: vec3<f32>, q: vec3<f32>, s: f32) -> f32 {
     let dx = q.x * pt.d0.x + q.y * pt.d1.x + q.z * pt.d2.x;
     let dy = q.x * pt.d0.y + q.y * pt.d1.y + q.z * pt.d2.y;
     var dh = 0.0;
-    if (pt.tilted) {
+    if (TILTED != 0u && pt.tilted) {
         // The point is o.z above the section point of q (core height.rs `beyond_edge`).
         let oz = s * dot(e, pt.dz);
         let vz = dot(q, pt.dz);
@@ -452,7 +452,7 @@ fn height_at(pt: Patch, x: vec3<f32>) -> f32 {
     let base = vec3<f32>(x.y * pt.p1x + x.z * pt.p2x, x.z * pt.p2y, 0.0);
     var dir = vec3<f32>(x.x * pt.d0.x + x.y * pt.d1.x + x.z * pt.d2.x,
         x.x * pt.d0.y + x.y * pt.d1.y + x.z * pt.d2.y, x.x + x.y + x.z);
-    if (pt.tilted) {
+    if (TILTED != 0u && pt.tilted) {
         // Unit height (core/src/field.rs `unit_height_dir`).
         let inv = 1.0 / dot(x, pt.dz);
         dir = vec3<f32>(dir.x * inv, dir.y * inv, 1.0);
@@ -516,7 +516,7 @@ fn quadratic_roots(c: vec3<f32>) -> Roots {
 // sections, the point's barycentrics in its section for tilted ones.
 fn inside(pt: Patch, polys: array<vec3<f32>, 3>, m: vec3<f32>, o: vec3<f32>, r: vec3<f32>,
     tau: f32) -> bool {
-    if (pt.tilted) {
+    if (TILTED != 0u && pt.tilted) {
         let nm = bary_numerators(pt, o + r * tau);
         return nm.n.x + m.x * nm.area >= 0.0 && nm.n.y + m.y * nm.area >= 0.0
             && nm.n.z + m.z * nm.area >= 0.0;
@@ -541,10 +541,16 @@ fn line_at(pt: Patch, x: vec3<f32>) -> Line {
     return Line(p, g);
 }
 
-// Where the ray o + τ·r meets wall k (from moved corner a to moved corner b) of a shell with
+// Where the ray o + τ·r meets wall k (walls moved out by m3) of a shell with
 // tilted sections (core clip.rs `ruled_wall_crossings`): the Plücker side product of the ray
 // with the wall's line at t, a quadratic in t; each root's ray parameter, or not ok.
-fn ruled_crossings(la: Line, lb: Line, o: vec3<f32>, r: vec3<f32>) -> Roots {
+fn ruled_crossings(pt: Patch, m3: vec3<f32>, k: u32, o: vec3<f32>, r: vec3<f32>) -> Roots {
+    // The moved corners' lines (core shell.rs `moved_corners`): corner i has Xj = −m_j for
+    // the two other vertices j; wall k runs from corner k+1 to corner k+2.
+    let corner = array<vec3<f32>, 3>(vec3<f32>(1.0 + m3.y + m3.z, -m3.y, -m3.z),
+        vec3<f32>(-m3.x, 1.0 + m3.x + m3.z, -m3.z), vec3<f32>(-m3.x, -m3.y, 1.0 + m3.x + m3.y));
+    let la = line_at(pt, corner[(k + 1u) % 3u]);
+    let lb = line_at(pt, corner[(k + 2u) % 3u]);
     let pe = lb.p - la.p;
     let ge = lb.g - la.g;
     let m = cross(o, r);
@@ -591,23 +597,14 @@ fn shell_interval(pt: Patch, o: vec3<f32>, r: vec3<f32>, tau_lo: f32, tau_hi: f3
     // Each wall also moves out by its crack reach (core/src/kernel/mod.rs `wall_margins`).
     let m = pt.reach + vec3<f32>(margin, margin, margin);
     let polys = array<vec3<f32>, 3>(w0 + m.x * sum, w1 + m.y * sum, w2 + m.z * sum);
-    // Tilted sections: the moved corners' lines (core shell.rs `moved_corners`).
-    let c0 = line_at(pt, vec3<f32>(1.0 + m.y + m.z, -m.y, -m.z));
-    let c1 = line_at(pt, vec3<f32>(-m.x, 1.0 + m.x + m.z, -m.z));
-    let c2 = line_at(pt, vec3<f32>(-m.x, -m.y, 1.0 + m.x + m.y));
     var brk = array<f32, 8>(tau_lo, tau_hi, tau_hi, tau_hi, tau_hi, tau_hi, tau_hi, tau_hi);
     var count = 1u;
     for (var k = 0u; k < 3u; k++) {
-        var rs = quadratic_roots(polys[k]);
-        if (pt.tilted) {
-            // Wall k runs from corner k+1 to corner k+2.
-            if (k == 0u) {
-                rs = ruled_crossings(c1, c2, o, r);
-            } else if (k == 1u) {
-                rs = ruled_crossings(c2, c0, o, r);
-            } else {
-                rs = ruled_crossings(c0, c1, o, r);
-            }
+        var rs: Roots;
+        if (TILTED != 0u && pt.tilted) {
+            rs = ruled_crossings(pt, m, k, o, r);
+        } else {
+            rs = quadratic_roots(polys[k]);
         }
         for (var m = 0u; m < 2u; m++) {
             let x = rs.r[m];
@@ -1005,8 +1002,9 @@ struct EdgeJet {
 fn edge_jet(ep: Edge, t: f32) -> EdgeJet {
     let zero = vec3<f32>(0.0);
     let e = vec3<f32>(ep.e, 0.0);
-    let gd = vec3<f32>(ep.gd, ep.gdz);
-    let g = JV(vec3<f32>(ep.da, ep.daz) + gd * t, gd, zero);
+    let gd = vec3<f32>(ep.gd, select(ep.gdz, 0.0, TILTED == 0u));
+    let g = JV(vec3<f32>(ep.da + ep.gd * t, select(ep.daz + t * gd.z, 1.0, TILTED == 0u)), gd,
+        zero);
     let w1 = JV(e * t, e, zero);
     let w2 = JV(e * (t - 1.0), e, zero);
     let s1 = root_j(w1, g, ep.na, ep.k1);
@@ -1074,7 +1072,7 @@ fn normal_local(pt: Patch, x: vec3<f32>) -> vec3<f32> {
     let d2 = vec3<f32>(pt.d2, pt.dz.z);
     let base = GV(p0 * x.x + p1 * x.y + p2 * x.z, p1 - p0, p2 - p0);
     var dir = GV(d0 * x.x + d1 * x.y + d2 * x.z, d1 - d0, d2 - d0);
-    if (pt.tilted) {
+    if (TILTED != 0u && pt.tilted) {
         // D = V / Vz: ∂D/∂Xk = ((dk − d0) − D·(dk.z − d0.z)) / Vz.
         let inv = 1.0 / dir.v.z;
         let dv = dir.v * inv;

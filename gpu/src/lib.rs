@@ -158,7 +158,7 @@ pub struct Gpu {
     layout: wgpu::BindGroupLayout,
     pipeline_layout: wgpu::PipelineLayout,
     module: wgpu::ShaderModule,
-    pipelines: Mutex<HashMap<(u32, bool, bool), wgpu::ComputePipeline>>,
+    pipelines: Mutex<HashMap<(u32, bool, bool, bool), wgpu::ComputePipeline>>,
     uncaptured: Arc<Mutex<Option<String>>>,
     /// The device was created with timestamp queries (kernel timings for benchmarks).
     timestamps: bool,
@@ -308,12 +308,19 @@ impl Gpu {
         self.info.device_type == wgpu::DeviceType::Cpu
     }
 
-    /// The pipeline for budget `n`, flat or smooth, closest or any hit (compiled once).
-    fn pipeline(&self, n: usize, flat: bool, any: bool) -> Result<wgpu::ComputePipeline, GpuError> {
+    /// The pipeline for budget `n`, flat or smooth, closest or any hit, with or without the
+    /// tilted-section branches (compiled once).
+    fn pipeline(
+        &self,
+        n: usize,
+        flat: bool,
+        any: bool,
+        tilted: bool,
+    ) -> Result<wgpu::ComputePipeline, GpuError> {
         if n > MAX_ITERATIONS {
             return Err(GpuError::Iterations(n));
         }
-        let key = (n as u32, flat, any);
+        let key = (n as u32, flat, any, tilted);
         let mut map = self
             .pipelines
             .lock()
@@ -325,6 +332,7 @@ impl Gpu {
             ("ITERATIONS", n as f64),
             ("FLAT", f64::from(u8::from(flat))),
             ("ANY_HIT", f64::from(u8::from(any))),
+            ("TILTED", f64::from(u8::from(tilted))),
         ];
         let p = scoped(&self.device, GpuError::Shader, || {
             self.device
@@ -431,6 +439,9 @@ pub struct GpuScene {
     order: wgpu::Buffer,
     counts: [u32; 3],
     bytes: u64,
+    /// Some smooth patch has tilted sections (`smoothtri::LineField::Vertex`): traced by the
+    /// pipeline with the tilted branches (`TILTED` in the shader), all others without them.
+    tilted: bool,
 }
 
 impl fmt::Debug for GpuScene {
@@ -624,6 +635,8 @@ impl GpuScene {
             order: gpu.storage("order", order_bytes)?,
             counts,
             bytes,
+            tilted: kind == SceneKind::Smooth
+                && patches.iter().any(|pd| pd.d.iter().any(|d| d[2] != 1.0)),
         })
     }
 
@@ -777,7 +790,7 @@ impl GpuScene {
         out: &mut dyn FnMut(usize, Raw),
     ) -> Result<(), GpuError> {
         let gpu = &self.gpu;
-        let pipeline = gpu.pipeline(iterations, self.kind == SceneKind::Flat, any)?;
+        let pipeline = gpu.pipeline(iterations, self.kind == SceneKind::Flat, any, self.tilted)?;
         if rays.is_empty() {
             return Ok(());
         }
