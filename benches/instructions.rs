@@ -11,7 +11,7 @@ use std::hint::black_box;
 use std::process::Command;
 
 use smoothtri::{LineField, Patch, flat_hit, moller_trumbore};
-use smoothtri_demo::scenes::torus;
+use smoothtri_demo::scenes::{tilted_normal_sphere, torus};
 
 mod common;
 use common::*;

@@ -4,7 +4,7 @@
 
 use glam::{DVec3, Vec3};
 use smoothtri::{Bvh, BvhNode, DPatch, DRay, LineField, Patch, Ray};
-use smoothtri_demo::scenes::{Mesh, icosphere, torus, torus_distance};
+use smoothtri_demo::scenes::{Mesh, torus, torus_distance};
 
 /// Deterministic SplitMix64.
 pub struct Rng(pub u64);
@@ -38,21 +38,6 @@ pub fn patches32_on(m: &Mesh, field: LineField) -> Vec<Patch> {
         .into_iter()
         .map(|(p, n)| Patch::with_field(p, n, field).unwrap())
         .collect()
-}
-
-/// The unit icosphere of level 3 with each vertex normal tilted from the radius by up to 20°
-/// (a fixed pattern): on the shared line field ([`LineField::Vertex`]) its patches' sections
-/// are tilted, so the kernel runs the section's Newton steps and the ruled walls.
-pub fn tilted_normal_sphere() -> Mesh {
-    let mut m = icosphere(3, 1.0);
-    for (i, n) in m.normals.iter_mut().enumerate() {
-        let k = i as f64;
-        let axis = DVec3::new((1.3 * k).sin(), (2.1 * k).cos(), (0.7 * k).sin());
-        let side = axis.cross(*n).normalize_or_zero();
-        let a = (20.0 * (0.5 + 0.5 * (3.7 * k).sin())).to_radians();
-        *n = *n * a.cos() + side * a.sin();
-    }
-    m
 }
 
 /// Rays aimed at random points of patch `k`'s triangle from random directions above it:

@@ -23,7 +23,7 @@ use std::time::Instant;
 use glam::DVec3;
 use smoothtri::{Bvh, BvhNode, LineField, Patch, Ray};
 use smoothtri_demo::mesh::{Mesh, angle_weighted_normals};
-use smoothtri_demo::scenes::{teapot, torus};
+use smoothtri_demo::scenes::{teapot, tilted_normal_sphere, torus};
 use smoothtri_demo::{Camera, Scene};
 use smoothtri_gpu::{Gpu, GpuScene};
 
@@ -55,20 +55,6 @@ fn opts() -> Result<Opts, String> {
         }
     }
     Ok(o)
-}
-
-/// The unit icosphere of level 3 with each vertex normal tilted from the radius by up to 20°
-/// (the pattern of `benches/common`): on the shared line field its sections are tilted, so
-/// the shader runs the section's Newton steps and the ruled walls.
-fn tilted_normal_sphere() -> Mesh {
-    let mut m = smoothtri_demo::scenes::icosphere(3, 1.0);
-    for (i, n) in m.normals.iter_mut().enumerate() {
-        let k = i as f64;
-        let axis = DVec3::new((1.3 * k).sin(), (2.1 * k).cos(), (0.7 * k).sin());
-        let a = (20.0 * (0.5 + 0.5 * (3.7 * k).sin())).to_radians();
-        *n = *n * a.cos() + axis.cross(*n).normalize_or_zero() * a.sin();
-    }
-    m
 }
 
 /// A torus of `n × n` quads whose minor radius waves (`0.4 + 0.03·sin 7u·sin 5v`), normals

@@ -8,7 +8,7 @@ use common::*;
 use glam::{DVec3, Vec3};
 use smoothtri::accuracy::{F32_SPHERE_HIT, F32_SPHERE_NORMAL};
 use smoothtri::{Hit, LineField, Patch, Ray, SeamEdge, close_cracks};
-use smoothtri_demo::scenes::{Mesh, cube, icosphere, teapot, torus};
+use smoothtri_demo::scenes::{Mesh, cube, icosphere, teapot, tilted_normal_sphere, torus};
 use smoothtri_gpu::{Gpu, GpuScene};
 use std::sync::Arc;
 
@@ -533,19 +533,6 @@ fn rays_into_cracks_once_closed() {
             "ray {i} fell through at an edge whose reach is below the cap"
         );
     }
-}
-
-/// The icosphere of level 3 with each vertex normal tilted from the radius by up to 20° (a fixed
-/// pattern): on the shared line field its patches' sections are tilted.
-fn tilted_normal_sphere() -> Mesh {
-    let mut m = icosphere(3, 1.0);
-    for (i, n) in m.normals.iter_mut().enumerate() {
-        let k = i as f64;
-        let axis = DVec3::new((1.3 * k).sin(), (2.1 * k).cos(), (0.7 * k).sin());
-        let a = (20.0 * (0.5 + 0.5 * (3.7 * k).sin())).to_radians();
-        *n = *n * a.cos() + axis.cross(*n).normalize_or_zero() * a.sin();
-    }
-    m
 }
 
 /// The shared line field (`LineField::Vertex`, docs/METHOD.md §2 "Line fields"): patches whose

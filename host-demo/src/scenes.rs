@@ -39,6 +39,21 @@ pub fn torus_distance(x: DVec3, big_r: f64, r: f64) -> f64 {
     ((q * q + x.z * x.z).sqrt() - r).abs()
 }
 
+/// The unit icosphere of level 3 with each vertex normal tilted from the radius by up to 20°
+/// (a fixed pattern): on the shared line field (`smoothtri::LineField::Vertex`) its patches'
+/// sections are tilted, so the kernels run the section's Newton steps and the ruled walls.
+/// Used by the instruction-count bench, the GPU bench and the GPU parity test.
+pub fn tilted_normal_sphere() -> Mesh {
+    let mut m = icosphere(3, 1.0);
+    for (i, n) in m.normals.iter_mut().enumerate() {
+        let k = i as f64;
+        let axis = DVec3::new((1.3 * k).sin(), (2.1 * k).cos(), (0.7 * k).sin());
+        let a = (20.0 * (0.5 + 0.5 * (3.7 * k).sin())).to_radians();
+        *n = *n * a.cos() + axis.cross(*n).normalize_or_zero() * a.sin();
+    }
+    m
+}
+
 /// Icosphere of radius `r` centred at the origin: the icosahedron subdivided `level` times,
 /// vertices projected onto the sphere, radial normals. Level 1 has 80 triangles.
 pub fn icosphere(level: u32, r: f64) -> Mesh {
