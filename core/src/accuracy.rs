@@ -23,41 +23,41 @@
 /// [`Patch::edge_point_normal`](crate::Patch::edge_point_normal), to this fraction of the
 /// triangle's size; the edge normals at the ends equal the vertex normals to this (absolute).
 /// Measured worst: points 5.1e-14, normals 6.3e-16 (20 000 random triangles, normals ≤ 40°,
-/// sizes 1e-2…50 at offsets up to 3). Asserted by `tests/patch.rs`
+/// sizes 1e-2…50 at offsets up to 3). Asserted by `tests/suite/patch.rs`
 /// (`interpolates_vertices_and_edges`).
 pub const F64_INTERPOLATION: f64 = 1e-13;
 
 /// `f32` interpolation: as [`F64_INTERPOLATION`], points relative to the scale, normals
 /// absolute. Measured worst: points 5.9e-7, normals 4.6e-7 (same 20 000 triangles). Asserted by
-/// `tests/patch.rs` (`interpolates_vertices_and_edges`).
+/// `tests/suite/patch.rs` (`interpolates_vertices_and_edges`).
 pub const F32_INTERPOLATION: f64 = 1e-6;
 
 /// `f64`: vertex normals all equal to the face normal give the flat triangle: points within
 /// this fraction of the scale, normals within this of the face normal. Measured worst: points
-/// 1.1e-15, normals 9.8e-14 (20 000 random triangles). Asserted by `tests/patch.rs`
+/// 1.1e-15, normals 9.8e-14 (20 000 random triangles). Asserted by `tests/suite/patch.rs`
 /// (`flat_normals_give_flat_triangle`).
 pub const F64_FLAT_TRIANGLE: f64 = 2e-13;
 
 /// `f64`: every point of a patch of a sphere (vertices on it, radial normals) is on the
 /// sphere to this fraction of the radius. Measured worst: 1.1e-15 (20 000 random patches,
 /// radius 1e-3…1e3, arcs 5°…35°, centres up to 2 radii from the origin). Asserted by
-/// `tests/patch.rs` (`spheres_are_exact`) and `tests/robustness.rs` (the octant at scales
+/// `tests/suite/patch.rs` (`spheres_are_exact`) and `tests/suite/robustness.rs` (the octant at scales
 /// 1e-20…1e20).
 pub const F64_SPHERE_POINT: f64 = 4e-15;
 
 /// `f32`: as [`F64_SPHERE_POINT`]. Measured worst: 5.8e-7 (same 20 000 patches). Asserted by
-/// `tests/patch.rs` (`spheres_are_exact`).
+/// `tests/suite/patch.rs` (`spheres_are_exact`).
 pub const F32_SPHERE_POINT: f64 = 1e-6;
 
 /// `f64`: the normal of [`Patch::point_normal`](crate::Patch::point_normal) on a sphere's
 /// patch, and of a hit on it, is radial to this. Measured worst: 6.2e-14 (the 20 000 patches of
-/// [`F64_SPHERE_POINT`]), 1.2e-15 at the hits of `tests/kernel.rs`. Asserted by
-/// `tests/patch.rs` (`spheres_are_exact`) and `tests/kernel.rs` (icosphere and cube).
+/// [`F64_SPHERE_POINT`]), 1.2e-15 at the hits of `tests/suite/kernel.rs`. Asserted by
+/// `tests/suite/patch.rs` (`spheres_are_exact`) and `tests/suite/kernel.rs` (icosphere and cube).
 pub const F64_SPHERE_NORMAL: f64 = 2e-13;
 
 /// `f32`: as [`F64_SPHERE_NORMAL`]; the normal comes from `f32` derivatives. Measured worst:
-/// 2.6e-5 (the 20 000 patches), 5.6e-7 at the hits of `tests/kernel.rs`. Asserted by
-/// `tests/patch.rs` (`spheres_are_exact`) and `tests/kernel.rs`.
+/// 2.6e-5 (the 20 000 patches), 5.6e-7 at the hits of `tests/suite/kernel.rs`. Asserted by
+/// `tests/suite/patch.rs` (`spheres_are_exact`) and `tests/suite/kernel.rs`.
 pub const F32_SPHERE_NORMAL: f64 = 5e-5;
 
 /// `f64`: the exact derivatives of [`Patch::derivatives`](crate::Patch::derivatives) (dual
@@ -66,58 +66,58 @@ pub const F32_SPHERE_NORMAL: f64 = 5e-5;
 /// [`Patch::edge_point_normal`](crate::Patch::edge_point_normal)) against the surface's
 /// derivative along the edge and perpendicular to the edge normal and the surface normal there,
 /// to the same. The difference is the central difference's own error. Measured worst: 6.0e-9
-/// (20 000 random patches, normals ≤ 40°). Asserted by `tests/patch.rs`
+/// (20 000 random patches, normals ≤ 40°). Asserted by `tests/suite/patch.rs`
 /// (`derivatives_match_finite_differences`).
 pub const DERIVATIVES_VS_CENTRAL_DIFFERENCES: f64 = 2e-8;
 
 /// `f32` against `f64` on the same (`f32`) input: surface points to this fraction of the
-/// scale. Measured worst: 4.2e-7 (2000 random patches × 4 points, `tests/patch.rs`), 2.9e-7
-/// (the 600 points of `tests/data/`). Asserted by `tests/patch.rs` (`f32_tracks_f64`) and
-/// `tests/reference.rs`.
+/// scale. Measured worst: 4.2e-7 (2000 random patches × 4 points, `tests/suite/patch.rs`), 2.9e-7
+/// (the 600 points of `tests/data/`). Asserted by `tests/suite/patch.rs` (`f32_tracks_f64`) and
+/// `tests/suite/reference.rs`.
 pub const F32_VS_F64_POINT: f64 = 1e-6;
 
 /// `f32` against `f64` on the same input: unit normals of
 /// [`Patch::point_normal`](crate::Patch::point_normal) to this. Measured worst: 3.1e-7 (2000
-/// random patches × 4 points). Asserted by `tests/patch.rs` (`f32_tracks_f64`).
+/// random patches × 4 points). Asserted by `tests/suite/patch.rs` (`f32_tracks_f64`).
 pub const F32_VS_F64_NORMAL: f64 = 1e-6;
 
 /// `f64` surface points against the independent `f64` implementation whose results are vendored
 /// in `tests/data/` (600 points), relative to the scale. The reference works in world
 /// coordinates and differs from our shift-invariant evaluation by ~100 ulps of the coordinates
 /// on small triangles far from the origin. Measured worst: 1.8e-14. Asserted by
-/// `tests/reference.rs`.
+/// `tests/suite/reference.rs`.
 pub const F64_SURFACE_VS_REFERENCE: f64 = 3e-14;
 
 /// The same comparison as [`F64_SURFACE_VS_REFERENCE`], relative to the triangle's size
 /// (larger, for the reference's small triangles far from the origin). Measured worst: 9.4e-12.
-/// Asserted by `tests/reference.rs`.
+/// Asserted by `tests/suite/reference.rs`.
 pub const F64_SURFACE_VS_REFERENCE_OF_SIZE: f64 = 2e-11;
 
 /// `f64` surface normals against `tests/data/`, whose normals come from numerical
 /// differentiation (the difference is theirs). Measured worst: 1.2e-8. Asserted by
-/// `tests/reference.rs`.
+/// `tests/suite/reference.rs`.
 pub const F64_NORMAL_VS_REFERENCE: f64 = 3e-8;
 
 /// `f64` edge-curve points of [`Patch::edge_point_normal`](crate::Patch::edge_point_normal)
 /// against `tests/data/` (900 points), relative to the size. Measured worst: 1.5e-13. Asserted
-/// by `tests/reference.rs`.
+/// by `tests/suite/reference.rs`.
 pub const F64_EDGE_VS_REFERENCE: f64 = 3e-13;
 
 /// `f64` edge-curve normals against `tests/data/`. Measured worst: 3.5e-10. Asserted by
-/// `tests/reference.rs`.
+/// `tests/suite/reference.rs`.
 pub const F64_EDGE_NORMAL_VS_REFERENCE: f64 = 1e-9;
 
 /// Every unit vector the crate returns (face normal, vertex normals, surface, edge and hit
 /// normals) has length `1 ± UNIT_LENGTH_ULPS · ε` of its precision, for every accepted patch
 /// and every argument. Measured worst: 3.9 ε (`f32`), 3 ε (`f64`) over 20 000 cases of each
-/// property of `tests/robustness.rs` (extreme magnitudes, skinny triangles, normals near 90°).
-/// Asserted by `tests/robustness.rs` and `tests/regressions.rs`.
+/// property of `tests/suite/robustness.rs` (extreme magnitudes, skinny triangles, normals near 90°).
+/// Asserted by `tests/suite/robustness.rs` and `tests/suite/regressions.rs`.
 pub const UNIT_LENGTH_ULPS: f64 = 8.0;
 
 /// Fidelity of the 8×8 torus (major radius 1, minor 0.4, analytic normals, 128 triangles):
 /// maximum distance of the surface to the true torus over 91 samples per triangle, measured
 /// (to three digits; the test asserts it to 1 %, so that any change of the construction
-/// shows; docs/METHOD.md's design value is 7.4e-3). Asserted by `tests/torus.rs`.
+/// shows; docs/METHOD.md's design value is 7.4e-3). Asserted by `tests/suite/torus.rs`.
 pub const TORUS_8X8_DISTANCE: f64 = 7.36e-3;
 
 /// As [`TORUS_8X8_DISTANCE`] for the 16×16 torus (512 triangles; docs/METHOD.md: 6.3e-4).
@@ -125,7 +125,7 @@ pub const TORUS_16X16_DISTANCE: f64 = 6.23e-4;
 
 /// The shell is not tight by accident: on random well-shaped patches with normals up to 50°
 /// (2000 patches, 861 points each), the surface stays at least this fraction of the height
-/// range's width away from its faces. Measured: closest 0.169. Asserted by `tests/shell.rs`.
+/// range's width away from its faces. Measured: closest 0.169. Asserted by `tests/suite/shell.rs`.
 pub const SHELL_CLEARANCE: f64 = 0.1;
 
 // ---------------------------------------------------------------------------------------------
@@ -141,17 +141,17 @@ pub const KERNEL_HEIGHT_VS_SURFACE: f64 = 3e-14;
 /// `f64` hits (N = 8) on meshes that are exactly a sphere for the method (an icosphere, and a
 /// cube with averaged normals): every hit point on the analytic sphere to this fraction of the
 /// radius. Measured worst: 7.7e-16 (3000 random rays per mesh, 2231 and 2249 hits). Asserted by
-/// `tests/kernel.rs`, `tests/bvh.rs` and `tests/robustness.rs` (the octant at any scale, with
+/// `tests/suite/kernel.rs`, `tests/suite/bvh.rs` and `tests/suite/robustness.rs` (the octant at any scale, with
 /// the returned `t_error`).
 pub const F64_SPHERE_HIT: f64 = 2e-15;
 
 /// `f32`: as [`F64_SPHERE_HIT`]. Measured worst: 4.1e-7 (same rays). Asserted by
-/// `tests/kernel.rs` and `tests/robustness.rs`.
+/// `tests/suite/kernel.rs` and `tests/suite/robustness.rs`.
 pub const F32_SPHERE_HIT: f64 = 1e-6;
 
 /// `f64` hits (N = 8) of [`F64_SPHERE_HIT`]: `|t − t_true|·|dir|`, the distance along the ray
 /// to the analytic intersection, to this fraction of the radius. Measured worst: 1.7e-14.
-/// Asserted by `tests/kernel.rs`.
+/// Asserted by `tests/suite/kernel.rs`.
 pub const F64_SPHERE_HIT_T: f64 = 5e-14;
 
 /// Bounds of one row of [`TORUS_F64_BY_ITERATIONS`]: the kernel's error at `n` refinement
@@ -185,7 +185,7 @@ const fn row(n: usize, max_error: f64, p99_error: f64, max_t_error: f64) -> Iter
 /// (max / 99th pct / max `t_error`): N = 0: 2.25e-2 / 2.19e-3 / 1.27e-1; 1: 8.26e-4 /
 /// 5.63e-6 / 1.62e-2; 2: 1.54e-5 / 6.4e-11 / 1.64e-3; 4: 5.6e-15 / 7.8e-16 / 6.28e-8; 8, 16
 /// and 24: 0 / 0 / 6.96e-13 (`t_error` is then the rounding allowance). Asserted by
-/// `tests/kernel.rs`.
+/// `tests/suite/kernel.rs`.
 pub const TORUS_F64_BY_ITERATIONS: [IterationBound; 7] = [
     row(0, 2.5e-2, 3.0e-3, 1.5e-1),
     row(1, 1.2e-3, 1.0e-5, 2.0e-2),
@@ -227,20 +227,20 @@ pub const FASTF32_HIT: f64 = 1e-3;
 /// teapot's edges with shared curves, 3e-5° on the cube and the icosphere (`f32` rounding; 0
 /// in `f64`), 2e-4° on the irregular icosphere (curves part by 1.3e-4 of the diagonal), 3e-5°
 /// (`f32`) on the stress meshes (box and cylinder with averaged normals, icosphere with noisy
-/// normals). Asserted by `tests/seam.rs`.
+/// normals). Asserted by `tests/suite/seam.rs`.
 pub const SEAM_JUMP_DEG: f64 = 1e-3;
 
 /// As [`SEAM_JUMP_DEG`] on the built-in teapot (4×4 per Bézier patch; edges of clamped or
 /// folded patches left out), where the geometric normal swings by up to 27° along some edges,
 /// beyond what the twist polynomials follow to [`SEAM_JUMP_DEG`]. Measured worst: 0.025° (mean
 /// 1.3e-4°; the geometric normal: 60.8°); the bound is issue 12's. Asserted by
-/// `tests/seam.rs`.
+/// `tests/suite/seam.rs`.
 pub const SEAM_JUMP_TEAPOT_DEG: f64 = 0.05;
 
 /// The 8×8 torus (major radius 1, minor 0.4): largest angle between the geometric normal of
 /// [`Patch::point_normal`](crate::Patch::point_normal) and the true torus normal at the
 /// nearest torus point, degrees, over 325 barycentric samples per triangle (41 600). Measured
-/// (to 0.01°, as the test asserts): 5.80°. Asserted by `tests/seam.rs`.
+/// (to 0.01°, as the test asserts): 5.80°. Asserted by `tests/suite/seam.rs`.
 pub const TORUS_8X8_GEOMETRIC_NORMAL_MAX_DEG: f64 = 5.80;
 
 /// As [`TORUS_8X8_GEOMETRIC_NORMAL_MAX_DEG`], the 99th percentile: 4.21°.

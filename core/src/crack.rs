@@ -34,7 +34,7 @@ use crate::surface;
 /// between them must run along both for their overlap `2·reach − gap` while it rises by `gap`,
 /// so it passes only if it is within `atan(gap / (2·reach − gap))` of the surface: 8.1° (82°
 /// off the normal) for four gaps. The gap is the widest of [`CRACK_SAMPLES`] points, not of
-/// the whole curve, which the factor also covers. Measured (`tests/watertight.rs`, thousands
+/// the whole curve, which the factor also covers. Measured (`tests/suite/watertight.rs`, thousands
 /// of rays per mesh aimed between the two curves, up to 80° off both normals): with one gap
 /// 1 to 7 rays per mesh still fall through, with two the teapot's f64 rays still do, with four
 /// none on any mesh whose reach stays below [`MAX_CRACK_REACH`].

@@ -98,7 +98,7 @@ impl<F: Float> Section<F> {
     ///
     /// # Accuracy
     /// Within a few ulps of the section's `λ` for points of a valid shell (the Newton
-    /// iteration has converged; `tests/linefield.rs` checks the recovered barycentrics against
+    /// iteration has converged; `tests/suite/linefield.rs` checks the recovered barycentrics against
     /// the points they were built from).
     #[inline(always)]
     pub(crate) fn param(&self, x: V3<F>) -> F {

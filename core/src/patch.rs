@@ -434,7 +434,7 @@ impl<F: Float> Patch<F> {
     /// |P0|`), and the bracket is at most `(tb − ta) / ((K + 1)·5^N)` for the shell interval
     /// `[ta, tb]` ([`KernelStats::shell_width`]): one sampling step, divided by at least
     /// [`WORST_SHRINK`](kernel::refine::WORST_SHRINK) = 5 by every refinement step (tested on
-    /// every patch test of random rays in `tests/kernel.rs`). Convergence is usually far
+    /// every patch test of random rays in `tests/suite/kernel.rs`). Convergence is usually far
     /// faster: from N = 4, `f64` hits on the torus are at rounding
     /// ([`TORUS_F64_BY_ITERATIONS`](crate::accuracy::TORUS_F64_BY_ITERATIONS)); at N = 8 `f64`
     /// hits on spheres are on the sphere to [`F64_SPHERE_HIT`](crate::accuracy::F64_SPHERE_HIT).

@@ -9,14 +9,14 @@
 //! height evaluation (`core/src/height.rs`, equal to the generic scalar evaluation within
 //! rounding: a unit test below) and widens the sampled range by [`MARGIN_REL`] of the range plus
 //! [`MARGIN_ABS`] of the triangle's size. The margin is
-//! validated, not proven: `tests/shell.rs` samples 2000 random well-shaped patches with normals
+//! validated, not proven: `tests/suite/shell.rs` samples 2000 random well-shaped patches with normals
 //! up to 50° from the face on a 861-point grid and checks that every point lies inside, at least
 //! [`SHELL_CLEARANCE`](crate::accuracy::SHELL_CLEARANCE) of the range's width away from its
 //! faces. Beyond about 55° the surface itself can become wild (the
 //! nearest sphere roots switch branches, docs/METHOD.md §7) and may leave the shell: that is outside
-//! the method's domain and is measured in the reliability study (`tests/domain.rs`). Even below
+//! the method's domain and is measured in the reliability study (`tests/suite/domain.rs`). Even below
 //! 50° the construction has rare isolated spikes where a sphere root switches branch (2 in
-//! 7.8·10⁵ random patches with normals ≤ 50°, `tests/robustness.rs`); no sampling bound can
+//! 7.8·10⁵ random patches with normals ≤ 50°, `tests/suite/robustness.rs`); no sampling bound can
 //! contain those, and rays may miss the spike.
 
 use crate::aabb::Aabb;

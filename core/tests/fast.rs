@@ -3,7 +3,7 @@
 //! Run with `cargo test -p smoothtri --features micromath --test fast -- --nocapture` (prints
 //! the measured worst values). It lives in the core package, whose only dev-dependency is
 //! proptest, so the feature rebuilds the core alone; the random patches are the suite's
-//! (`tests/common/random.rs`).
+//! (`tests/suite/common/random.rs`).
 #![cfg(feature = "micromath")]
 // Test code: indexing and unwrapping are how a test fails; not every shared helper is used.
 #![allow(
@@ -13,7 +13,7 @@
     clippy::expect_used
 )]
 
-#[path = "../../tests/common/random.rs"]
+#[path = "../../tests/suite/common/random.rs"]
 mod random;
 use glam::Vec3;
 use random::*;

@@ -87,7 +87,7 @@ fn unit<F: Float>(v: F::Vec3, tol: f64) -> bool {
     d.is_finite() && (d.length() - 1.0).abs() <= tol
 }
 
-/// Known bug (reproducers `bug_*_frame_not_orthonormal` in `tests/robustness.rs`): the stored
+/// Known bug (reproducers `bug_*_frame_not_orthonormal` in `tests/suite/robustness.rs`): the stored
 /// frame is not orthonormal for skinny triangles (error ≈ ε·|e|·|f|/|e×f|) and for f32
 /// triangles whose |e×f|² is subnormal. Unit-length tolerances are relaxed to a multiple of
 /// the frame's error measured from outside.
@@ -110,7 +110,7 @@ fn unit_tol<F: Float>(patch: &Patch<F>) -> f64 {
 }
 
 /// Known bug (reported; reproducer `bug_subnormal_barycentric_sum_gives_nan` in
-/// `tests/robustness.rs`): barycentrics whose cleaned sum is subnormal (e.g. `(NaN, 1e-310)`)
+/// `tests/suite/robustness.rs`): barycentrics whose cleaned sum is subnormal (e.g. `(NaN, 1e-310)`)
 /// make the projection divide by it, overflow to infinity and give NaN. Skipped so that the
 /// fuzzer looks for other failures.
 fn known_bary_bug<F: Float>(w1: F, w2: F) -> bool {

@@ -1,5 +1,5 @@
 //! Parity of the GPU kernel with the CPU kernel (f32), on the ray sets of the CPU kernel's own
-//! tests (`tests/kernel.rs`): the icosphere and the cube with averaged normals against the
+//! tests (`tests/suite/kernel.rs`): the icosphere and the cube with averaged normals against the
 //! analytic sphere, the 8×8 torus against the CPU. Prints what it measures:
 //! `cargo test -p smoothtri-gpu --test parity -- --nocapture`.
 
@@ -141,7 +141,7 @@ fn sphere_rays(r: f64) -> Vec<(DVec3, DVec3)> {
 }
 
 /// A mesh that is exactly the sphere of radius `r`: the GPU against the analytic sphere (as
-/// `tests/kernel.rs` checks the CPU) and against the CPU.
+/// `tests/suite/kernel.rs` checks the CPU) and against the CPU.
 fn sphere_scene(name: &str, mesh: &Mesh, r: f64) {
     let Some(gpu) = gpu() else { return };
     let patches = patches32(mesh);
@@ -460,7 +460,7 @@ fn fell_through(gpu: &Arc<Gpu>, patches: &[Patch], rays: &[Ray]) -> Vec<usize> {
 }
 
 /// Watertightness on the GPU (docs/METHOD.md §8, "Shared edges"; the CPU's
-/// `tests/watertight.rs`): rays aimed from outside at points of shared edge curves (vertices
+/// `tests/suite/watertight.rs`): rays aimed from outside at points of shared edge curves (vertices
 /// included), up to 80° off both neighbours' normals, all hit there (or in front), none passes
 /// through, on meshes whose neighbours share their curves.
 #[test]

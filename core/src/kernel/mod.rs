@@ -59,7 +59,7 @@ pub const DEFAULT_SAMPLES: usize = 6;
 /// - the surface height `σS` (three cancellation-free sphere roots anchored at edge points that
 ///   are themselves sphere roots, and their weighted sum): ulps of the triangle's size.
 ///
-/// Sixteen ulps of `L` cover these stages together, with margin. `tests/kernel.rs` checks the
+/// Sixteen ulps of `L` cover these stages together, with margin. `tests/suite/kernel.rs` checks the
 /// resulting `t_error` against analytic sphere roots (`f32` and `f64`) and against the kernel
 /// at `N = 40` on the torus.
 pub const ROUNDING_ULPS: f64 = 16.0;
@@ -90,7 +90,7 @@ pub const EXTENT_EDGES: f64 = 4.0;
 /// `beyond_edge`, the continuation [`close_cracks`](crate::crack::close_cracks) relies on), so
 /// a crossing found in the margin is off the patch's surface by at most the margin's width,
 /// half of the [`ROUNDING_ULPS`] allowance that every `t_error` carries.
-/// `tests/watertight.rs` aims thousands of rays per mesh at shared edge points from
+/// `tests/suite/watertight.rs` aims thousands of rays per mesh at shared edge points from
 /// directions up to 80° off both neighbours' normals: none falls through in `f32` or `f64`.
 pub const WALL_MARGIN_ULPS: f64 = 8.0;
 

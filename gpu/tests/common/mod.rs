@@ -1,5 +1,5 @@
 //! Shared helpers of the GPU tests: the device (or the skip), scenes, and the ray sets of the
-//! CPU kernel's tests (`tests/kernel.rs`: the same generator, seeds and distributions).
+//! CPU kernel's tests (`tests/suite/kernel.rs`: the same generator, seeds and distributions).
 #![allow(dead_code)]
 
 use std::io::Write as _;
@@ -40,7 +40,7 @@ pub fn gpu() -> Option<Arc<Gpu>> {
     }
 }
 
-/// The f32 patches of a mesh (every triangle must be accepted, as in `tests/kernel.rs`).
+/// The f32 patches of a mesh (every triangle must be accepted, as in `tests/suite/kernel.rs`).
 pub fn patches32(m: &Mesh) -> Vec<Patch> {
     (0..m.triangles.len())
         .map(|t| {
@@ -72,11 +72,11 @@ impl Tree {
 }
 
 // The suite's PRNG and random geometry (SplitMix64 `Rng`), shared by file.
-#[path = "../../../tests/common/random.rs"]
+#[path = "../../../tests/suite/common/random.rs"]
 mod random;
 pub use random::Rng;
 
-/// The random rays of `tests/kernel.rs`: from 4–8 away, aimed within `target_radius` of the
+/// The random rays of `tests/suite/kernel.rs`: from 4–8 away, aimed within `target_radius` of the
 /// origin, directions not of unit length.
 pub fn random_ray(rng: &mut Rng, target_radius: f64) -> (DVec3, DVec3) {
     let o = rng.unit() * rng.range(4.0, 8.0);

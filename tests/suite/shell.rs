@@ -2,8 +2,7 @@
 //! random patches), with a clearance of [`SHELL_CLEARANCE`] of its width to the height range's
 //! faces, in `f64` and `f32`.
 
-mod common;
-use common::*;
+use crate::common::*;
 use smoothtri::accuracy::SHELL_CLEARANCE;
 use smoothtri::{DPatch, LineField, Patch};
 

@@ -1,9 +1,8 @@
 //! Torus fidelity (docs/METHOD.md §6): maximum distance of the smooth surface, and of the flat
 //! triangles, to the true torus (major radius 1, minor 0.4, analytic normals; 91 samples per
-//! triangle). `cargo test --release --test torus -- --nocapture` prints the measured values.
+//! triangle). `cargo test --release --test suite torus:: -- --nocapture` prints the measured values.
 
-mod common;
-use common::*;
+use crate::common::*;
 use glam::DVec3;
 use smoothtri::DPatch;
 use smoothtri::accuracy::{TORUS_8X8_DISTANCE, TORUS_16X16_DISTANCE};

@@ -1,10 +1,9 @@
 //! Properties of the patch construction (docs/METHOD.md §6), f64 and f32, over random inputs,
 //! against the named bounds of [`smoothtri::accuracy`]. Each property prints the worst error it
-//! measured and its seed: `cargo test --release --test patch -- --nocapture`
+//! measured and its seed: `cargo test --release --test suite patch:: -- --nocapture`
 //! (`SMOOTHTRI_CASES=<n>` for more cases than the default 256).
 
-mod common;
-use common::*;
+use crate::common::*;
 use glam::{DVec3, Vec3};
 use smoothtri::accuracy::*;
 use smoothtri::{DPatch, Patch, PatchError};

@@ -1,7 +1,6 @@
 //! The BVH scene against brute force, and its error paths.
 
-mod common;
-use common::*;
+use crate::common::*;
 use glam::{DVec3, Vec3};
 use smoothtri::accuracy::F64_SPHERE_HIT;
 use smoothtri::bvh::{MAX_DEPTH, MAX_LEAF};

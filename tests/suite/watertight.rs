@@ -3,11 +3,9 @@
 //! mesh's bounding-box diagonal of them, from directions up to 85° off the edge normal, must hit
 //! the surface there (or something in front of it), never pass through to the far side, in
 //! `f32` and `f64`.
-//! `cargo test --release --test watertight -- --nocapture` prints the counts.
+//! `cargo test --release --test suite watertight:: -- --nocapture` prints the counts.
 
-mod common;
-
-use common::*;
+use crate::common::*;
 use glam::DVec3;
 use smoothtri::{
     Bvh, BvhNode, LineField, Patch, Ray, SeamEdge, VertexClamp, clamp_vertex_normals, close_cracks,
@@ -239,7 +237,7 @@ fn rays_at_shared_edges_never_fall_through() {
 }
 
 /// Meshes whose neighbours' edge curves part (each patch's curve depends on its own face
-/// normal; docs/METHOD.md §8 "Shared edges"), the stress meshes of `tests/stress_meshes.rs`
+/// normal; docs/METHOD.md §8 "Shared edges"), the stress meshes of `tests/suite/stress_meshes.rs`
 /// among them. As built, rays at either curve and near it do not fall through, but rays aimed
 /// into the crack between the two curves do (printed). With the cracks closed
 /// ([`close_cracks`], docs/METHOD.md §8 "Cracks") none of the three kinds falls through, in

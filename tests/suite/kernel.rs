@@ -1,9 +1,8 @@
 //! The bounded-iteration ray kernel against analytic spheres, itself at N = 40, its worst-case
 //! guarantee and its work bound, within the named bounds of [`smoothtri::accuracy`]. Prints
-//! what it measures: `cargo test --release --test kernel -- --nocapture`.
+//! what it measures: `cargo test --release --test suite kernel:: -- --nocapture`.
 
-mod common;
-use common::*;
+use crate::common::*;
 use glam::{DVec3, Vec3};
 use smoothtri::accuracy::*;
 use smoothtri::kernel::max_lane_calls;

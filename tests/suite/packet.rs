@@ -2,7 +2,6 @@
 //! ([`Bvh::closest_hit`]) on coherent camera tiles and on scattered rays: the same rays hit and
 //! miss, hits agree within their `t_error`s and carry finite unit normals, f32 and f64.
 
-mod common;
 use glam::{DVec3, Vec3};
 use smoothtri::lanes::LANES;
 use smoothtri::{Bvh, BvhNode, Float, Patch, Ray};

@@ -21,7 +21,7 @@
 //!   `height_range()` and `bounds()` on a dense grid.
 //!
 //! The bugs these properties found are reproduced, each asserting the fixed behaviour, in
-//! `tests/regressions.rs`.
+//! `tests/suite/regressions.rs`.
 //!
 //! # Case count
 //! The default is quick (the whole file runs in seconds in debug mode, as CI runs
@@ -29,21 +29,17 @@
 //! run of more than 10^6 cases in total (6 properties):
 //!
 //! ```text
-//! SMOOTHTRI_CASES=200000 cargo test --release --test robustness
+//! SMOOTHTRI_CASES=200000 cargo test --release --test suite robustness::
 //! ```
 //!
 //! The quick run uses a fixed proptest seed, a long run a random one (printed on failure).
 //! `in_domain_surface_stays_in_shell` fails about once in 4·10^5 cases on the one known limit
-//! of the method (`surface_stays_in_shell_at_isolated_spikes` in `tests/regressions.rs`).
+//! of the method (`surface_stays_in_shell_at_isolated_spikes` in `tests/suite/regressions.rs`).
 
-#[path = "robustness/checks.rs"]
 mod checks;
-mod common;
-#[path = "robustness/strategies.rs"]
-mod strategies;
-
+pub(crate) mod strategies;
+use crate::common::*;
 use checks::*;
-use common::*;
 use glam::{DVec3, Vec3};
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngSeed};
@@ -60,7 +56,7 @@ fn config(default: u32) -> Config {
     let long = std::env::var_os("SMOOTHTRI_CASES").is_some();
     Config {
         cases: env_cases(default),
-        // Reproducers are written by hand in `tests/regressions.rs`: no regression files here.
+        // Reproducers are written by hand in `tests/suite/regressions.rs`: no regression files here.
         failure_persistence: None,
         rng_seed: if long {
             RngSeed::Random
@@ -266,7 +262,7 @@ fn tiny_and_huge_patches() {
 }
 
 /// Coverage of the generators (not a check): how many inputs are accepted, by error variant,
-/// and how many rays hit. `cargo test --release --test robustness coverage -- --ignored
+/// and how many rays hit. `cargo test --release --test suite robustness::generator_coverage -- --ignored
 /// --nocapture`.
 #[test]
 #[ignore = "statistics of the generators, not a check"]

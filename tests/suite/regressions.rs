@@ -1,15 +1,13 @@
-//! Regression tests: one per bug found by the robustness properties (`tests/robustness.rs`)
+//! Regression tests: one per bug found by the robustness properties (`tests/suite/robustness.rs`)
 //! and the fuzzer (`fuzz/`), each named after the property it protects, each with the input
 //! that broke it and an assertion of the intended behaviour. A comment above each names the bug.
 //!
 //! Two tests are ignored, each with its reason: a known limit of the method (isolated spikes
 //! that leave the shell) and an open bug (tiny triangles misreported as degenerate).
 
-mod common;
-#[path = "robustness/strategies.rs"]
-mod strategies;
+use crate::robustness::strategies;
 
-use common::*;
+use crate::common::*;
 use glam::{DVec3, Vec3};
 use smoothtri::accuracy::{F64_INTERPOLATION, UNIT_LENGTH_ULPS};
 use smoothtri::{Bvh, BvhNode, DPatch, Patch, PatchError, Ray};
@@ -77,7 +75,7 @@ fn tiny_f32_triangles_are_out_of_range() {
     }
 }
 
-/// Bug (found while removing the filters of `tests/robustness.rs`, fixed): a well-shaped
+/// Bug (found while removing the filters of `tests/suite/robustness.rs`, fixed): a well-shaped
 /// triangle so small that `|e × f|²` underflows the precision (`f32`: edges below about
 /// 1e-12) was rejected as `DegenerateTriangle` ("collinear or coincident vertices"), not as
 /// `OutOfRange` ("too small for this precision"), because `Patch::new` tested the relative

@@ -1,11 +1,9 @@
 //! Seamless shading normals (`smoothtri::seam`, docs/METHOD.md "Seamless shading normals"): the
 //! jump of the shading normal across shared edges, spheres, vertices, the normal error against
 //! the true torus, and `fit_seams`'s errors and non-manifold cases.
-//! `cargo test --release --test seam -- --nocapture` prints the measured values.
+//! `cargo test --release --test suite seam:: -- --nocapture` prints the measured values.
 
-mod common;
-
-use common::*;
+use crate::common::*;
 use glam::DVec3;
 use smoothtri::accuracy::*;
 use smoothtri::seam::{FIT_SAMPLES, TWIST_TERMS};
@@ -465,7 +463,7 @@ fn fit_errors_and_non_manifold_edges() {
     assert_eq!(fit64(&empty, &[], 0, 0, 0).unwrap().0, 0);
 }
 
-/// The stress meshes of `tests/stress_meshes.rs`, whose neighbours' curves part (boxes and
+/// The stress meshes of `tests/suite/stress_meshes.rs`, whose neighbours' curves part (boxes and
 /// cylinders with averaged normals, an icosphere with noisy normals): the shading normal's jump
 /// is within [`SEAM_JUMP_DEG`], as where curves are shared (clamped and folded patches left out,
 /// as on the teapot).

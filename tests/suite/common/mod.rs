@@ -185,8 +185,8 @@ pub fn irregular() -> Mesh {
     m
 }
 
-/// Indexed mesh with per-vertex normals: the stress meshes (`tests/stress_meshes.rs`,
-/// `tests/watertight.rs`).
+/// Indexed mesh with per-vertex normals: the stress meshes (`tests/suite/stress_meshes.rs`,
+/// `tests/suite/watertight.rs`).
 pub struct M {
     pub p: Vec<DVec3>,
     pub n: Vec<DVec3>,

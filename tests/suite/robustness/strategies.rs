@@ -1,5 +1,5 @@
-//! Generators of hostile input for `tests/robustness.rs` (and the scenes of
-//! `tests/regressions.rs`): patches of every shape, scale and offset with normals up to and
+//! Generators of hostile input for `tests/suite/robustness.rs` (and the scenes of
+//! `tests/suite/regressions.rs`): patches of every shape, scale and offset with normals up to and
 //! beyond 90°, fully wild coordinates, special values, and rays relative to a patch's box.
 //!
 //! Everything is generated in `f64`; the checks round to the precision under test.

@@ -3,8 +3,8 @@
 //! table, so it is ignored by default (CI does not run it). Run it in release:
 //!
 //! ```text
-//! cargo test --release --test domain -- --ignored --nocapture
-//! SMOOTHTRI_DOMAIN_N=4000 cargo test --release --test domain -- --ignored --nocapture
+//! cargo test --release --test suite domain:: -- --ignored --nocapture
+//! SMOOTHTRI_DOMAIN_N=4000 cargo test --release --test suite domain:: -- --ignored --nocapture
 //! ```
 //!
 //! For each triangle class and each angle θ, `SMOOTHTRI_DOMAIN_N` random inputs (default 1000)
@@ -32,8 +32,7 @@
 //!   beyond the range as a fraction of the range's width (0 when inside);
 //! - `nonfin`: some grid point non-finite (must be 0).
 
-mod common;
-use common::*;
+use crate::common::*;
 use glam::DVec3;
 use smoothtri::{DPatch, PatchError};
 

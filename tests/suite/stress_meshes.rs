@@ -1,8 +1,7 @@
 //! Stress meshes (issue: reliability): every triangle gets a patch through the documented
 //! remedy, every answer is finite, and we measure rays that slip through cracks.
 
-mod common;
-use common::*;
+use crate::common::*;
 use glam::DVec3;
 use smoothtri::accuracy::UNIT_LENGTH_ULPS;
 use smoothtri::{Bvh, BvhNode, DPatch, DRay, PatchError, flat_hit};

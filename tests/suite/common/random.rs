@@ -1,5 +1,5 @@
 //! Random triangles and patches for the tests, with no dependency beyond glam and std: shared
-//! by the suite (`tests/common`), the GPU tests (`gpu/tests/common`) and the core's own
+//! by the suite (`tests/suite/common`), the GPU tests (`gpu/tests/common`) and the core's own
 //! `FastF32` test (`core/tests/fast.rs`), which cannot depend on the demo.
 
 use glam::DVec3;

@@ -3,8 +3,7 @@
 //! Newton) are hit where the generic evaluation puts their surface, within `t_error`, in `f64`
 //! and `f32`, by single rays and packets.
 
-mod common;
-use common::*;
+use crate::common::*;
 use glam::DVec3;
 use smoothtri::accuracy::F32_VS_F64_POINT;
 use smoothtri::lanes::LANES;

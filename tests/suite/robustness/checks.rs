@@ -1,7 +1,7 @@
-//! The checks of `tests/robustness.rs`: what must hold for every input, whatever it is. Each
+//! The checks of `tests/suite/robustness.rs`: what must hold for every input, whatever it is. Each
 //! returns a proptest failure naming what broke; none of them skips or relaxes a case.
 
-use crate::strategies::{RayParam, to_f};
+use super::strategies::{RayParam, to_f};
 use glam::DVec3;
 use proptest::prelude::*;
 use smoothtri::accuracy::UNIT_LENGTH_ULPS;

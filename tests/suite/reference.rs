@@ -1,9 +1,8 @@
 //! The core against the independent f64 reference implementation in `tests/data/`, within the
 //! named bounds of [`smoothtri::accuracy`]; prints the worst errors measured
-//! (`cargo test --release --test reference -- --nocapture`).
+//! (`cargo test --release --test suite reference:: -- --nocapture`).
 
-mod common;
-use common::*;
+use crate::common::*;
 use glam::{DVec3, Vec3};
 use smoothtri::accuracy::*;
 use smoothtri::{DPatch, Patch};
