@@ -71,6 +71,15 @@ impl<F: Float> Section<F> {
     /// The map of `shape`.
     #[inline(always)]
     pub(crate) fn new(shape: &Shape<F>) -> Self {
+        if parallel(shape) {
+            // `param` returns `x.z` without the cubic: skip its coefficients.
+            return Section {
+                k: [V3::zero(); 3],
+                kd: [F::ZERO; 3],
+                inv_mean: F::ONE,
+                parallel: true,
+            };
+        }
         let [_, p1, p2] = shape.p;
         let [d0, d1, d2] = shape.d;
         let (c1, c2) = (d1 - d0, d2 - d0);
@@ -79,7 +88,7 @@ impl<F: Float> Section<F> {
             k,
             kd: k.map(|v| v.dot(d0)),
             inv_mean: F::from_f64(3.0) / (d0.z + d1.z + d2.z),
-            parallel: parallel(shape),
+            parallel: false,
         }
     }
 

@@ -174,22 +174,53 @@ pub(crate) fn shell_interval<F: Float>(
     tau_hi: F,
     margin: [F; 3],
 ) -> Option<(F, F)> {
-    let sec = Section::new(shape);
-    let polys = if sec.parallel {
-        wall_polys(shape, ray, margin)
-    } else {
-        [[F::ZERO; 3]; 3]
-    };
-    let mut roots = [None; 6];
-    if sec.parallel {
-        for (slots, poly) in roots.chunks_exact_mut(2).zip(polys) {
-            for (slot, x) in slots.iter_mut().zip(quadratic_roots(poly)) {
-                *slot = x;
-            }
-        }
-    } else {
-        roots = ruled_wall_crossings(shape, ray, margin);
+    if !crate::field::parallel(shape) {
+        return tilted_shell_interval(shape, ray, tau_lo, tau_hi, margin);
     }
+    let polys = wall_polys(shape, ray, margin);
+    let mut roots = [None; 6];
+    for (slots, poly) in roots.chunks_exact_mut(2).zip(polys) {
+        for (slot, x) in slots.iter_mut().zip(quadratic_roots(poly)) {
+            *slot = x;
+        }
+    }
+    interval_of(roots, tau_lo, tau_hi, |tau| {
+        polys
+            .iter()
+            .all(|&[c0, c1, c2]| c0 + tau * (c1 + tau * c2) >= F::ZERO)
+    })
+}
+
+/// [`shell_interval`] for tilted sections ([`Section`]): the walls are ruled surfaces
+/// ([`ruled_wall_crossings`]) and a point is inside where its barycentrics in its own section
+/// satisfy `Xk + margin_k ≥ 0`. Not inlined, so the parallel path stays lean.
+#[inline(never)]
+fn tilted_shell_interval<F: Float>(
+    shape: &Shape<F>,
+    ray: &LocalRay<F>,
+    tau_lo: F,
+    tau_hi: F,
+    margin: [F; 3],
+) -> Option<(F, F)> {
+    let sec = Section::new(shape);
+    let roots = ruled_wall_crossings(shape, ray, margin);
+    interval_of(roots, tau_lo, tau_hi, |tau| {
+        let (n, area) = bary_numerators(shape, &sec, ray.at(tau));
+        n.iter()
+            .zip(margin)
+            .all(|(&nk, m)| nk + m * area >= F::ZERO)
+    })
+}
+
+/// The hull of the pieces of `[τ_lo, τ_hi]` between the wall crossings `roots` whose midpoints
+/// are `inside` (or the single point `τ_lo` of a zero-length interval, if inside).
+#[inline(always)]
+fn interval_of<F: Float>(
+    roots: [Option<F>; 6],
+    tau_lo: F,
+    tau_hi: F,
+    inside: impl Fn(F) -> bool,
+) -> Option<(F, F)> {
     let mut brk = [tau_hi; MAX_BREAKS];
     let mut count = 1usize;
     if let Some(b) = brk.get_mut(0) {
@@ -213,19 +244,6 @@ pub(crate) fn shell_interval<F: Float>(
             }
         }
     }
-    let inside = |tau: F| {
-        if sec.parallel {
-            polys
-                .iter()
-                .all(|&[c0, c1, c2]| c0 + tau * (c1 + tau * c2) >= F::ZERO)
-        } else {
-            // The point's barycentrics in its section: `Xk + margin_k ≥ 0`.
-            let (n, area) = bary_numerators(shape, &sec, ray.at(tau));
-            n.iter()
-                .zip(margin)
-                .all(|(&nk, m)| nk + m * area >= F::ZERO)
-        }
-    };
     let mut first: Option<F> = None;
     let mut last: Option<F> = None;
     for w in brk.windows(2) {
