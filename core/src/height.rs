@@ -216,11 +216,9 @@ fn root_derivative<L: LaneOps>(
 }
 
 /// Conjugation point `c(t)` of an edge and its normal `n*(t)` scaled by `|c′|² > 0`
-/// (eq. (3)), at eight edge parameters. `TILTED`: the patch's sections are tilted
-/// ([`Section`]); without it the generator's `z` is the constant 1 (`da.z = 1`, `gd.z = 0`), so
-/// the compiler drops its terms from the parallel-section path.
+/// (eq. (3)), at eight edge parameters.
 #[inline(always)]
-fn edge_point_normal<L: LaneOps, const TILTED: bool>(ep: &EdgePrep<L::F>, t: L) -> (L3<L>, L3<L>) {
+fn edge_point_normal<L: LaneOps>(ep: &EdgePrep<L::F>, t: L) -> (L3<L>, L3<L>) {
     let one = c::<L>(1.0);
     let two = c::<L>(2.0);
     let zero = L::splat(L::F::ZERO);
@@ -231,11 +229,7 @@ fn edge_point_normal<L: LaneOps, const TILTED: bool>(ep: &EdgePrep<L::F>, t: L) 
         x: L::splat(ep.da.x) + t * gd.x,
         y: L::splat(ep.da.y) + t * gd.y,
         // 1 exactly for parallel sections (`da.z = 1`, `gd.z = 0`).
-        z: if TILTED {
-            L::splat(ep.da.z) + t * gd.z
-        } else {
-            one
-        },
+        z: L::splat(ep.da.z) + t * gd.z,
     };
     let [g0, g1, g2c] = ep.gg.map(L::splat);
     let gg = g0 + t * (g1 + t * g2c);
@@ -283,14 +277,14 @@ fn edge_point_normal<L: LaneOps, const TILTED: bool>(ep: &EdgePrep<L::F>, t: L) 
 /// [`edge_point_normal`] is not needed, and is optimised away).
 #[inline(always)]
 pub(crate) fn edge_height<L: LaneOps>(ep: &EdgePrep<L::F>, t: L) -> L {
-    edge_point_normal::<L, true>(ep, t).0.z
+    edge_point_normal(ep, t).0.z
 }
 
 /// The term of vertex `i` in eq. (5): `½ (Xi·s¹ + ((1 − Xi)/2)·s²)`, for the line
 /// `base + s·dir` (`dd = |dir|²`).
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
-fn vertex_term<L: LaneOps, const TILTED: bool>(
+fn vertex_term<L: LaneOps>(
     ep: &EdgePrep<L::F>,
     pi: L3<L>,
     ni: V3<L::F>,
@@ -306,7 +300,7 @@ fn vertex_term<L: LaneOps, const TILTED: bool>(
     let two = c::<L>(2.0);
     let den = xa + xb;
     let t = L::select(den.gt(L::splat(L::F::EPSILON)), xb / den, c::<L>(0.5));
-    let (cpt, nc) = edge_point_normal::<L, TILTED>(ep, t);
+    let (cpt, nc) = edge_point_normal(ep, t);
     let ni = L3::<L>::splat(ni);
     // Ŝ¹: anchor Pi, unit axis ni, through c; Ŝ²: anchor c, axis n* (scaled), through Pi.
     let wc = cpt.sub(pi);
@@ -459,28 +453,10 @@ impl<L: LaneOps> MaxOf for L {
 
 /// `f(τ) = z − σS(X)` at the local points `o + τ·r` of eight parameters `tau` (one ray: `o`
 /// and `r` splatted; a packet: one ray per lane), with the projected barycentrics `X`.
-#[inline(always)]
-pub(crate) fn f_lanes<L: LaneOps>(pr: &Prepared<L::F>, o: [L; 3], r: [L; 3], tau: L) -> L {
-    if pr.section.parallel {
-        f_lanes_with::<L, false>(pr, o, r, tau)
-    } else {
-        f_lanes_with::<L, true>(pr, o, r, tau)
-    }
-}
-
-/// [`f_lanes`] for parallel (`TILTED = false`) or tilted sections.
-// Two copies, so the parallel-section path (the paper's field, every sphere and torus) carries
-// none of the tilted sections' terms: with both kinds in one body it cost 3–4 % more
-// instructions per patch test (callgrind, SSE2). Not inlined: one lane call is ~2 000
-// instructions, so the call costs nothing, and one copy per lane type and section kind keeps
-// builds (and the freestanding link proof's LTO) fast.
+// Not inlined: one lane call is ~2 000 instructions, so the call costs nothing, and a single
+// copy per lane type keeps builds (and the freestanding link proof's LTO) fast.
 #[inline(never)]
-fn f_lanes_with<L: LaneOps, const TILTED: bool>(
-    pr: &Prepared<L::F>,
-    o: [L; 3],
-    r: [L; 3],
-    tau: L,
-) -> L {
+pub(crate) fn f_lanes<L: LaneOps>(pr: &Prepared<L::F>, o: [L; 3], r: [L; 3], tau: L) -> L {
     let [ox, oy, oz] = o;
     let [rx, ry, rz] = r;
     let x = L3 {
@@ -489,22 +465,12 @@ fn f_lanes_with<L: LaneOps, const TILTED: bool>(
         z: oz + rz * tau,
     };
     let (xp, dh) = bary(pr, x);
-    x.z - (height_at_with::<L, TILTED>(pr, xp) + dh)
+    x.z - (height_at(pr, xp) + dh)
 }
 
 /// Height `σS(X)` at eight barycentric triples (summing to one, inside the triangle).
 #[inline(always)]
-pub(crate) fn height_at<L: LaneOps>(pr: &Prepared<L::F>, x: [L; 3]) -> L {
-    if pr.section.parallel {
-        height_at_with::<L, false>(pr, x)
-    } else {
-        height_at_with::<L, true>(pr, x)
-    }
-}
-
-/// [`height_at`] for parallel (`TILTED = false`) or tilted sections ([`edge_point_normal`]).
-#[inline(always)]
-fn height_at_with<L: LaneOps, const TILTED: bool>(pr: &Prepared<L::F>, [x0, x1, x2]: [L; 3]) -> L {
+pub(crate) fn height_at<L: LaneOps>(pr: &Prepared<L::F>, [x0, x1, x2]: [L; 3]) -> L {
     let zero = L::splat(L::F::ZERO);
     let [p1x, p2x, p2y] = pr.p.map(L::splat);
     let [d0, d1, d2] = pr.d;
@@ -520,7 +486,7 @@ fn height_at_with<L: LaneOps, const TILTED: bool>(pr: &Prepared<L::F>, [x0, x1, 
         z: x0 + x1 + x2,
     };
     // Unit height (`crate::field::unit_height_dir`): parallel sections have `Vz = Σ Xi`.
-    let dir = if !TILTED {
+    let dir = if pr.section.parallel {
         dir
     } else {
         let inv = c::<L>(1.0) / (x0 * sp(d0.z) + x1 * sp(d1.z) + x2 * sp(d2.z));
@@ -548,9 +514,9 @@ fn height_at_with<L: LaneOps, const TILTED: bool>(pr: &Prepared<L::F>, [x0, x1, 
         y: p2y,
         z: zero,
     };
-    vertex_term::<L, TILTED>(e1, p0, n0, x0, x1, x2, base, dir, dd)
-        + vertex_term::<L, TILTED>(e2, p1, n1, x1, x2, x0, base, dir, dd)
-        + vertex_term::<L, TILTED>(e0, p2, n2, x2, x0, x1, base, dir, dd)
+    vertex_term(e1, p0, n0, x0, x1, x2, base, dir, dd)
+        + vertex_term(e2, p1, n1, x1, x2, x0, base, dir, dd)
+        + vertex_term(e0, p2, n2, x2, x0, x1, base, dir, dd)
 }
 
 /// A scalar with its two partial derivatives (forward mode): the height evaluation over it
@@ -696,32 +662,19 @@ impl<F: Float> LaneOps for Jet<F> {
 /// `X0 = 1 − X1 − X2`), from one evaluation of the height over [`Jet`]s:
 /// `∂pS/∂Xk = (Pk − P0) + σ·(dk − d0) + (∂σ/∂Xk)·D`.
 #[inline(always)]
-pub(crate) fn derivatives<F: Float>(shape: &Shape<F>, pr: &Prepared<F>, x: [F; 3]) -> [V3<F>; 2] {
-    if pr.section.parallel {
-        derivatives_with::<F, false>(shape, pr, x)
-    } else {
-        derivatives_with::<F, true>(shape, pr, x)
-    }
-}
-
-/// [`derivatives`] for parallel (`TILTED = false`) or tilted sections.
-#[inline(always)]
-fn derivatives_with<F: Float, const TILTED: bool>(
+pub(crate) fn derivatives<F: Float>(
     shape: &Shape<F>,
     pr: &Prepared<F>,
     [x0, x1, x2]: [F; 3],
 ) -> [V3<F>; 2] {
     let (one, zero) = (F::ONE, F::ZERO);
     let j = |v: F, a: F, b: F| Jet { v, d: [a, b] };
-    let s = height_at_with::<Jet<F>, TILTED>(
-        pr,
-        [j(x0, -one, -one), j(x1, one, zero), j(x2, zero, one)],
-    );
+    let s = height_at(pr, [j(x0, -one, -one), j(x1, one, zero), j(x2, zero, one)]);
     let [p0, p1, p2] = shape.p;
     let [d0, d1, d2] = shape.d;
     let dir = d0 * x0 + d1 * x1 + d2 * x2;
     let [s1, s2] = s.d;
-    if !TILTED {
+    if pr.section.parallel {
         return [
             p1 - p0 + (d1 - d0) * s.v + dir * s1,
             p2 - p0 + (d2 - d0) * s.v + dir * s2,
