@@ -94,7 +94,8 @@ pub fn clamp_vertex_normals<F: Float>(
         *v = VertexClamp::default();
     }
     // The mean face normal around each vertex, each face weighted by its angle there (so a
-    // quad split into two triangles counts once, whichever corner).
+    // quad split into two triangles counts once, whichever corner), and the first pass of the
+    // smallest caps below.
     for tri in triangles {
         let Some(p) = corners::<F>(positions, tri) else {
             continue;
@@ -103,6 +104,11 @@ pub fn clamp_vertex_normals<F: Float>(
         let Some(nf) = (pb - pa).cross(pc - pa).try_normalize() else {
             continue;
         };
+        for i in tri {
+            if let Some(v) = scratch.get_mut(*i as usize) {
+                v.cap.grow(nf);
+            }
+        }
         for (k, i) in tri.iter().enumerate() {
             let (Some(&o), Some(&u), Some(&w)) = (p.get(k), p.get((k + 1) % 3), p.get((k + 2) % 3))
             else {
@@ -125,8 +131,8 @@ pub fn clamp_vertex_normals<F: Float>(
     };
     // The smallest cap of each vertex's face normals: passes over the faces until none lies
     // outside its vertex's cap (each growth strictly widens a cap, so this settles; the cap
-    // count bounds the work).
-    for _ in 0..CAP_PASSES {
+    // count bounds the work). The first pass ran with the means.
+    for _ in 1..CAP_PASSES {
         let mut grew = false;
         for tri in triangles {
             let Some([pa, pb, pc]) = corners::<F>(positions, tri) else {
