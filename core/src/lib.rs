@@ -18,6 +18,7 @@
 //! | [`Patch::point_normal`] normal | [`accuracy::F64_SPHERE_NORMAL`] (spheres), [`accuracy::F64_NORMAL_VS_REFERENCE`] | [`accuracy::F32_SPHERE_NORMAL`] (spheres), [`accuracy::F32_VS_F64_NORMAL`] | radial normals; `tests/data/`; `f64` |
 //! | [`Patch::derivatives`] | exact (dual numbers) | exact | central differences, within [`accuracy::DERIVATIVES_VS_CENTRAL_DIFFERENCES`] of the size |
 //! | [`Patch::edge_point_normal`] | [`accuracy::F64_EDGE_VS_REFERENCE`] of the size, normals [`accuracy::F64_EDGE_NORMAL_VS_REFERENCE`] | normals at the ends [`accuracy::F32_INTERPOLATION`] | `tests/data/`; the vertex normals |
+//! | [`Patch::roots_certified`] | sound: no root missing or switched anywhere on a certified patch (interval arithmetic, outward rounded) | the same, on the `f32` data widened | every folded or jumping patch of the domain study refused (`tests/suite/domain.rs`) |
 //! | every unit vector returned | length 1 ± [`accuracy::UNIT_LENGTH_ULPS`] ε | the same | |
 //! | [`Patch::intersect`] `t` | within `t_error` (worst-case bound: [`Patch::intersect`]); N = 8: sphere hits to [`accuracy::F64_SPHERE_HIT`] of the radius, the torus at rounding ([`accuracy::TORUS_F64_BY_ITERATIONS`]) | sphere hits to [`accuracy::F32_SPHERE_HIT`] of the radius | analytic spheres; the kernel at N = 40 |
 //!
@@ -53,6 +54,7 @@
 pub mod aabb;
 pub mod accuracy;
 pub mod bvh;
+pub mod certify;
 pub mod crack;
 pub mod dual;
 mod edge;
@@ -62,6 +64,7 @@ pub mod fast;
 pub mod field;
 pub mod geometry;
 mod height;
+mod interval;
 pub mod kernel;
 pub mod lanes;
 mod math;

@@ -14,6 +14,7 @@ mod sealed {
     impl Sealed for f32 {}
     impl Sealed for f64 {}
     impl<T: super::Real> Sealed for crate::dual::Dual<T> {}
+    impl Sealed for crate::interval::Iv {}
     #[cfg(feature = "micromath")]
     impl Sealed for crate::fast::FastF32 {}
 }

@@ -191,6 +191,7 @@ fn exercise<F: Float>() -> u32 {
     let [n0, _, _] = patch.normals();
     let nf = patch.face_normal();
     let (lo, hi) = patch.height_range();
+    acc += patch.roots_certified() as u32;
     let vs = [x, xn, nn, d1, d2, ce, cn, v0, n0, nf];
     acc += vs.iter().filter(|q| F::from_glam(**q).all_finite()).count() as u32;
     acc += (h + lo + hi).is_fin() as u32;

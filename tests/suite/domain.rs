@@ -5,6 +5,7 @@
 //! ```text
 //! cargo test --release --test suite domain:: -- --ignored --nocapture
 //! SMOOTHTRI_DOMAIN_N=4000 cargo test --release --test suite domain:: -- --ignored --nocapture
+//! SMOOTHTRI_DOMAIN_N=200 SMOOTHTRI_DOMAIN_CERTIFY=1 cargo test --release --test suite domain:: -- --ignored --nocapture
 //! ```
 //!
 //! For each triangle class and each angle θ, `SMOOTHTRI_DOMAIN_N` random inputs (default 1000)
@@ -30,7 +31,13 @@
 //! - `missing`: `fold` or `jump` (the external criterion for "sphere roots missing");
 //! - `shell`: some grid height outside `height_range()`; `excess` is the largest excursion
 //!   beyond the range as a fraction of the range's width (0 when inside);
-//! - `nonfin`: some grid point non-finite (must be 0).
+//! - `nonfin`: some grid point non-finite (must be 0);
+//! - with `SMOOTHTRI_DOMAIN_CERTIFY` set (slow: tens to hundreds of milliseconds per patch),
+//!   the certificate of `Patch::roots_certified` (`core/src/certify.rs`): `refused` (counts, not
+//!   rates), of those `false alarm` (neither `fold` nor `jump`), `jump cert` and `fold cert`
+//!   (patches that jump or fold yet were certified: must be 0 for `jump`), and `ms` per patch.
+//!
+//! `certificate_refuses_every_jump` (run by CI) checks the certificate's soundness on a sample.
 
 use crate::common::*;
 use glam::DVec3;
@@ -58,6 +65,13 @@ struct Cell {
     missing: u32,
     shell: u32,
     nonfin: u32,
+    /// Refused by `roots_certified`; of those, neither fold nor jump (false alarms); jumps and
+    /// folds that were certified (misses); seconds spent certifying.
+    uncert: u32,
+    false_alarm: u32,
+    jump_certified: u32,
+    fold_certified: u32,
+    cert_time: f64,
     excess: f64,
     /// First input that left the shell and first that missed its edges (for reproducers).
     first_shell: Option<([DVec3; 3], [DVec3; 3])>,
@@ -70,7 +84,14 @@ fn grid_index(m: usize, i: usize, j: usize) -> usize {
     i * (m + 1) - i * (i.saturating_sub(1)) / 2 + j
 }
 
-fn study(cell: &mut Cell, p: [DVec3; 3], n: [DVec3; 3], grid: &[(f64, f64)], m: usize) {
+fn study(
+    cell: &mut Cell,
+    p: [DVec3; 3],
+    n: [DVec3; 3],
+    grid: &[(f64, f64)],
+    m: usize,
+    certify: bool,
+) {
     cell.total += 1;
     let patch = match DPatch::new(p, n) {
         Ok(patch) => patch,
@@ -151,6 +172,15 @@ fn study(cell: &mut Cell, p: [DVec3; 3], n: [DVec3; 3], grid: &[(f64, f64)], m: 
     cell.fold += fold as u32;
     cell.jump += jump as u32;
     cell.missing += (fold || jump) as u32;
+    if certify {
+        let t0 = std::time::Instant::now();
+        let cert = patch.roots_certified();
+        cell.cert_time += t0.elapsed().as_secs_f64();
+        cell.uncert += !cert as u32;
+        cell.false_alarm += (!cert && !fold && !jump) as u32;
+        cell.jump_certified += (cert && jump) as u32;
+        cell.fold_certified += (cert && fold) as u32;
+    }
     cell.shell += outside as u32;
     cell.nonfin += nonfin as u32;
     cell.excess = cell.excess.max(excess);
@@ -169,6 +199,7 @@ fn domain_table() {
         .ok()
         .and_then(|s| s.parse::<u32>().ok())
         .unwrap_or(1000);
+    let certify = std::env::var_os("SMOOTHTRI_DOMAIN_CERTIFY").is_some();
     let m = 40;
     let grid = bary_grid(m);
     assert_eq!(grid.len(), 861);
@@ -192,9 +223,9 @@ fn domain_table() {
         "\n{per_cell} inputs per row; err:* in % of inputs, other rates in % of accepted patches\n"
     );
     println!(
-        "| triangles | θ max | err:shell | err:back | err:other | accepted | edge | fold | jump | missing | shell | excess | nonfin |"
+        "| triangles | θ max | err:shell | err:back | err:other | accepted | edge | fold | jump | missing | shell | excess | nonfin | refused | false alarm | jump cert | fold cert | ms |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
     let mut reproducers = Vec::new();
     for class in ["well", "skinny"] {
         for (ai, &deg) in angles.iter().enumerate() {
@@ -220,11 +251,23 @@ fn domain_table() {
                         tilted(&mut rng, nf, deg)
                     };
                 }
-                study(&mut cell, p, n, &grid, m);
+                study(&mut cell, p, n, &grid, m, certify);
             }
             let c = &cell;
+            let certificate = if certify {
+                format!(
+                    "{} | {} | {} | {} | {:.1}",
+                    c.uncert,
+                    c.false_alarm,
+                    c.jump_certified,
+                    c.fold_certified,
+                    1e3 * c.cert_time / c.accepted.max(1) as f64,
+                )
+            } else {
+                "- | - | - | - | -".to_string()
+            };
             println!(
-                "| {class} | {deg}° | {} | {} | {} | {} | {} | {} | {} | {} | {} | {:.2} | {} |",
+                "| {class} | {deg}° | {} | {} | {} | {} | {} | {} | {} | {} | {} | {:.2} | {} | {certificate} |",
                 pct(c.err_shell, c.total),
                 pct(c.err_back, c.total),
                 pct(c.err_other, c.total),
@@ -252,6 +295,52 @@ fn domain_table() {
         println!("\nFailures at θ ≤ 50° (first input of each kind, f64):");
         for r in reproducers {
             println!("  {r}");
+        }
+    }
+}
+
+/// The certificate of [`DPatch::roots_certified`] is sound: on a sample of the study's inputs at
+/// 65° (well-shaped triangles, where a fifth of the patches jump), no patch that jumps or folds
+/// on the study's dense grid is certified, and at 15° every patch is.
+#[test]
+fn certificate_refuses_every_jump() {
+    let m = 40;
+    let grid = bary_grid(m);
+    for (deg, count, seed) in [(75.0, 20, 31), (15.0, 6, 32)] {
+        let mut rng = Rng(seed);
+        let mut cell = Cell::default();
+        for _ in 0..count {
+            let (p, nf) = well_shaped(&mut rng, 1.0, DVec3::ZERO);
+            let steep = (rng.next_u64() % 3) as usize;
+            let n: [DVec3; 3] = std::array::from_fn(|k| {
+                if k == steep {
+                    at_angle(&mut rng, nf, deg)
+                } else {
+                    tilted(&mut rng, nf, deg)
+                }
+            });
+            study(&mut cell, p, n, &grid, m, true);
+        }
+        eprintln!(
+            "{deg}°: {} accepted, {} fold or jump, {} refused ({} sound ones), {:.1} ms per patch",
+            cell.accepted,
+            cell.missing,
+            cell.uncert,
+            cell.false_alarm,
+            1e3 * cell.cert_time / cell.accepted.max(1) as f64
+        );
+        assert_eq!(
+            cell.jump_certified, 0,
+            "{deg}°: a jumping patch was certified"
+        );
+        assert_eq!(
+            cell.fold_certified, 0,
+            "{deg}°: a folded patch was certified"
+        );
+        if deg > 50.0 {
+            assert!(cell.missing >= 3, "{deg}°: too few positives to test");
+        } else {
+            assert_eq!((cell.missing, cell.uncert), (0, 0), "{deg}°");
         }
     }
 }
