@@ -230,13 +230,7 @@ fn term_certified(shape: &Shape<f64>, i: usize) -> bool {
 /// Whether every sphere root of `shape`'s construction is certified to exist and stay on one
 /// branch over the whole triangle (the module docs).
 pub(crate) fn roots_certified<F: Float>(shape: &Shape<F>) -> bool {
-    let v = |v: V3<F>| V3::new(v.x.to_f64(), v.y.to_f64(), v.z.to_f64());
-    let wide = Shape {
-        p: shape.p.map(v),
-        n: shape.n.map(v),
-        d: shape.d.map(v),
-        k: shape.k.map(|k| k.map(Float::to_f64)),
-    };
+    let wide = shape.widen();
     (0..3).all(|i| term_certified(&wide, i))
 }
 

@@ -122,6 +122,20 @@ pub(crate) struct EdgeView<F> {
     pub k2: F,
 }
 
+impl<F: Float> Shape<F> {
+    /// The same shape in `f64` (exact: every `f32` is an `f64`).
+    #[inline]
+    pub(crate) fn widen(&self) -> Shape<f64> {
+        let v = |v: V3<F>| V3::new(v.x.to_f64(), v.y.to_f64(), v.z.to_f64());
+        Shape {
+            p: self.p.map(v),
+            n: self.n.map(v),
+            d: self.d.map(v),
+            k: self.k.map(|k| k.map(Float::to_f64)),
+        }
+    }
+}
+
 impl<F: Copy> Shape<F> {
     /// The data of edge `j` (from `Pj` to `Pj+1`); `j` is 0, 1 or 2 (anything else means 2).
     #[inline(always)]

@@ -453,14 +453,7 @@ pub(crate) fn widen<F: Float>(patch: &Patch<F>) -> (Frame<f64>, Shape<f64>) {
         origin: v(patch.frame.origin),
         axes: patch.frame.axes.map(v),
     };
-    let s = &patch.shape;
-    let shape = Shape {
-        p: s.p.map(v),
-        n: s.n.map(v),
-        d: s.d.map(v),
-        k: s.k.map(|k| k.map(|x| x.to_f64())),
-    };
-    (frame, shape)
+    (frame, patch.shape.widen())
 }
 
 /// One edge's coefficients for one side: common across, common along, own.
