@@ -1,8 +1,8 @@
 //! Axis-aligned bounding boxes: the one box type of the crate, shared by patches (the box of
 //! their shell), BVH nodes, and the kernel's first clip.
 
-use crate::real::Float;
-use crate::vec::V3;
+use crate::num::real::Float;
+use crate::num::vec::V3;
 
 /// An axis-aligned box `[min, max]` in world coordinates.
 ///

@@ -14,11 +14,11 @@ use heapless::Vec as HVec;
 
 use crate::aabb::Aabb;
 use crate::kernel::{self, Crossing, DEFAULT_SAMPLES, KernelStats};
-use crate::lanes::LANES;
+use crate::num::lanes::LANES;
+use crate::num::real::Float;
+use crate::num::vec::V3;
 use crate::patch::Patch;
 use crate::ray::{Hit, Ray};
-use crate::real::Float;
-use crate::vec::V3;
 
 /// Maximum tree depth guaranteed by the builder (and size of the traversal stack).
 pub const MAX_DEPTH: usize = 64;
@@ -276,9 +276,31 @@ impl<'a, F: Float> Bvh<'a, F> {
     }
 
     /// Re-wraps storage filled by an earlier [`Bvh::build`] over the same patches (for owners
-    /// that keep the storage in their own structures). Storage not made by `build` gives wrong
-    /// answers or [`BvhError::StackOverflow`], never a panic.
-    pub fn from_parts(patches: &'a [Patch<F>], nodes: &'a [BvhNode<F>], order: &'a [u32]) -> Self {
+    /// that keep the storage in their own structures, or upload and read it back), after
+    /// checking it once: every node and leaf range inside the storage, children after their
+    /// parent (so the tree has no cycle), depth below [`MAX_DEPTH`], every index below
+    /// `patches.len()`. Queries on the result then cannot fail.
+    ///
+    /// Returns [`BvhError::EmptyScene`] (no node or no patch), [`BvhError::CorruptTree`] or
+    /// [`BvhError::StackOverflow`] (too deep). Storage that passes but was not made by `build`
+    /// over these patches gives wrong answers, never a panic. Work: `O(nodes)`.
+    /// # Panics
+    /// Never.
+    pub fn from_parts(
+        patches: &'a [Patch<F>],
+        nodes: &'a [BvhNode<F>],
+        order: &'a [u32],
+    ) -> Result<Self, BvhError> {
+        validate(patches.len(), nodes, order)?;
+        Ok(Self::from_built(patches, nodes, order))
+    }
+
+    /// Wraps storage that [`Bvh::build`] filled (no check).
+    pub(crate) fn from_built(
+        patches: &'a [Patch<F>],
+        nodes: &'a [BvhNode<F>],
+        order: &'a [u32],
+    ) -> Self {
         Bvh {
             patches,
             nodes,
@@ -324,30 +346,26 @@ impl<'a, F: Float> Bvh<'a, F> {
     /// As [`Patch::intersect`]; the result equals a brute-force loop over all patches.
     /// # Panics
     /// Never.
-    pub fn closest_hit<const N: usize>(
-        &self,
-        ray: &Ray<F>,
-        t_min: F,
-        t_max: F,
-    ) -> Result<Option<Hit<F>>, BvhError> {
+    pub fn closest_hit<const N: usize>(&self, ray: &Ray<F>, t_min: F, t_max: F) -> Option<Hit<F>> {
         // Candidates are compared by their crossings; the normal is evaluated once, for the
         // closest (it is finite for every accepted patch, so this equals testing each patch
         // with `Patch::intersect`).
         let mut stats = KernelStats::default();
-        let best = self.traverse(ray, t_min, t_max, false, &mut |p, a, b| {
-            kernel::crossing::<F, DEFAULT_SAMPLES, N>(p, ray, a, b, &mut stats)
-        })?;
-        Ok(best.and_then(|(id, c)| {
-            let mut h = kernel::finish(self.patches.get(id as usize)?, ray, &c)?;
-            h.patch = id;
-            Some(h)
-        }))
+        let best = self
+            .traverse(ray, t_min, t_max, false, &mut |p, a, b| {
+                kernel::crossing::<F, DEFAULT_SAMPLES, N>(p, ray, a, b, &mut stats)
+            })
+            .ok()??;
+        let (id, c) = best;
+        let mut h = kernel::finish(self.patches.get(id as usize)?, ray, &c)?;
+        h.patch = id;
+        Some(h)
     }
 
     /// Closest hits of a packet of eight rays (coherent rays such as a 2×4 tile of camera
     /// pixels) in `[t_min, t_max]`: the tree is walked once for the packet, and each patch that
     /// two or more of the rays reach is tested for all of them at once, one ray per lane
-    /// ([`crate::lanes`]); a patch that only one ray reaches is tested with the single-ray
+    /// (the lanes of the kernel); a patch that only one ray reaches is tested with the single-ray
     /// kernel. `N` is the number of refinement steps: packets refine each ray with one point
     /// per step (ITP), single rays with eight.
     ///
@@ -359,6 +377,18 @@ impl<'a, F: Float> Bvh<'a, F> {
     /// # Panics
     /// Never. Work per packet and patch: at most `K + 2 + N` lane calls.
     pub fn closest_hit_packet<const N: usize>(
+        &self,
+        rays: &[Ray<F>; LANES],
+        t_min: F,
+        t_max: F,
+    ) -> [Option<Hit<F>>; LANES] {
+        self.packet::<N>(rays, t_min, t_max)
+            .unwrap_or([None; LANES])
+    }
+
+    /// [`Bvh::closest_hit_packet`], with the storage checks of the traversal as errors (which
+    /// [`Bvh::from_parts`]' validation rules out).
+    fn packet<const N: usize>(
         &self,
         rays: &[Ray<F>; LANES],
         t_min: F,
@@ -508,21 +538,16 @@ impl<'a, F: Float> Bvh<'a, F> {
     ///
     /// # Panics
     /// Never.
-    pub fn any_hit<const N: usize>(
-        &self,
-        ray: &Ray<F>,
-        t_min: F,
-        t_max: F,
-    ) -> Result<bool, BvhError> {
+    pub fn any_hit<const N: usize>(&self, ray: &Ray<F>, t_min: F, t_max: F) -> bool {
         let mut stats = KernelStats::default();
         let first = self.traverse(ray, t_min, t_max, true, &mut |p, a, b| {
             kernel::crossing::<F, DEFAULT_SAMPLES, N>(p, ray, a, b, &mut stats)
-        })?;
-        Ok(first.is_some())
+        });
+        matches!(first, Ok(Some(_)))
     }
 
     /// Closest hit with a caller-supplied per-patch test `test(patch, t_min, t_max)` (for
-    /// example the flat or Phong baselines of [`crate::kernel::flat`] on the patch's vertices,
+    /// example the flat or Phong baselines of [`flat_hit`](crate::flat_hit) on the patch's vertices,
     /// which lie inside the patch's box). The returned hit's `patch` is set to the patch index.
     ///
     /// # Panics
@@ -533,12 +558,10 @@ impl<'a, F: Float> Bvh<'a, F> {
         t_min: F,
         t_max: F,
         mut test: impl FnMut(&Patch<F>, F, F) -> Option<Hit<F>>,
-    ) -> Result<Option<Hit<F>>, BvhError> {
-        let best = self.traverse(ray, t_min, t_max, false, &mut test)?;
-        Ok(best.map(|(id, mut h)| {
-            h.patch = id;
-            h
-        }))
+    ) -> Option<Hit<F>> {
+        let (id, mut h) = self.traverse(ray, t_min, t_max, false, &mut test).ok()??;
+        h.patch = id;
+        Some(h)
     }
 
     /// Visits the patches whose boxes the ray enters, nearest box first, testing each with
@@ -639,6 +662,52 @@ impl<'a, F: Float> Bvh<'a, F> {
                 Some(c) => current = c,
                 None => return Ok(best),
             }
+        }
+    }
+}
+
+/// The checks of [`Bvh::from_parts`]: a depth-first walk from the root with the traversal's
+/// stack, each node visited once.
+fn validate<F: Float>(patches: usize, nodes: &[BvhNode<F>], order: &[u32]) -> Result<(), BvhError> {
+    if nodes.is_empty() || patches == 0 {
+        return Err(BvhError::EmptyScene);
+    }
+    let mut stack: HVec<(u32, usize), MAX_DEPTH> = HVec::new();
+    let mut current = (0u32, 0usize);
+    let mut budget = nodes.len();
+    loop {
+        let (i, depth) = current;
+        if budget == 0 {
+            return Err(BvhError::CorruptTree);
+        }
+        budget -= 1;
+        let node = nodes.get(i as usize).ok_or(BvhError::CorruptTree)?;
+        if node.count > 0 {
+            let first = node.first as usize;
+            let ids = order
+                .get(first..first.saturating_add(node.count as usize))
+                .ok_or(BvhError::CorruptTree)?;
+            if ids.iter().any(|&id| id as usize >= patches) {
+                return Err(BvhError::CorruptTree);
+            }
+        } else {
+            let l = node.first;
+            let r = l.checked_add(1).ok_or(BvhError::CorruptTree)?;
+            if l <= i || r as usize >= nodes.len() {
+                return Err(BvhError::CorruptTree);
+            }
+            if depth + 1 >= MAX_DEPTH {
+                return Err(BvhError::StackOverflow);
+            }
+            stack
+                .push((r, depth + 1))
+                .map_err(|_| BvhError::StackOverflow)?;
+            current = (l, depth + 1);
+            continue;
+        }
+        match stack.pop() {
+            Some(next) => current = next,
+            None => return Ok(()),
         }
     }
 }

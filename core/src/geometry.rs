@@ -8,8 +8,9 @@
 //! Inside the crate the same geometry is a `Frame` (the local frame and its maps to world
 //! coordinates) and a `Shape` (the local-frame data the surface's math takes).
 
-use crate::real::{Float, Real};
-use crate::vec::V3;
+use crate::aabb::Aabb;
+use crate::num::real::{Float, Real};
+use crate::num::vec::V3;
 
 /// The stored geometry of one [`Patch`](crate::Patch), in plain arrays (`repr(C)`, 54 scalars).
 ///
@@ -40,14 +41,14 @@ pub struct PatchData<F: Float> {
     /// World bounding box of the shell: maximum corner.
     pub bbox_max: [F; 3],
     /// How far each side wall `Xk = 0` (`k` the opposite vertex) reaches beyond the kernel's
-    /// rounding margin, in barycentric units ([`close_cracks`](crate::crack::close_cracks);
+    /// rounding margin, in barycentric units ([`close_cracks`](crate::mesh::cracks::close_cracks);
     /// zeros unless measured).
     pub reach: [F; 3],
 }
 
 /// A triangle's local orthonormal frame: origin `P0`, `x` along `P1 − P0`, `z` along the face
 /// normal `Nf`, with the maps between it and world coordinates.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub(crate) struct Frame<F> {
     /// World position of `P0`: the frame's origin.
     pub(crate) origin: V3<F>,
@@ -89,7 +90,7 @@ impl<F: Float> Frame<F> {
 /// The geometry the surface's math works on, in the triangle's local [`Frame`]: vertices,
 /// vertex normals, the direction field and the edge spheres' curvatures (the invariants of
 /// [`PatchData`]'s fields of the same names).
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub(crate) struct Shape<F> {
     /// Vertices (`p[0] = 0`, `z = 0`).
     pub(crate) p: [V3<F>; 3],
@@ -160,5 +161,60 @@ impl<F: Copy> Shape<F> {
             k1,
             k2,
         }
+    }
+}
+
+/// A smooth triangular patch (the construction of Gusyatin & Sorokin, docs/METHOD.md §2–§5) in
+/// precision `F` (`f32`, the default, or `f64`; see [`DPatch`](crate::patch::DPatch)).
+///
+/// Built from a triangle `P0 P1 P2`, counter-clockwise seen from the side its normals point to,
+/// and three vertex normals (any positive length). The surface interpolates the vertices with
+/// the given normals, passes through the edge conjugation lines, and reproduces spheres exactly.
+///
+/// Memory: `size_of::<Patch<f32>>()` is 228 bytes, `Patch<f64>` 456 bytes (checked by a test).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Patch<F: Float = f32> {
+    /// The local frame (origin `P0`, axes) and its maps to world coordinates.
+    pub(crate) frame: Frame<F>,
+    /// Vertices, normals, direction field and edge-sphere curvatures in the local frame.
+    pub(crate) shape: Shape<F>,
+    /// Conservative height range of the surface over the triangle.
+    pub(crate) sigma: [F; 2],
+    /// World bounding box of the shell (min, max), cached for the kernel and the BVH.
+    pub(crate) bbox: Aabb<F>,
+    /// Index + 1 into [`NORMAL_CLAMP_DEG`](crate::patch::NORMAL_CLAMP_DEG) of the clamp applied by [`Patch::new_or_tilted`]
+    /// (0: the normals were used as given).
+    pub(crate) remedy: u8,
+    /// How far each side wall `Xk = 0` (`k` the opposite vertex) is moved outward beyond the
+    /// kernel's rounding margin, in barycentric units: 0 unless
+    /// [`close_cracks`](crate::mesh::cracks::close_cracks) measured a gap to the neighbour there.
+    pub(crate) reach: [F; 3],
+}
+
+/// A placeholder for caller storage (e.g. the slots of a
+/// [`SceneStorage`](crate::SceneStorage)): all zeros with an empty bounding box, so no ray
+/// query ever reaches its surface. Not a patch of any triangle.
+impl<F: Float> Default for Patch<F> {
+    fn default() -> Self {
+        Patch {
+            frame: Frame::default(),
+            shape: Shape::default(),
+            sigma: [F::ZERO; 2],
+            bbox: Aabb::EMPTY,
+            remedy: 0,
+            reach: [F::ZERO; 3],
+        }
+    }
+}
+
+impl<F: Float> Patch<F> {
+    /// The patch's frame and shape widened to `f64` (exactly).
+    pub(crate) fn widened(&self) -> (Frame<f64>, Shape<f64>) {
+        let v = |v: V3<F>| V3::new(v.x.to_f64(), v.y.to_f64(), v.z.to_f64());
+        let frame = Frame {
+            origin: v(self.frame.origin),
+            axes: self.frame.axes.map(v),
+        };
+        (frame, self.shape.widen())
     }
 }

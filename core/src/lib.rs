@@ -20,7 +20,7 @@
 //! | [`Patch::edge_point_normal`] | [`accuracy::F64_EDGE_VS_REFERENCE`] of the size, normals [`accuracy::F64_EDGE_NORMAL_VS_REFERENCE`] | normals at the ends [`accuracy::F32_INTERPOLATION`] | `tests/data/`; the vertex normals |
 //! | [`Patch::roots_certified`] | sound: no root missing or switched anywhere on a certified patch (interval arithmetic, outward rounded) | the same, on the `f32` data widened | every folded or jumping patch of the domain study refused (`tests/suite/domain.rs`) |
 //! | every unit vector returned | length 1 ± [`accuracy::UNIT_LENGTH_ULPS`] ε | the same | |
-//! | [`Patch::intersect`] `t` | within `t_error` (worst-case bound: [`Patch::intersect`]); N = 8: sphere hits to [`accuracy::F64_SPHERE_HIT`] of the radius, the torus at rounding ([`accuracy::TORUS_F64_BY_ITERATIONS`]) | sphere hits to [`accuracy::F32_SPHERE_HIT`] of the radius | analytic spheres; the kernel at N = 40 |
+//! | [`Patch::intersect`] `t` | within `t_error` (worst-case bound: [`Patch::intersect`]); N = 8: sphere hits to [`accuracy::F64_SPHERE_HIT`] of the radius, the torus at rounding from N = 4 (docs/ACCURACY.md) | sphere hits to [`accuracy::F32_SPHERE_HIT`] of the radius | analytic spheres; the kernel at N = 40 |
 //!
 //! `FastF32` (feature `micromath`) trades accuracy for a square root without FPU support (its
 //! square root is within [`accuracy::FASTF32_SQRT_REL`] relative): its surfaces deviate by up
@@ -46,50 +46,45 @@
 //! assert!((n - x).length() < 1e-5);          // with radial normals
 //! ```
 #![no_std]
+#![cfg_attr(docsrs, feature(doc_cfg))]
 #![forbid(unsafe_code)]
 #![deny(missing_docs)]
 // `!(a > b)` is deliberate throughout: it is true for NaN, which must take the safe branch.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
-pub mod aabb;
+#[cfg(feature = "alloc")]
+extern crate alloc;
+
+mod aabb;
 pub mod accuracy;
-pub mod bvh;
-pub mod certify;
-pub mod crack;
-pub mod dual;
-mod edge;
-pub mod error;
-#[cfg(feature = "micromath")]
-pub mod fast;
-pub mod field;
-pub mod geometry;
-mod height;
-mod interval;
-pub mod kernel;
-pub mod lanes;
-mod math;
-pub mod patch;
-pub mod ray;
-pub mod real;
-pub mod remedy;
-pub mod seam;
-pub mod shell;
-pub mod sphere;
+mod bvh;
+mod error;
+mod geometry;
+mod kernel;
+pub mod mesh;
+mod num;
+mod patch;
+mod ray;
 mod surface;
-pub mod vec;
+
+#[doc(hidden)]
+pub mod internal;
 
 pub use aabb::Aabb;
-pub use bvh::{Bvh, BvhError, BvhNode};
-pub use crack::{CrackReport, close_cracks};
+pub use bvh::{Bvh, BvhError, BvhNode, MAX_DEPTH};
 pub use error::PatchError;
-#[cfg(feature = "micromath")]
-pub use fast::FastF32;
-pub use field::LineField;
 pub use geometry::PatchData;
 pub use kernel::flat::{flat_hit, moller_trumbore};
-pub use kernel::{DEFAULT_SAMPLES, KernelStats};
-pub use patch::{DPatch, Patch};
+pub use kernel::{DEFAULT_SAMPLES, KernelStats, max_lane_calls};
+#[cfg(feature = "alloc")]
+pub use mesh::OwnedScene;
+pub use mesh::{
+    BuildError, BuildOptions, BuildReport, Rejections, Scene, SceneHit, SceneSizes, SceneStorage,
+    Vertices,
+};
+#[cfg(feature = "micromath")]
+pub use num::fast::FastF32;
+pub use num::real::Float;
+pub use patch::{DPatch, MIN_NORMAL_COS, NORMAL_CLAMP_DEG, Patch};
 pub use ray::{DHit, DRay, Hit, Ray};
-pub use real::{Float, Real};
-pub use remedy::{VertexClamp, VertexClampReport, clamp_vertex_normals};
-pub use seam::{Seam, SeamEdge, SeamError, fit_seams};
+pub use surface::field::LineField;

@@ -7,24 +7,17 @@
 //! world coordinates.
 
 use crate::aabb::Aabb;
-use crate::edge;
 use crate::error::PatchError;
-use crate::field::LineField;
+pub use crate::geometry::Patch;
 use crate::geometry::{Frame, PatchData, Shape};
 use crate::kernel::{self, DEFAULT_SAMPLES, KernelStats};
+use crate::num::real::Float;
+use crate::num::vec::V3;
 use crate::ray::{Hit, Ray};
-use crate::real::Float;
-use crate::shell;
-use crate::surface::{self, project_bary};
-use crate::vec::V3;
-
-/// Relative area tolerance of [`PatchError::DegenerateTriangle`] for `f64`: a triangle is
-/// degenerate when `2·area < ratio · longest_edge²`, with `ratio = √ε` of the precision
-/// (this value for `f64`, [`DEGENERATE_RATIO_F32`] for `f32`). Below it barycentric coordinates
-/// lose more than half their digits.
-pub const DEGENERATE_RATIO_F64: f64 = 1.490_116_119_384_765_6e-8;
-/// Relative area tolerance of [`PatchError::DegenerateTriangle`] for `f32` (`√ε`).
-pub const DEGENERATE_RATIO_F32: f32 = 3.452_669_8e-4;
+use crate::surface::edge;
+use crate::surface::field::LineField;
+use crate::surface::scalar::{self, project_bary};
+use crate::surface::shell;
 
 /// A vertex normal is accepted when the cosine of its angle to the face normal is at least
 /// this (the angle is then below 89.94°). The method itself degrades well before that
@@ -35,33 +28,6 @@ pub const MIN_NORMAL_COS: f64 = 1.0e-3;
 #[inline(always)]
 pub(crate) fn degenerate_ratio<F: Float>() -> F {
     F::EPSILON.sqrt()
-}
-
-/// A smooth triangular patch (the construction of Gusyatin & Sorokin, docs/METHOD.md §2–§5) in
-/// precision `F` (`f32`, the default, or `f64`; see [`DPatch`]).
-///
-/// Built from a triangle `P0 P1 P2`, counter-clockwise seen from the side its normals point to,
-/// and three vertex normals (any positive length). The surface interpolates the vertices with
-/// the given normals, passes through the edge conjugation lines, and reproduces spheres exactly.
-///
-/// Memory: `size_of::<Patch<f32>>()` is 228 bytes, `Patch<f64>` 456 bytes (checked by a test).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Patch<F: Float = f32> {
-    /// The local frame (origin `P0`, axes) and its maps to world coordinates.
-    pub(crate) frame: Frame<F>,
-    /// Vertices, normals, direction field and edge-sphere curvatures in the local frame.
-    pub(crate) shape: Shape<F>,
-    /// Conservative height range of the surface over the triangle.
-    pub(crate) sigma: [F; 2],
-    /// World bounding box of the shell (min, max), cached for the kernel and the BVH.
-    pub(crate) bbox: Aabb<F>,
-    /// Index + 1 into [`NORMAL_CLAMP_DEG`] of the clamp applied by [`Patch::new_or_tilted`]
-    /// (0: the normals were used as given).
-    pub(crate) remedy: u8,
-    /// How far each side wall `Xk = 0` (`k` the opposite vertex) is moved outward beyond the
-    /// kernel's rounding margin, in barycentric units: 0 unless
-    /// [`close_cracks`](crate::crack::close_cracks) measured a gap to the neighbour there.
-    pub(crate) reach: [F; 3],
 }
 
 /// Angle clamps (degrees from the face normal) tried in order by [`Patch::new_or_tilted`]
@@ -250,7 +216,7 @@ impl<F: Float> Patch<F> {
 
     /// [`Patch::new_or_tilted`] on the line field `field` ([`Patch::with_field`]). The clamp
     /// acts on this patch's normals only, so a clamped patch no longer shares its edges'
-    /// lines with its neighbours ([`crate::crack::close_cracks`] closes what parts).
+    /// lines with its neighbours ([`crate::mesh::cracks::close_cracks`] closes what parts).
     ///
     /// Work is bounded: at most 7 constructions.
     /// # Accuracy
@@ -300,14 +266,27 @@ impl<F: Float> Patch<F> {
         Err(first)
     }
 
+    /// How far each side wall reaches beyond the edge (barycentric units; wall `k` is
+    /// opposite vertex `k`): 0 unless crack closure widened it.
+    pub(crate) fn reach(&self) -> [F; 3] {
+        self.reach
+    }
+
+    /// Sets the walls' reach ([`Patch::reach`]) and the bounding box that follows from it (the
+    /// box always holds the shell as widened).
+    pub(crate) fn set_reach(&mut self, reach: [F; 3]) {
+        self.reach = reach;
+        self.bbox = shell::aabb(&self.shape, self.sigma, &self.frame, reach);
+    }
+
     /// Whether this patch's surface is proven not to jump: `true` when every sphere root of its
     /// construction is certified, over the whole triangle, to exist and to stay on one branch
-    /// (interval arithmetic with outward rounding; [`crate::certify`]). `false` means "not
+    /// (interval arithmetic with outward rounding, mean-value form over `(λ, t)` boxes). `false` means "not
     /// proven": a patch that jumps or spikes, or one whose enclosures stay too wide (about a
     /// fifth of sound patches with normals 45° off the face, most at 55°).
     ///
     /// Not part of [`Patch::new_or_tilted`]: it is for offline validation. Work is bounded
-    /// (at most 3 · [`CERTIFY_MAX_BOXES`](crate::certify::CERTIFY_MAX_BOXES) boxes) but large:
+    /// (at most 3 · 4096 boxes) but large:
     /// about 30 ms per patch with normals within 15° of the face, 100 ms at 30° and 450 ms at
     /// 45°, on the machine of the README's figures.
     ///
@@ -318,7 +297,7 @@ impl<F: Float> Patch<F> {
     /// # Panics
     /// Never.
     pub fn roots_certified(&self) -> bool {
-        crate::certify::roots_certified(&self.shape)
+        crate::surface::certify::roots_certified(&self.shape)
     }
 
     /// The clamp angle (degrees from the face normal) that [`Patch::new_or_tilted`] applied to
@@ -356,7 +335,7 @@ impl<F: Float> Patch<F> {
         let x = project_bary(w1, w2);
         F::to_glam(
             self.frame
-                .local_to_world(surface::point_local(&self.shape, x)),
+                .local_to_world(scalar::point_local(&self.shape, x)),
         )
     }
 
@@ -368,7 +347,7 @@ impl<F: Float> Patch<F> {
     /// # Panics
     /// Never.
     pub fn height(&self, w1: F, w2: F) -> F {
-        surface::height(&self.shape, project_bary(w1, w2))
+        scalar::height(&self.shape, project_bary(w1, w2))
     }
 
     /// Surface point and unit surface normal `normalize(∂pS/∂X1 × ∂pS/∂X2)` at `(w1, w2)`,
@@ -390,7 +369,7 @@ impl<F: Float> Patch<F> {
     /// # Panics
     /// Never; both results are finite for every accepted patch.
     pub fn point_normal(&self, w1: F, w2: F) -> (F::Vec3, F::Vec3) {
-        let (p, n) = surface::point_normal_local(&self.shape, project_bary(w1, w2));
+        let (p, n) = scalar::point_normal_local(&self.shape, project_bary(w1, w2));
         (
             F::to_glam(self.frame.local_to_world(p)),
             F::to_glam(self.frame.local_dir_to_world(n)),
@@ -410,7 +389,7 @@ impl<F: Float> Patch<F> {
     /// # Panics
     /// Never; always finite.
     pub fn derivatives(&self, w1: F, w2: F) -> (F::Vec3, F::Vec3) {
-        let [du1, du2] = surface::derivatives_local(&self.shape, project_bary(w1, w2));
+        let [du1, du2] = scalar::derivatives_local(&self.shape, project_bary(w1, w2));
         (
             F::to_glam(self.frame.local_dir_to_world(du1)),
             F::to_glam(self.frame.local_dir_to_world(du2)),
@@ -450,14 +429,13 @@ impl<F: Float> Patch<F> {
     /// # Accuracy
     /// `|t − t_true| ≤ hit.t_error` where `t_true` is the crossing inside the final bracket.
     /// `t_error` is the final bracket's width plus a rounding allowance
-    /// ([`KernelStats::rounding`]: [`ROUNDING_ULPS`](kernel::ROUNDING_ULPS)` · ε · L / |f′|`
-    /// for the patch's extent `L = `[`EXTENT_EDGES`](kernel::EXTENT_EDGES)` · longest_edge +
-    /// |P0|`), and the bracket is at most `(tb − ta) / ((K + 1)·5^N)` for the shell interval
+    /// ([`KernelStats::rounding`]: `16 · ε · L / |f′|`
+    /// for the patch's extent `L = 4 · longest_edge + |P0|`), and the bracket is at most `(tb − ta) / ((K + 1)·5^N)` for the shell interval
     /// `[ta, tb]` ([`KernelStats::shell_width`]): one sampling step, divided by at least
-    /// [`WORST_SHRINK`](kernel::refine::WORST_SHRINK) = 5 by every refinement step (tested on
+    /// `WORST_SHRINK` = 5 by every refinement step (tested on
     /// every patch test of random rays in `tests/suite/kernel.rs`). Convergence is usually far
     /// faster: from N = 4, `f64` hits on the torus are at rounding
-    /// ([`TORUS_F64_BY_ITERATIONS`](crate::accuracy::TORUS_F64_BY_ITERATIONS)); at N = 8 `f64`
+    /// (the table of docs/ACCURACY.md); at N = 8 `f64`
     /// hits on spheres are on the sphere to [`F64_SPHERE_HIT`](crate::accuracy::F64_SPHERE_HIT).
     /// Rays that cross the surface twice within one sampling step `(tb − ta)/(K + 1)` may be
     /// reported as misses.
@@ -526,8 +504,7 @@ impl<F: Float> Patch<F> {
     /// (signed distance along the face normal, in the input's length unit).
     ///
     /// # Accuracy
-    /// Conservative: every surface point's height lies inside, with a safety margin (see
-    /// [`crate::shell`] for how it is computed and tested).
+    /// Conservative: every surface point's height lies inside, with a safety margin (docs/METHOD.md, "The shell", says how it is computed and tested).
     /// # Panics
     /// Never.
     pub fn height_range(&self) -> (F, F) {
@@ -537,7 +514,7 @@ impl<F: Float> Patch<F> {
 
     /// Axis-aligned bounding box of the patch's shell in world coordinates: the box
     /// of its six corners `Pi + σmin·di`, `Pi + σmax·di` (with the side walls moved out by the
-    /// reach that [`close_cracks`](crate::crack::close_cracks) set, if any). Every surface
+    /// reach that [`close_cracks`](crate::mesh::cracks::close_cracks) set, if any). Every surface
     /// point lies inside.
     ///
     /// # Accuracy

@@ -1,7 +1,7 @@
 //! Rays and hits (parry style: `Ray { origin, dir }`, hits with `t`, normal and the hit patch's
 //! index).
 
-use crate::real::Float;
+use crate::num::real::Float;
 
 /// A ray `origin + t·dir`. `dir` need not be unit length: `t` is measured in units of `dir`.
 #[derive(Clone, Copy, Debug, PartialEq)]

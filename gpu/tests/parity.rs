@@ -7,7 +7,7 @@ mod common;
 use common::*;
 use glam::{DVec3, Vec3};
 use smoothtri::accuracy::{F32_SPHERE_HIT, F32_SPHERE_NORMAL};
-use smoothtri::{Hit, LineField, Patch, Ray, SeamEdge, close_cracks};
+use smoothtri::{Hit, LineField, Patch, Ray, SharedEdge, close_cracks};
 use smoothtri_demo::scenes::{Mesh, cube, icosphere, teapot, tilted_normal_sphere, torus};
 use smoothtri_gpu::{Gpu, GpuScene};
 use std::sync::Arc;
@@ -496,7 +496,7 @@ fn rays_into_cracks_once_closed() {
         .collect();
     let rays = rays_at_edges(&mesh, &patches, true);
     let before = fell_through(&gpu, &patches, &rays).len();
-    let mut scratch = vec![SeamEdge::default(); 3 * patches.len()];
+    let mut scratch = vec![SharedEdge::default(); 3 * patches.len()];
     close_cracks(
         &mut patches,
         &mesh.triangles,

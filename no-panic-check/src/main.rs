@@ -21,7 +21,7 @@ use smoothtri::sphere::{curvature, nearest_root};
 use smoothtri::vec::V3;
 use smoothtri::{
     Aabb, Bvh, BvhError, BvhNode, DEFAULT_SAMPLES, FastF32, Float, Hit, KernelStats, LineField,
-    Patch, PatchError, Ray, Real, Seam, SeamEdge, SeamError, VertexClamp, clamp_vertex_normals,
+    Patch, PatchError, Ray, Real, Seam, SharedEdge, MeshError, VertexClamp, clamp_vertex_normals,
     close_cracks, fit_seams, flat_hit, moller_trumbore,
 };
 
@@ -282,7 +282,7 @@ fn seams<F: Float>(patches: &[Patch<F>], ray: &Ray<F>) -> u32 {
         [6, 7, 8],
         [8, 7, 6],
     ]);
-    let mut scratch = [SeamEdge::default(); 3 * COUNT];
+    let mut scratch = [SharedEdge::default(); 3 * COUNT];
     let mut out = [Seam::<F>::default(); COUNT];
     let Some(ps) = patches.get(..COUNT) else {
         return acc;
@@ -300,7 +300,7 @@ fn seams<F: Float>(patches: &[Patch<F>], ray: &Ray<F>) -> u32 {
             acc += display_len(&e);
         }
     }
-    acc += display_len(&black_box(SeamError::TooManyTriangles));
+    acc += display_len(&black_box(MeshError::TooManyTriangles));
     // Crack closing on a copy (it widens the patches' walls and boxes), and its errors.
     let mut sealed = [ps[0]; COUNT];
     sealed.copy_from_slice(ps);

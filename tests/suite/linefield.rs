@@ -130,7 +130,7 @@ fn packets_agree_on_tilted_sections() {
 /// the shared field, leaves the others bit for bit, and reports typed errors for bad input.
 #[test]
 fn vertex_clamps_resolve_the_cylinder_and_errors_are_typed() {
-    use smoothtri::{SeamError, VertexClamp, clamp_vertex_normals};
+    use smoothtri::{MeshError, VertexClamp, clamp_vertex_normals};
     let m = cylinder(8).to_mesh();
     let n = m.positions.len();
     let mut out = vec![DVec3::ZERO; n];
@@ -154,7 +154,7 @@ fn vertex_clamps_resolve_the_cylinder_and_errors_are_typed() {
     let bad = [[0u32, 1, n as u32]];
     assert_eq!(
         clamp_vertex_normals(&m.positions, &m.normals, &bad, &mut out, &mut scratch),
-        Err(SeamError::BadIndex { triangle: 0 })
+        Err(MeshError::BadIndex { triangle: 0 })
     );
     assert!(matches!(
         clamp_vertex_normals(
@@ -164,7 +164,7 @@ fn vertex_clamps_resolve_the_cylinder_and_errors_are_typed() {
             &mut out,
             &mut scratch[..1]
         ),
-        Err(SeamError::ScratchTooSmall { .. })
+        Err(MeshError::ScratchTooSmall { .. })
     ));
     assert!(matches!(
         clamp_vertex_normals(
@@ -174,6 +174,6 @@ fn vertex_clamps_resolve_the_cylinder_and_errors_are_typed() {
             &mut out,
             &mut scratch
         ),
-        Err(SeamError::LengthMismatch { .. })
+        Err(MeshError::LengthMismatch { .. })
     ));
 }

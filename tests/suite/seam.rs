@@ -7,7 +7,7 @@ use crate::common::*;
 use glam::DVec3;
 use smoothtri::accuracy::*;
 use smoothtri::seam::{FIT_SAMPLES, TWIST_TERMS};
-use smoothtri::{Patch, Seam, SeamEdge, SeamError, fit_seams};
+use smoothtri::{Patch, Seam, SharedEdge, MeshError, fit_seams};
 use smoothtri_demo::scenes::{self, Mesh};
 
 /// The patches of `mesh` (every triangle accepted, some perhaps with clamped normals:
@@ -19,7 +19,7 @@ fn build<F: P>(mesh: &Mesh) -> (Vec<Patch<F>>, Vec<Seam<F>>, usize) {
             Patch::<F>::new_or_tilted(p.map(F::v), n.map(F::v)).unwrap()
         })
         .collect();
-    let mut scratch = vec![SeamEdge::default(); 3 * patches.len()];
+    let mut scratch = vec![SharedEdge::default(); 3 * patches.len()];
     let mut seams = vec![Seam::default(); patches.len()];
     let fitted = fit_seams(
         &patches,
@@ -358,8 +358,8 @@ fn fit64(
     vertex_count: usize,
     scratch: usize,
     seams: usize,
-) -> Result<(usize, Vec<Seam<f64>>), SeamError> {
-    let mut s = vec![SeamEdge::default(); scratch];
+) -> Result<(usize, Vec<Seam<f64>>), MeshError> {
+    let mut s = vec![SharedEdge::default(); scratch];
     let mut out = vec![Seam::default(); seams];
     fit_seams(patches, &mesh.triangles, vertex_count, &mut s, &mut out).map(|n| (n, out))
 }
@@ -393,7 +393,7 @@ fn fit_errors_and_non_manifold_edges() {
     // Errors.
     assert_eq!(
         fit64(&pair, &patches, nv, 6, 3).unwrap_err(),
-        SeamError::LengthMismatch {
+        MeshError::LengthMismatch {
             patches: 2,
             triangles: 2,
             seams: 3
@@ -401,7 +401,7 @@ fn fit_errors_and_non_manifold_edges() {
     );
     assert_eq!(
         fit64(&pair, &patches[..1], nv, 6, 1).unwrap_err(),
-        SeamError::LengthMismatch {
+        MeshError::LengthMismatch {
             patches: 1,
             triangles: 2,
             seams: 1
@@ -409,18 +409,18 @@ fn fit_errors_and_non_manifold_edges() {
     );
     assert_eq!(
         fit64(&pair, &patches, nv, 5, 2).unwrap_err(),
-        SeamError::ScratchTooSmall { needed: 6 }
+        MeshError::ScratchTooSmall { needed: 6 }
     );
     assert_eq!(
         fit64(&pair, &patches, 3, 6, 2).unwrap_err(),
-        SeamError::BadIndex { triangle: 1 }
+        MeshError::BadIndex { triangle: 1 }
     );
     let repeated = Mesh {
         triangles: vec![[0, 1, 2], [1, 1, 2]],
         ..pair.clone()
     };
     let e = fit64(&repeated, &patches, nv, 6, 2).unwrap_err();
-    assert_eq!(e, SeamError::BadIndex { triangle: 1 });
+    assert_eq!(e, MeshError::BadIndex { triangle: 1 });
     assert!(e.to_string().contains("triangle 1"));
     // The same edge traversed twice in the same direction (inconsistent winding): no
     // correction. The index buffer says so; the patches are the pair's.

@@ -8,7 +8,7 @@
 use crate::common::*;
 use glam::DVec3;
 use smoothtri::{
-    Bvh, BvhNode, LineField, Patch, Ray, SeamEdge, VertexClamp, clamp_vertex_normals, close_cracks,
+    Bvh, BvhNode, LineField, Patch, Ray, SharedEdge, VertexClamp, clamp_vertex_normals, close_cracks,
 };
 use smoothtri_demo::scenes::{self, Mesh};
 
@@ -57,7 +57,7 @@ fn build<F: P>(mesh: &Mesh, seal: bool, field: LineField) -> Vec<Patch<F>> {
         })
         .collect();
     if seal {
-        let mut scratch = vec![SeamEdge::default(); 3 * patches.len()];
+        let mut scratch = vec![SharedEdge::default(); 3 * patches.len()];
         close_cracks(
             &mut patches,
             &mesh.triangles,

@@ -1,13 +1,13 @@
 //! Clipping a ray to a patch's shell (docs/METHOD.md §8 step 1): the slab `σmin ≤ σ ≤ σmax` and the
 //! three side walls `Xi = 0`, each wall a quadratic in the ray parameter (parallel sections) or
 //! a ruled surface whose lines the ray meets where a quadratic in the edge parameter vanishes
-//! (tilted sections, [`crate::field`]).
+//! (tilted sections, [`crate::surface::field`]).
 
-use crate::field::Section;
 use crate::geometry::Shape;
-use crate::real::Float;
-use crate::shell::{cross2_poly, moved_corners};
-use crate::vec::V3;
+use crate::num::real::Float;
+use crate::num::vec::V3;
+use crate::surface::field::Section;
+use crate::surface::shell::{cross2_poly, moved_corners};
 
 /// A ray in a patch's local frame, re-based at `t0` so that polynomials in `τ = t − t0` stay
 /// well-conditioned.
@@ -174,7 +174,7 @@ pub(crate) fn shell_interval<F: Float>(
     tau_hi: F,
     margin: [F; 3],
 ) -> Option<(F, F)> {
-    if !crate::field::parallel(shape) {
+    if !crate::surface::field::parallel(shape) {
         return tilted_shell_interval(shape, ray, tau_lo, tau_hi, margin);
     }
     let polys = wall_polys(shape, ray, margin);

@@ -1,8 +1,8 @@
 //! Baselines for side-by-side comparison: the flat triangle (Möller–Trumbore) and the flat
 //! triangle with interpolated vertex normals (Phong shading).
 
+use crate::num::real::Float;
 use crate::ray::{Hit, Ray};
-use crate::real::Float;
 
 /// Möller–Trumbore ray–triangle test: `Some((t, w1, w2))` for the hit with `t` in
 /// `[t_min, t_max]` (either face), `None` otherwise (also for degenerate triangles or rays).

@@ -15,7 +15,7 @@
 //! 4. evaluates the exact surface normal once at the estimate.
 //!
 //! `f` is evaluated at eight parameters per call, in the lanes of [`Float::L8`]
-//! ([`crate::lanes`]). Work per ray is at most [`max_lane_calls`]`(K, N) = ⌈(K + 2)/8⌉ + N`
+//! ([`crate::num::lanes`]). Work per ray is at most [`max_lane_calls`]`(K, N) = ⌈(K + 2)/8⌉ + N`
 //! lane calls plus one normal evaluation, whatever the input: every loop has a compile-time
 //! trip count (a loop may stop early when it has its answer, never run longer). The final
 //! bracket's width plus a rounding allowance is returned as [`Hit::t_error`].
@@ -27,15 +27,15 @@ pub mod refine;
 
 pub(crate) use packet::crossings_packet;
 
-use crate::field::Section;
 use crate::geometry::Shape;
-use crate::height::{self, Prepared, f_lanes};
-use crate::lanes::Lane;
-use crate::patch::Patch;
+use crate::num::lanes::Lane;
+use crate::num::real::Float;
+use crate::num::vec::V3;
+use crate::geometry::Patch;
 use crate::ray::{Hit, Ray};
-use crate::real::Float;
-use crate::surface::{normal_local, project_bary};
-use crate::vec::V3;
+use crate::surface::field::Section;
+use crate::surface::height::{self, Prepared, f_lanes};
+use crate::surface::scalar::{normal_local, project_bary};
 use clip::{LocalRay, bary_numerators, shell_interval};
 use refine::{first_sign_change, refine};
 
@@ -43,8 +43,8 @@ use refine::{first_sign_change, refine};
 /// ends, eight points, one lane call.
 pub const DEFAULT_SAMPLES: usize = 6;
 
-/// Rounding allowance of [`Hit::t_error`], in ulps of the patch's extent `L` (see
-/// [`EXTENT_EDGES`]): `KernelStats::rounding = ROUNDING_ULPS · ε · L / |f′|`, the distance the
+/// Rounding allowance of [`Hit::t_error`], in ulps of the patch's extent `L` (`EXTENT_EDGES` = 4 longest
+/// edges plus the distance from the origin): `KernelStats::rounding = ROUNDING_ULPS · ε · L / |f′|`, the distance the
 /// root of `f(τ) = σ(τ) − σS(X(τ))` moves when `f` is off by `ROUNDING_ULPS · ε · L`.
 ///
 /// Derivation (a budget, validated rather than proven). Near the root `f` is the difference of
@@ -86,21 +86,21 @@ pub const EXTENT_EDGES: f64 = 4.0;
 /// one ray in ten aimed exactly at a shared edge, in `f32` and in `f64`, before this margin).
 /// With each domain widened by more than the wall's rounding, a crossing at the edge lies
 /// strictly inside both patches' intervals, and the closest-hit rule of the BVH keeps one.
-/// Beyond its edge a patch continues along its tangent plane there (`crate::height`
-/// `beyond_edge`, the continuation [`close_cracks`](crate::crack::close_cracks) relies on), so
+/// Beyond its edge a patch continues along its tangent plane there (`crate::surface::height`
+/// `beyond_edge`, the continuation [`close_cracks`](crate::mesh::cracks::close_cracks) relies on), so
 /// a crossing found in the margin is off the patch's surface by at most the margin's width,
 /// half of the [`ROUNDING_ULPS`] allowance that every `t_error` carries.
 /// `tests/suite/watertight.rs` aims thousands of rays per mesh at shared edge points from
 /// directions up to 80° off both neighbours' normals: none falls through in `f32` or `f64`.
 pub const WALL_MARGIN_ULPS: f64 = 8.0;
 
-/// The most lane calls ([`crate::lanes`]: eight height evaluations each) that one patch test
+/// The most lane calls (eight height evaluations each) that one patch test
 /// with `k` bracketing samples and `n` refinement steps makes: `⌈(k + 2)/8⌉ + n`.
 ///
 /// # Panics
 /// Never.
 pub const fn max_lane_calls(k: usize, n: usize) -> usize {
-    (k + 2).div_ceil(crate::lanes::LANES) + n
+    (k + 2).div_ceil(crate::num::lanes::LANES) + n
 }
 
 /// Statistics of one kernel call, for tests and studies.
@@ -116,8 +116,8 @@ pub struct KernelStats {
     /// guarantee of [`Patch::intersect`] is stated in terms of it.
     pub shell_width: f64,
     /// The rounding allowance included in the returned [`Hit::t_error`] (converted to `f64`):
-    /// `t_error` is the final bracket's width plus this, [`ROUNDING_ULPS`]` · ε · L / |f′|`
-    /// with `L = `[`EXTENT_EDGES`]` · longest_edge + |P0|` and `|f′|` the flatter of the
+    /// `t_error` is the final bracket's width plus this, `ROUNDING_ULPS · ε · L / |f′|` (`ROUNDING_ULPS` = 16)
+    /// with `L = 4 · longest_edge + |P0|` and `|f′|` the flatter of the
     /// sampling and the final brackets' secant slopes. 0 when there is no hit.
     pub rounding: f64,
 }
@@ -217,11 +217,11 @@ pub(crate) fn crossing<F: Float, const K: usize, const N: usize>(
     let (a, b) = (cl.a, cl.b);
     stats.shell_width = (b - a).to_f64();
     let prep = Prepared::new(&patch.shape);
-    let sp = <F::L8 as crate::lanes::LaneOps>::splat;
+    let sp = <F::L8 as crate::num::lanes::LaneOps>::splat;
     let (o, r) = (cl.lray.o, cl.lray.r);
     let (o8, r8) = ([sp(o.x), sp(o.y), sp(o.z)], [sp(r.x), sp(r.y), sp(r.z)]);
-    let mut f = |taus: [F; crate::lanes::LANES]| {
-        stats.height_evals += crate::lanes::LANES as u32;
+    let mut f = |taus: [F; crate::num::lanes::LANES]| {
+        stats.height_evals += crate::num::lanes::LANES as u32;
         f_lanes(&prep, o8, r8, <F::L8 as Lane>::from_array(taus)).to_array()
     };
     let bracket = first_sign_change::<F, K>(a, b, end_snap(cl.scale), &mut f)?;
@@ -251,7 +251,7 @@ pub(crate) fn rounding_allowance<F: Float>(scale: F, slope: F) -> F {
 /// [`WALL_MARGIN_ULPS`].
 #[inline(always)]
 pub(crate) fn rounding_scale<F: Float>(patch: &Patch<F>) -> F {
-    crate::shell::longest_edge(&patch.shape) * F::from_f64(EXTENT_EDGES)
+    crate::surface::shell::longest_edge(&patch.shape) * F::from_f64(EXTENT_EDGES)
         + patch.frame.origin.length()
 }
 
@@ -261,13 +261,16 @@ pub(crate) fn rounding_scale<F: Float>(patch: &Patch<F>) -> F {
 #[inline(always)]
 pub(crate) fn wall_margin<F: Float>(shape: &Shape<F>, scale: F) -> F {
     let [_, p1, p2] = shape.p;
-    let m = F::from_f64(WALL_MARGIN_ULPS) * F::EPSILON * scale * crate::shell::longest_edge(shape)
+    let m = F::from_f64(WALL_MARGIN_ULPS)
+        * F::EPSILON
+        * scale
+        * crate::surface::shell::longest_edge(shape)
         / (p1.x * p2.y);
     if m.is_fin() { m } else { F::ZERO }
 }
 
 /// The three walls' barycentric offsets: [`wall_margin`] plus the patch's crack reach
-/// ([`close_cracks`](crate::crack::close_cracks); 0 unless measured).
+/// ([`close_cracks`](crate::mesh::cracks::close_cracks); 0 unless measured).
 #[inline(always)]
 pub(crate) fn wall_margins<F: Float>(patch: &Patch<F>, scale: F) -> [F; 3] {
     let m = wall_margin(&patch.shape, scale);

@@ -13,16 +13,16 @@
 //! Work per packet and patch: at most `K + 2 + N` lane calls, whatever the input. A lane whose
 //! ray misses the shell (or is inactive) rides along and its result is ignored.
 
-use crate::lanes::{LANES, Lane};
-use crate::patch::Patch;
+use crate::num::lanes::{LANES, Lane};
+use crate::num::real::Float;
+use crate::geometry::Patch;
 use crate::ray::Ray;
-use crate::real::Float;
 
 use super::refine::{Bracket, ItpLane, bracket_step};
 use super::{
     Clipped, Crossing, clip_ray, complete, end_snap, rounding_allowance, rounding_scale, secant,
 };
-use crate::height::{Prepared, f_lanes};
+use crate::surface::height::{Prepared, f_lanes};
 
 /// The crossings of up to eight rays with `patch` (`active[i]` false: lane `i` is skipped),
 /// each in `[t_min, t_max[i]]`. At most `K + 2 + N` lane calls.

@@ -33,8 +33,8 @@
 //! `max((b − a) / ((K + 1)·5^N), EARLY_STOP · allowance)` for the shell interval `[a, b]` (up
 //! to one ulp of the parameters per step, where the points collapse onto each other).
 
-use crate::lanes::LANES;
-use crate::real::Float;
+use crate::num::lanes::LANES;
+use crate::num::real::Float;
 
 /// Evenly spaced points per refinement step: `a + w·j/(UNIFORM_POINTS + 1)`.
 pub const UNIFORM_POINTS: usize = 4;

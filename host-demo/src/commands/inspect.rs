@@ -5,7 +5,7 @@ use std::collections::HashMap;
 use std::fmt::Write as _;
 
 use glam::DVec3;
-use smoothtri::{DPatch, LineField, Patch, Seam, SeamEdge, fit_seams};
+use smoothtri::{DPatch, LineField, Patch, Seam, SharedEdge, fit_seams};
 
 use super::MeshSource;
 use crate::error::Result;
@@ -103,7 +103,7 @@ pub fn cracks(mesh: &Mesh, field: LineField) -> Cracks {
     let kept_patches: Vec<DPatch> = kept.iter().filter_map(|&t| patches[t]).collect();
     let kept_tris: Vec<[u32; 3]> = kept.iter().map(|&t| mesh.triangles[t]).collect();
     let mut fitted = vec![Seam::default(); kept.len()];
-    let mut scratch = vec![SeamEdge::default(); 3 * kept.len()];
+    let mut scratch = vec![SharedEdge::default(); 3 * kept.len()];
     let seam_edges = fit_seams(
         &kept_patches,
         &kept_tris,

@@ -4,7 +4,7 @@
 use std::collections::BTreeMap;
 
 use smoothtri::{
-    Bvh, BvhNode, CrackReport, Float, Hit, LineField, Patch, PatchError, Seam, SeamEdge,
+    Bvh, BvhNode, CrackReport, Float, Hit, LineField, Patch, PatchError, Seam, SharedEdge,
     VertexClamp, VertexClampReport, clamp_vertex_normals, close_cracks, fit_seams,
 };
 
@@ -119,7 +119,7 @@ impl<F: Prec> Scene<F> {
             });
         }
         let tris = accepted_triangles(mesh, &tri_ids);
-        let mut scratch = vec![SeamEdge::default(); 3 * patches.len()];
+        let mut scratch = vec![SharedEdge::default(); 3 * patches.len()];
         let cracks = close_cracks(&mut patches, &tris, mesh.positions.len(), &mut scratch)
             .map_err(|e| DemoError::Empty {
                 msg: format!("cannot close the cracks: {e}"),
@@ -154,7 +154,7 @@ impl<F: Prec> Scene<F> {
     /// evaluations per shared edge, seconds on meshes of 100k triangles.
     pub fn fit_seams(&mut self, mesh: &Mesh) -> Result<()> {
         let tris = accepted_triangles(mesh, &self.tri_ids);
-        let mut scratch = vec![SeamEdge::default(); 3 * self.patches.len()];
+        let mut scratch = vec![SharedEdge::default(); 3 * self.patches.len()];
         let mut seams = vec![Seam::default(); self.patches.len()];
         self.seam_edges = fit_seams(
             &self.patches,

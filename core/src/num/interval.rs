@@ -1,6 +1,6 @@
 //! Interval arithmetic over `f64` with outward rounding: `Iv` encloses every real value a
 //! formula can take when its inputs range over intervals. It is the scalar of the certificate
-//! of [`crate::certify`]; nesting it in [`Dual`](crate::dual::Dual) encloses derivatives too.
+//! of [`crate::surface::certify`]; nesting it in [`Dual`](crate::num::dual::Dual) encloses derivatives too.
 //!
 //! Outward rounding without access to the FPU's rounding mode: every operation's bounds are
 //! computed in round-to-nearest and then moved out by `2^-52` of their magnitude plus
@@ -11,7 +11,7 @@
 
 use core::ops::{Add, AddAssign, Div, Mul, MulAssign, Neg, Sub, SubAssign};
 
-use crate::real::{Float, Real};
+use crate::num::real::{Float, Real, sealed::Sealed};
 
 /// A closed interval `[lo, hi]` of `f64` that encloses a real quantity.
 ///
@@ -169,6 +169,8 @@ impl MulAssign for Iv {
         *self = *self * o;
     }
 }
+
+impl Sealed for Iv {}
 
 impl Real for Iv {
     type F = f64;

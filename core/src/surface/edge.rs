@@ -6,11 +6,11 @@
 //! `Pi`) at `s2`; the conjugation line is `c(t) = p(t) + ((1 − t)·s1 + t·s2)·g(t)` (eq. (2)) and
 //! its normal `n*(t) = normalize(g − T (T·g)/|T|²)` with `T = c′(t)` exact (eq. (3)).
 
-use crate::dual::{Dual, split};
 use crate::geometry::{EdgeView, Shape};
-use crate::real::{Float, Real};
-use crate::sphere::{curvature, nearest_root};
-use crate::vec::V3;
+use crate::num::dual::{Dual, split};
+use crate::num::real::{Float, Real};
+use crate::num::vec::V3;
+use crate::surface::sphere::{curvature, nearest_root};
 
 /// Curvatures `[κ(S¹j), κ(S²j)]` of the two spheres of each edge `j` of the triangle with local
 /// vertices `p` and unit normals `n` (`S¹j`: anchor `Pj`, axis `nj`, through `Pj+1`; `S²j`:

@@ -1,6 +1,6 @@
-//! The surface height over eight lanes, specialised: the same surface as [`crate::surface`]
+//! The surface height over eight lanes, specialised: the same surface as [`crate::surface::scalar`]
 //! (docs/METHOD.md §5), written once over [`LaneOps`] for speed. Patch construction samples the
-//! shell's height range with it ([`crate::shell`]); the ray kernel ([`crate::kernel`]) evaluates
+//! shell's height range with it ([`crate::surface::shell`]); the ray kernel ([`crate::kernel`]) evaluates
 //! its function `f(τ) = z(τ) − σS(X(τ))` at eight ray parameters per call ([`f_lanes`]) and the
 //! exact normal of a hit over [`Jet`]s ([`derivatives`]).
 //!
@@ -21,15 +21,15 @@
 //!   quadratic scale with the axis, so the root does not change).
 //!
 //! # Accuracy
-//! Equal to [`crate::surface`]'s height within rounding: within
-//! [`KERNEL_HEIGHT_VS_SURFACE`](crate::accuracy::KERNEL_HEIGHT_VS_SURFACE) of the triangle's
+//! Equal to [`crate::surface::scalar`]'s height within rounding: within
+//! `KERNEL_HEIGHT_VS_SURFACE` (`core/src/accuracy.rs`) of the triangle's
 //! size on random patches (the unit test below).
 
-use crate::field::{SECTION_NEWTON_STEPS, Section};
 use crate::geometry::Shape;
-use crate::lanes::LaneOps;
-use crate::real::Float;
-use crate::vec::V3;
+use crate::num::lanes::LaneOps;
+use crate::num::real::Float;
+use crate::num::vec::V3;
+use crate::surface::field::{SECTION_NEWTON_STEPS, Section};
 
 /// One edge's data for the height evaluation, precomputed from the patch (edge `j` runs from
 /// `A = Pj` to `B = Pj+1`).
@@ -64,7 +64,7 @@ pub(crate) struct Prepared<F> {
     n: [V3<F>; 3],
     /// Direction field at the vertices (`z = 1` for parallel sections).
     d: [V3<F>; 3],
-    /// The point-to-section map ([`crate::field`]).
+    /// The point-to-section map ([`crate::surface::field`]).
     section: Section<F>,
     /// The edges.
     edges: [EdgePrep<F>; 3],
@@ -169,7 +169,7 @@ fn c<L: LaneOps>(x: f64) -> L {
     L::splat(L::F::from_f64(x))
 }
 
-/// The root nearest 0 of `qa s² + 2 qb s + qc = 0` ([`crate::sphere::nearest_root`]'s
+/// The root nearest 0 of `qa s² + 2 qb s + qc = 0` ([`crate::surface::sphere::nearest_root`]'s
 /// cancellation-free form and double-root test, over lanes). `w2 = |w|²`, `g2 = |g|²` and
 /// `m2 = |m|²` (the axis may be scaled: `κ` and all three coefficients scale with it) set the
 /// noise scales. Returns `(s, q, sq, ok)`: `s = qc/q` where `ok`, else 0.
@@ -273,7 +273,7 @@ fn edge_point_normal<L: LaneOps>(ep: &EdgePrep<L::F>, t: L) -> (L3<L>, L3<L>) {
 }
 
 /// Height of edge `ep`'s conjugation line over the triangle's plane, `c(t).z`, at eight edge
-/// parameters: the `z` of [`crate::edge::edge_point`]'s point within rounding (the normal of
+/// parameters: the `z` of [`crate::surface::edge::edge_point`]'s point within rounding (the normal of
 /// [`edge_point_normal`] is not needed, and is optimised away).
 #[inline(always)]
 pub(crate) fn edge_height<L: LaneOps>(ep: &EdgePrep<L::F>, t: L) -> L {
@@ -361,7 +361,7 @@ fn section_param<L: LaneOps>(sec: &Section<L::F>, x: L3<L>) -> L {
 }
 
 /// Barycentrics of local points, projected onto the triangle like
-/// [`crate::surface::project_bary`]: the section through each point (parameter `λ` of
+/// [`crate::surface::scalar::project_bary`]: the section through each point (parameter `λ` of
 /// [`section_param`], vertices `Pi + λ·di`), negative or non-finite components set to 0,
 /// renormalised (the centroid if all vanish).
 #[inline(always)]
@@ -397,7 +397,7 @@ fn bary<L: LaneOps>(pr: &Prepared<L::F>, x: L3<L>) -> ([L; 3], L) {
 }
 
 /// The height change of the surface's continuation beyond the triangle's edges (the walls
-/// moved out by a patch's crack reach, [`crate::crack`]): from the projected point `xp` to the
+/// moved out by a patch's crack reach, [`crate::mesh::cracks`]): from the projected point `xp` to the
 /// point `x` (raw barycentrics, one negative) in the cross-section at height `s`, along the
 /// plane normal to the interpolated vertex normal `Σ xp_i n_i`. 0 (exactly) where no raw
 /// barycentric is negative, or where the change is not finite.
@@ -485,7 +485,7 @@ pub(crate) fn height_at<L: LaneOps>(pr: &Prepared<L::F>, [x0, x1, x2]: [L; 3]) -
         y: x0 * sp(d0.y) + x1 * sp(d1.y) + x2 * sp(d2.y),
         z: x0 + x1 + x2,
     };
-    // Unit height (`crate::field::unit_height_dir`): parallel sections have `Vz = Σ Xi`.
+    // Unit height (`crate::surface::field::unit_height_dir`): parallel sections have `Vz = Σ Xi`.
     let dir = if pr.section.parallel {
         dir
     } else {
@@ -693,10 +693,10 @@ pub(crate) fn derivatives<F: Float>(
 #[cfg(test)]
 pub(crate) mod tests {
     use super::*;
-    use crate::field::LineField;
-    use crate::lanes::LANES;
+    use crate::num::lanes::LANES;
     use crate::patch::Patch;
-    use crate::surface;
+    use crate::surface::field::LineField;
+    use crate::surface::scalar;
     use glam::DVec3;
 
     /// SplitMix64, for reproducible random patches without extra dependencies.
@@ -767,7 +767,7 @@ pub(crate) mod tests {
                 };
                 let h = height_at(&pr, [lane(0), lane(1), lane(2)]).to_array();
                 for (x, a) in chunk.iter().zip(h) {
-                    let b = surface::height(&patch.shape, *x);
+                    let b = scalar::height(&patch.shape, *x);
                     worst = worst.max((a - b).abs() / size);
                 }
             }
@@ -795,7 +795,7 @@ pub(crate) mod tests {
                     let (w1, w2) = (i as f64 / 8.0, j as f64 / 8.0);
                     let x = [1.0 - w1 - w2, w1, w2];
                     let [a1, a2] = derivatives(&patch.shape, &pr, x);
-                    let [_, b1, b2] = surface::point_derivs_local(&patch.shape, x);
+                    let [_, b1, b2] = scalar::point_derivs_local(&patch.shape, x);
                     let d = (a1 - b1).length().max((a2 - b2).length());
                     worst = worst.max(d / size);
                 }
@@ -815,12 +815,12 @@ pub(crate) mod tests {
         let mut rng = Rng(3);
         for (patch, size) in random_patches_on(13, 400, LineField::Vertex) {
             let shape = &patch.shape;
-            if crate::field::parallel(shape) {
+            if crate::surface::field::parallel(shape) {
                 continue;
             }
             tested += 1;
             let sec = Section::new(shape);
-            let [lo, hi] = crate::shell::lambda_range(shape, patch.sigma);
+            let [lo, hi] = crate::surface::shell::lambda_range(shape, patch.sigma);
             let mut pts = [(V3::zero(), 0.0, [0.0; 3]); LANES];
             for slot in pts.iter_mut() {
                 let (w1, w2) = (rng.unit() * 1.2 - 0.1, rng.unit() * 1.2 - 0.1);

@@ -4,7 +4,7 @@
 //!
 //! The surface height (docs/METHOD.md §5) is a weighted sum of the parameters where lines
 //! `P(X) + s·D(X)` meet spheres, each the root nearest 0 of `a s² + 2 b s + c = 0`
-//! (`s = c / (−b − sign(b)·√(b² − a c))`, [`crate::sphere::nearest_root`]). That root is a
+//! (`s = c / (−b − sign(b)·√(b² − a c))`, [`crate::surface::sphere::nearest_root`]). That root is a
 //! smooth function wherever the discriminant `b² − a c` is positive and `b` keeps its sign.
 //! Where the discriminant reaches 0 the line misses the sphere (the root *goes missing*); where
 //! `b` changes sign the nearest root moves to the other branch. The surface jumps or spikes
@@ -36,11 +36,11 @@
 
 use heapless::Vec as HVec;
 
-use crate::dual::{Dual, split};
 use crate::geometry::Shape;
-use crate::interval::Iv;
-use crate::real::{Float, Real};
-use crate::vec::V3;
+use crate::num::dual::{Dual, split};
+use crate::num::interval::Iv;
+use crate::num::real::{Float, Real};
+use crate::num::vec::V3;
 
 /// Start grid of the certificate: `CERTIFY_GRID × CERTIFY_GRID` boxes of `(λ, t)` per vertex.
 /// Coarser boxes rarely pass (the enclosures of the edge normal's derivative are too wide).

@@ -2,19 +2,19 @@
 //! the weights sum to one).
 //!
 //! For barycentrics `X`, `P = Σ Xi Pi` and `D = Σ Xi di / Σ Xi di.z` (the line field of unit
-//! height, [`crate::field`]). For each vertex `i`, the edge opposite
+//! height, [`crate::surface::field`]). For each vertex `i`, the edge opposite
 //! it (edge `i+1`) gives `Ci = c(ti)`, `Ni = n*(ti)` with `ti = Xi+2 / (Xi+1 + Xi+2)`; the spheres
 //! `Ŝ¹` (anchor `Pi`, axis `ni`, through `Ci`) and `Ŝ²` (anchor `Ci`, axis `Ni`, through `Pi`)
 //! meet the line `P + s·D` at `s¹`, `s²`. The surface is the height field
 //! `σS(X) = ½ Σ [Xi·s¹ + ((1 − Xi)/2)·s²]` and `pS = P + σS·D`.
 
-use crate::dual::{Dual, split};
-use crate::edge::edge_point_normal;
-use crate::field::unit_height_dir;
 use crate::geometry::Shape;
-use crate::real::{Float, Real};
-use crate::sphere::{curvature, nearest_root};
-use crate::vec::V3;
+use crate::num::dual::{Dual, split};
+use crate::num::real::{Float, Real};
+use crate::num::vec::V3;
+use crate::surface::edge::edge_point_normal;
+use crate::surface::field::unit_height_dir;
+use crate::surface::sphere::{curvature, nearest_root};
 
 /// Barycentrics projected onto the triangle: non-finite components become 0, negative ones are
 /// clamped to 0, and the three are renormalised to sum to one (the centroid if all vanish).

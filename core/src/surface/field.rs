@@ -18,8 +18,8 @@
 //!   solved by [`SECTION_NEWTON_STEPS`] Newton steps (`Section::param`).
 
 use crate::geometry::Shape;
-use crate::real::Float;
-use crate::vec::V3;
+use crate::num::real::Float;
+use crate::num::vec::V3;
 
 /// The direction field a patch is built with ([`Patch::with_field`](crate::Patch::with_field)).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -133,7 +133,7 @@ impl<F: Float> Section<F> {
 /// itself for parallel sections (where `Vz = Σ Xi`, 1 up to rounding, as the face field has
 /// always used it).
 #[inline(always)]
-pub(crate) fn unit_height_dir<S: crate::real::Real>(shape: &Shape<S::F>, x: [S; 3]) -> V3<S> {
+pub(crate) fn unit_height_dir<S: crate::num::real::Real>(shape: &Shape<S::F>, x: [S; 3]) -> V3<S> {
     let [x0, x1, x2] = x;
     let [d0, d1, d2] = shape.d.map(V3::<S>::lift);
     let v = d0 * x0 + d1 * x1 + d2 * x2;

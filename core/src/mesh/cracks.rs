@@ -16,11 +16,10 @@
 //! rounding level) get reaches of the order of the rounding, and their patches' surfaces are
 //! unchanged everywhere. Nothing changes inside a triangle.
 
+use super::topology::{MeshError, SharedEdge, edge_bary, for_each_shared_edge};
+use crate::num::real::Float;
 use crate::patch::Patch;
-use crate::real::Float;
-use crate::seam::{SeamEdge, SeamError, edge_bary, for_each_shared_edge, widen};
-use crate::shell;
-use crate::surface;
+use crate::surface::scalar;
 
 /// How far each neighbour's domain reaches across a shared edge, in multiples of the widest
 /// gap measured between the two edge curves (world length `CRACK_REACH · gap`, at most
@@ -29,11 +28,11 @@ use crate::surface;
 /// Derivation. In the plane across the edge the two curves end at points `a` and `b`,
 /// `gap = |b − a|` apart, and each patch continues beyond its end along its tangent plane
 /// there (to within the angle between its surface normal and the interpolated vertex normal;
-/// `crate::height` `beyond_edge`). Two continuations at a dihedral angle `θ` cross once each
+/// `crate::scalar::height` `beyond_edge`). Two continuations at a dihedral angle `θ` cross once each
 /// has run about `gap / sin θ`; when they are nearly parallel, at most `gap` apart, a ray
 /// between them must run along both for their overlap `2·reach − gap` while it rises by `gap`,
 /// so it passes only if it is within `atan(gap / (2·reach − gap))` of the surface: 8.1° (82°
-/// off the normal) for four gaps. The gap is the widest of [`CRACK_SAMPLES`] points, not of
+/// off the normal) for four gaps. The gap is the widest of `CRACK_SAMPLES` = 33 points, not of
 /// the whole curve, which the factor also covers. Measured (`tests/suite/watertight.rs`, thousands
 /// of rays per mesh aimed between the two curves, up to 80° off both normals): with one gap
 /// 1 to 7 rays per mesh still fall through, with two the teapot's f64 rays still do, with four
@@ -70,7 +69,7 @@ pub struct CrackReport {
 }
 
 /// Measures, for every edge shared by two patches, the gap between the two neighbours' edge
-/// curves at [`CRACK_SAMPLES`] points (in `f64` whatever `F`), and sets each neighbour's
+/// curves at `CRACK_SAMPLES` = 33 points (in `f64` whatever `F`), and sets each neighbour's
 /// reach across that edge to [`CRACK_REACH`] times the widest gap (over the wall's altitude,
 /// in barycentric units, at most [`MAX_CRACK_REACH`]); the patches' bounding boxes grow to
 /// match. Reaches of boundary edges, non-manifold edges and lone triangles are reset to 0, so
@@ -79,10 +78,10 @@ pub struct CrackReport {
 /// `patches[i]` must be the patch of triangle `triangles[i]` (vertex indices in the patch's
 /// vertex order, `< vertex_count`); `scratch` holds at least `3 × triangles.len()` entries
 /// (contents on return unspecified). Edges are matched by vertex index as in
-/// [`fit_seams`](crate::seam::fit_seams). Call it after building the patches and before
+/// [`fit_seams`](crate::mesh::seams::fit_seams). Call it after building the patches and before
 /// building the [`Bvh`](crate::bvh::Bvh) (which reads their boxes).
 ///
-/// Returns the [`CrackReport`], or a [`SeamError`] when the lengths differ, the scratch is
+/// Returns the [`CrackReport`], or a [`MeshError`] when the lengths differ, the scratch is
 /// too small, or an index is out of range or repeated within a triangle (the patches are
 /// then unchanged).
 ///
@@ -100,10 +99,10 @@ pub fn close_cracks<F: Float>(
     patches: &mut [Patch<F>],
     triangles: &[[u32; 3]],
     vertex_count: usize,
-    scratch: &mut [SeamEdge],
-) -> Result<CrackReport, SeamError> {
+    scratch: &mut [SharedEdge],
+) -> Result<CrackReport, MeshError> {
     if triangles.len() != patches.len() {
-        return Err(SeamError::PatchCount {
+        return Err(MeshError::PatchCount {
             patches: patches.len(),
             triangles: triangles.len(),
         });
@@ -114,7 +113,7 @@ pub fn close_cracks<F: Float>(
     let mut cleared = false;
     let clear = |patches: &mut [Patch<F>]| {
         for p in patches.iter_mut() {
-            p.reach = [F::ZERO; 3];
+            p.set_reach([F::ZERO; 3]);
         }
     };
     for_each_shared_edge(triangles, vertex_count, scratch, |ta, ja, tb, jb| {
@@ -134,15 +133,12 @@ pub fn close_cracks<F: Float>(
         report.widest_gap = report.widest_gap.max(gap);
         for (t, j) in [(ta, ja), (tb, jb)] {
             if let Some(p) = patches.get_mut(t) {
-                set_reach(p, j, gap);
+                widen_wall(p, j, gap);
             }
         }
     })?;
     if !cleared {
         clear(patches);
-    }
-    for p in patches.iter_mut() {
-        p.bbox = shell::aabb(&p.shape, p.sigma, &p.frame, p.reach);
     }
     Ok(report)
 }
@@ -151,13 +147,13 @@ pub fn close_cracks<F: Float>(
 /// `ja + 1`) and of `pb`'s edge `jb` (the same edge, traversed the other way) at
 /// [`CRACK_SAMPLES`] points, world length; `+∞` when a sample is not finite.
 fn edge_gap<F: Float>(pa: &Patch<F>, ja: usize, pb: &Patch<F>, jb: usize) -> f64 {
-    let (fa, sa) = widen(pa);
-    let (fb, sb) = widen(pb);
+    let (fa, sa) = pa.widened();
+    let (fb, sb) = pb.widened();
     let mut widest = 0.0f64;
     for s in 0..CRACK_SAMPLES {
         let t = (s as f64 + 0.5) / CRACK_SAMPLES as f64;
-        let xa = fa.local_to_world(surface::point_local(&sa, edge_bary(ja, t)));
-        let xb = fb.local_to_world(surface::point_local(&sb, edge_bary(jb, 1.0 - t)));
+        let xa = fa.local_to_world(scalar::point_local(&sa, edge_bary(ja, t)));
+        let xb = fb.local_to_world(scalar::point_local(&sb, edge_bary(jb, 1.0 - t)));
         let d = (xa - xb).length();
         if !d.is_finite() {
             return f64::INFINITY;
@@ -170,7 +166,7 @@ fn edge_gap<F: Float>(pa: &Patch<F>, ja: usize, pb: &Patch<F>, jb: usize) -> f64
 /// Sets the reach of `patch`'s wall over edge `j` (from `Pj` to `Pj+1`, the wall opposite
 /// vertex `j + 2`) to `CRACK_REACH · gap` over that wall's altitude; a reach that is not
 /// finite (an unbounded gap) is left at 0.
-fn set_reach<F: Float>(patch: &mut Patch<F>, j: usize, gap: f64) {
+fn widen_wall<F: Float>(patch: &mut Patch<F>, j: usize, gap: f64) {
     let [p0, p1, p2] = patch.shape.p;
     let (a, b) = match j % 3 {
         0 => (p0, p1),
@@ -181,10 +177,12 @@ fn set_reach<F: Float>(patch: &mut Patch<F>, j: usize, gap: f64) {
     // Twice the area: the frame puts P1 on the x axis and P2 in the xy-plane.
     let area2 = (p1.x * p2.y).to_f64();
     let r = F::from_f64((CRACK_REACH * gap * len / area2).min(MAX_CRACK_REACH));
-    if let Some(slot) = patch.reach.get_mut((j + 2) % 3)
+    let mut reach = patch.reach();
+    if let Some(slot) = reach.get_mut((j + 2) % 3)
         && r.is_fin()
         && r >= F::ZERO
     {
         *slot = r;
+        patch.set_reach(reach);
     }
 }

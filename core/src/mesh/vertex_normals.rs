@@ -5,11 +5,11 @@
 //!
 //! [`Patch::new_or_tilted_with`]: crate::Patch::new_or_tilted_with
 
-use crate::field::LineField;
+use super::topology::MeshError;
+use crate::num::real::Float;
+use crate::num::vec::V3;
 use crate::patch::{NORMAL_CLAMP_DEG, Patch};
-use crate::real::Float;
-use crate::seam::SeamError;
-use crate::vec::V3;
+use crate::surface::field::LineField;
 
 /// Per-vertex scratch of [`clamp_vertex_normals`] (one entry per vertex).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -32,7 +32,7 @@ pub struct VertexClampReport {
     pub clamped: usize,
     /// Triangles whose patch the shared field still rejects with every vertex clamped as far as
     /// the remedy goes (to their targets): [`Patch::new_or_tilted_with`] clamps these per
-    /// patch (their edges then part; [`close_cracks`](crate::close_cracks) closes the gaps).
+    /// patch (their edges then part; [`close_cracks`](super::close_cracks) closes the gaps).
     ///
     /// [`Patch::new_or_tilted_with`]: crate::Patch::new_or_tilted_with
     pub unresolved: usize,
@@ -45,7 +45,7 @@ pub struct VertexClampReport {
 /// angle to it is at most a clamp of [`NORMAL_CLAMP_DEG`] (75°, 60°, …, 0° = the target
 /// itself), the clamp tightening until every triangle around them is accepted. The target is
 /// the direction whose largest angle to the faces around the vertex is least (the axis of the
-/// smallest cap holding their unit normals, settled in at most [`CAP_PASSES`] passes over the
+/// smallest cap holding their unit normals, settled in at most `CAP_PASSES` = 8 passes over the
 /// faces), or, where no direction is within about 87° of all of them, the mean of their
 /// normals weighted by the faces' angles at the vertex. A triangle rejected even with its three
 /// normals at their targets is left to the per-patch remedy and moves no normal. Every face around a vertex then uses the same normal, so the patches built from
@@ -53,11 +53,11 @@ pub struct VertexClampReport {
 ///
 /// Preconditions: `normals` and `out` as long as `positions`; `scratch` at least as long;
 /// indices below `positions.len()`, distinct within a triangle. Normals need not be unit.
-/// Returns the [`VertexClampReport`], or [`SeamError::BadIndex`] /
-/// [`SeamError::ScratchTooSmall`] / [`SeamError::LengthMismatch`] (then `out` is unspecified).
+/// Returns the [`VertexClampReport`], or [`MeshError::BadIndex`] /
+/// [`MeshError::ScratchTooSmall`] / [`MeshError::LengthMismatch`] (then `out` is unspecified).
 ///
 /// Work: at most `1 + NORMAL_CLAMP_DEG.len()` patch constructions per triangle and
-/// [`CAP_PASSES`] passes over the faces; no allocation.
+/// `CAP_PASSES` passes over the faces; no allocation.
 /// # Accuracy
 /// Unclamped vertices keep their normal bit for bit; a clamped normal is a unit vector at the
 /// clamp angle (within rounding) from its target, in the plane of the two.
@@ -69,22 +69,22 @@ pub fn clamp_vertex_normals<F: Float>(
     triangles: &[[u32; 3]],
     out: &mut [F::Vec3],
     scratch: &mut [VertexClamp<F>],
-) -> Result<VertexClampReport, SeamError> {
+) -> Result<VertexClampReport, MeshError> {
     let n = positions.len();
     if normals.len() != n || out.len() != n {
-        return Err(SeamError::LengthMismatch {
+        return Err(MeshError::LengthMismatch {
             patches: n,
             triangles: triangles.len(),
             seams: out.len().min(normals.len()),
         });
     }
     let Some(scratch) = scratch.get_mut(..n) else {
-        return Err(SeamError::ScratchTooSmall { needed: n });
+        return Err(MeshError::ScratchTooSmall { needed: n });
     };
     for (t, tri) in triangles.iter().enumerate() {
         let [a, b, c] = tri.map(|i| i as usize);
         if a >= n || b >= n || c >= n || a == b || b == c || a == c {
-            return Err(SeamError::BadIndex { triangle: t });
+            return Err(MeshError::BadIndex { triangle: t });
         }
     }
     for (o, s) in out.iter_mut().zip(normals) {

@@ -2,21 +2,92 @@
 //!
 //! [`Float`] is a primitive floating-point type (`f32` or `f64`) together with its glam vector
 //! type. [`Real`] is anything the surface formulas can be evaluated in: a [`Float`] itself, or a
-//! [`Dual`](crate::dual::Dual) number over one (which carries an exact derivative along).
+//! [`Dual`](crate::num::dual::Dual) number over one (which carries an exact derivative along).
 
 use core::fmt::Debug;
 use core::ops::{Add, AddAssign, Div, Mul, MulAssign, Neg, Sub, SubAssign};
 
-use crate::vec::V3;
+/// A 3-vector over any [`Real`].
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct V3<T> {
+    /// x.
+    pub x: T,
+    /// y.
+    pub y: T,
+    /// z.
+    pub z: T,
+}
 
-mod sealed {
+/// Number of lanes of every `Lane` type.
+pub const LANES: usize = 8;
+
+/// The arithmetic the kernel's height evaluation is written over: lanes of a scalar (or, for
+/// the exact normal, a scalar with its derivatives), with comparisons into masks and selects
+/// instead of branches.
+///
+/// Comparisons are IEEE (false for NaN operands); masks combine with [`LaneOps::and`],
+/// [`LaneOps::or`], [`LaneOps::not`] and choose values with [`LaneOps::select`].
+///
+/// # Panics
+/// No method panics.
+pub trait LaneOps:
+    Copy
+    + Add<Output = Self>
+    + Sub<Output = Self>
+    + Mul<Output = Self>
+    + Div<Output = Self>
+    + Neg<Output = Self>
+{
+    /// The scalar.
+    type F: Float;
+    /// A per-lane boolean.
+    type Mask: Copy;
+    /// Every lane `x`.
+    fn splat(x: Self::F) -> Self;
+    /// Square root per lane (correctly rounded; NaN for negative lanes).
+    fn sqrt(self) -> Self;
+    /// Absolute value per lane.
+    fn abs(self) -> Self;
+    /// `self < o` per lane.
+    fn lt(self, o: Self) -> Self::Mask;
+    /// `self <= o` per lane.
+    fn le(self, o: Self) -> Self::Mask;
+    /// `self > o` per lane.
+    fn gt(self, o: Self) -> Self::Mask;
+    /// `self == o` per lane.
+    fn eq(self, o: Self) -> Self::Mask;
+    /// Finite (not NaN, not infinite) per lane.
+    fn finite(self) -> Self::Mask;
+    /// Per lane: `a` where `m`, else `b`.
+    fn select(m: Self::Mask, a: Self, b: Self) -> Self;
+    /// Lane-wise and.
+    fn and(a: Self::Mask, b: Self::Mask) -> Self::Mask;
+    /// Lane-wise or.
+    fn or(a: Self::Mask, b: Self::Mask) -> Self::Mask;
+    /// Lane-wise not.
+    fn not(a: Self::Mask) -> Self::Mask;
+}
+
+/// An 8-wide vector of the scalar [`LaneOps::F`] (see the module documentation).
+///
+/// # Panics
+/// No method panics.
+pub trait Lane: LaneOps {
+    /// From the eight lane values.
+    fn from_array(a: [Self::F; LANES]) -> Self;
+    /// The eight lane values.
+    fn to_array(self) -> [Self::F; LANES];
+    /// Whether any lane of `m` is set.
+    fn any(m: Self::Mask) -> bool;
+    /// The lanes of `m` as booleans.
+    fn mask_array(m: Self::Mask) -> [bool; LANES];
+}
+
+pub(crate) mod sealed {
+    /// Seals [`Real`](super::Real): each impl stands beside its type.
     pub trait Sealed {}
     impl Sealed for f32 {}
     impl Sealed for f64 {}
-    impl<T: super::Real> Sealed for crate::dual::Dual<T> {}
-    impl Sealed for crate::interval::Iv {}
-    #[cfg(feature = "micromath")]
-    impl Sealed for crate::fast::FastF32 {}
 }
 
 /// A number the patch formulas can be evaluated in: `f32`, `f64`, or a dual number over them.
@@ -96,8 +167,9 @@ pub trait Real:
 pub trait Float: Real<F = Self> + Copy + Default + PartialEq {
     /// The glam 3-vector over this float (`glam::Vec3` or `glam::DVec3`).
     type Vec3: Copy + Debug + PartialEq;
-    /// The 8-lane vector of this float that the kernel evaluates over ([`crate::lanes`]).
-    type L8: crate::lanes::Lane<F = Self>;
+    /// The 8-lane vector of this float that the kernel evaluates over (internal).
+    #[doc(hidden)]
+    type L8: Lane<F = Self>;
     /// `0.0`.
     const ZERO: Self;
     /// `1.0`.
@@ -190,7 +262,11 @@ macro_rules! impl_float {
             }
             #[inline(always)]
             fn from_glam(v: $v) -> V3<$f> {
-                V3::new(v.x, v.y, v.z)
+                V3 {
+                    x: v.x,
+                    y: v.y,
+                    z: v.z,
+                }
             }
             #[inline(always)]
             fn to_glam(v: V3<$f>) -> $v {
@@ -200,5 +276,5 @@ macro_rules! impl_float {
     };
 }
 
-impl_float!(f32, glam::Vec3, wide::f32x8, crate::math::sqrt_f32);
-impl_float!(f64, glam::DVec3, wide::f64x8, crate::math::sqrt_f64);
+impl_float!(f32, glam::Vec3, wide::f32x8, crate::num::math::sqrt_f32);
+impl_float!(f64, glam::DVec3, wide::f64x8, crate::num::math::sqrt_f64);

@@ -11,7 +11,7 @@
 //! [`MARGIN_ABS`] of the triangle's size. The margin is
 //! validated, not proven: `tests/suite/shell.rs` samples 2000 random well-shaped patches with normals
 //! up to 50° from the face on a 861-point grid and checks that every point lies inside, at least
-//! [`SHELL_CLEARANCE`](crate::accuracy::SHELL_CLEARANCE) of the range's width away from its
+//! `SHELL_CLEARANCE` (tests/suite/common/pins.rs) of the range's width away from its
 //! faces. Beyond about 55° the surface itself can become wild (the
 //! nearest sphere roots switch branches, docs/METHOD.md §7) and may leave the shell: that is outside
 //! the method's domain and is measured in the reliability study (`tests/suite/domain.rs`). Even below
@@ -20,13 +20,13 @@
 //! contain those, and rays may miss the spike.
 
 use crate::aabb::Aabb;
-use crate::edge::edge_point;
 use crate::geometry::{Frame, Shape};
-use crate::height::{Prepared, edge_height, height_at};
-use crate::lanes::{LANES, Lane};
-use crate::real::Float;
-use crate::surface::height;
-use crate::vec::V3;
+use crate::num::lanes::{LANES, Lane};
+use crate::num::real::Float;
+use crate::num::vec::V3;
+use crate::surface::edge::edge_point;
+use crate::surface::height::{Prepared, edge_height, height_at};
+use crate::surface::scalar::height;
 
 /// Number of surface samples used to bound the height range.
 pub const SAMPLES: usize = 19;
@@ -67,7 +67,7 @@ pub(crate) fn height_bounds<F: Float>(shape: &Shape<F>) -> [F; 2] {
     [lo - m, hi + m]
 }
 
-/// The surface height at the [`SAMPLES`] points, by the lane evaluation ([`crate::height`]):
+/// The surface height at the [`SAMPLES`] points, by the lane evaluation ([`crate::surface::height`]):
 /// edge `j`'s points (`t` of [`EDGE_T`]) at `5j .. 5j + 5`, one lane call per edge, then the
 /// [`INTERIOR`] points in one call. Equal to [`sample_scalar`] within rounding; where a lane is
 /// not finite (never seen for an accepted patch) it is replaced by [`sample_scalar`].
@@ -174,16 +174,16 @@ fn quadratic_min<F: Float>([c0, c1, c2]: [F; 3], [lo, hi]: [F; 2]) -> F {
 
 /// The shell of `shape` over the height range `sigma` is valid when its cross-section keeps at
 /// least a quarter of the triangle's area (same orientation) over the whole range. For tilted
-/// sections ([`crate::field`]) the measure is the map's orientation
+/// sections ([`crate::surface::field`]) the measure is the map's orientation
 /// `det[A1 − A0, A2 − A0, V(X)] = K(λ)·V(X)` (quadratic in `λ`, linear in `X`, so checked at
 /// the three vertices over [`lambda_range`]): at least a quarter of its value on the triangle.
 pub(crate) fn is_valid<F: Float>(shape: &Shape<F>, sigma: [F; 2]) -> bool {
-    if crate::field::parallel(shape) {
+    if crate::surface::field::parallel(shape) {
         let c = section_area_poly(shape);
         let [c0, _, _] = c;
         return quadratic_min(c, sigma) >= F::from_f64(0.25) * c0 && c0 > F::ZERO;
     }
-    let sec = crate::field::Section::new(shape);
+    let sec = crate::surface::field::Section::new(shape);
     let [k0, k1, k2] = sec.k;
     let range = lambda_range(shape, sigma);
     shape.d.iter().all(|&d| {
@@ -240,8 +240,8 @@ pub(crate) fn aabb<F: Float>(
 mod tests {
     use super::*;
     use crate::accuracy::{F32_VS_F64_POINT, KERNEL_HEIGHT_VS_SURFACE};
-    use crate::height::tests::random_patches;
     use crate::patch::Patch;
+    use crate::surface::height::tests::random_patches;
 
     /// Worst difference, relative to `size`, between the lane samples of `shape` and the
     /// scalar ones; asserts that every lane sample is finite.

@@ -3,18 +3,8 @@
 
 use core::ops::{Add, Mul, Neg, Sub};
 
-use crate::real::{Float, Real};
-
-/// A 3-vector over any [`Real`].
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct V3<T> {
-    /// x.
-    pub x: T,
-    /// y.
-    pub y: T,
-    /// z.
-    pub z: T,
-}
+pub(crate) use crate::num::real::V3;
+use crate::num::real::{Float, Real};
 
 impl<T: Real> V3<T> {
     /// From components.

@@ -4,8 +4,8 @@
 //!
 //! `κ = 2 (B − A)·m / |B − A|²`, and the sphere is `κ |x − A|² − 2 (x − A)·m = 0`.
 
-use crate::real::Real;
-use crate::vec::V3;
+use crate::num::real::Real;
+use crate::num::vec::V3;
 
 /// Signed curvature `κ = 2 (b − a)·m / |b − a|²` of the sphere anchored at `a` with unit axis `m`
 /// passing through `b`. Returns `0` (the plane) when `b == a`.
@@ -18,7 +18,7 @@ use crate::vec::V3;
 pub fn curvature<T: Real>(a: V3<T>, m: V3<T>, b: V3<T>) -> T {
     let w = b - a;
     let l2 = w.length2();
-    if l2.re() > <T::F as crate::real::Float>::ZERO {
+    if l2.re() > <T::F as crate::num::real::Float>::ZERO {
         let two = T::lit(2.0);
         two * w.dot(m) / l2
     } else {
@@ -48,7 +48,7 @@ pub fn nearest_root<T: Real>(base: V3<T>, g: V3<T>, a: V3<T>, m: V3<T>, kappa: T
     let qc = kappa * w.length2() - T::lit(2.0) * w.dot(m);
     let disc = (qb * qb - qa * qc).max0();
     let sq = disc.sqrt0();
-    let q = if qb.re() < <T::F as crate::real::Float>::ZERO {
+    let q = if qb.re() < <T::F as crate::num::real::Float>::ZERO {
         sq - qb
     } else {
         -qb - sq
@@ -56,7 +56,7 @@ pub fn nearest_root<T: Real>(base: V3<T>, g: V3<T>, a: V3<T>, m: V3<T>, kappa: T
     // A line through a point of the sphere and tangent to it there has a double root at s = 0;
     // then `c` and `b` are both rounding noise and `c / q` is noise over noise. Detect it
     // (both below 16 ε of their natural scale) and return the root 0.
-    let tol = T::cst(<T::F as crate::real::Float>::EPSILON) * T::lit(16.0);
+    let tol = T::cst(<T::F as crate::num::real::Float>::EPSILON) * T::lit(16.0);
     let (w2, g2) = (w.length2(), g.length2());
     let k2 = kappa * kappa;
     let c_scale = T::lit(2.0) * (k2 * w2 * w2 + T::lit(4.0) * w2);
@@ -65,7 +65,7 @@ pub fn nearest_root<T: Real>(base: V3<T>, g: V3<T>, a: V3<T>, m: V3<T>, kappa: T
     if noise(qc, c_scale) && noise(qb, b_scale) {
         return T::zero();
     }
-    if q.re() != <T::F as crate::real::Float>::ZERO {
+    if q.re() != <T::F as crate::num::real::Float>::ZERO {
         let s = qc / q;
         if s.all_finite() { s } else { T::zero() }
     } else {

@@ -17,8 +17,8 @@
 
 use core::ops::{Add, AddAssign, Div, Mul, MulAssign, Neg, Sub, SubAssign};
 
-use crate::real::{Float, Real};
-use crate::vec::V3;
+use crate::num::real::{Float, LANES, Lane, LaneOps, Real, sealed::Sealed};
+use crate::num::vec::V3;
 
 /// An `f32` with micromath's approximate square root.
 #[derive(Clone, Copy, Debug, Default, PartialEq, PartialOrd)]
@@ -59,6 +59,8 @@ impl Neg for FastF32 {
     }
 }
 
+impl Sealed for FastF32 {}
+
 impl Real for FastF32 {
     type F = FastF32;
     #[inline(always)]
@@ -72,7 +74,7 @@ impl Real for FastF32 {
     #[inline(always)]
     fn sqrt0(self) -> FastF32 {
         if self.0 > 0.0 {
-            FastF32(crate::math::sqrt_fast_f32(self.0))
+            FastF32(crate::num::math::sqrt_fast_f32(self.0))
         } else {
             FastF32(0.0)
         }
@@ -85,7 +87,7 @@ impl Real for FastF32 {
 
 impl Float for FastF32 {
     type Vec3 = glam::Vec3;
-    type L8 = crate::lanes::Lanes8<FastF32>;
+    type L8 = Lanes8<FastF32>;
     const ZERO: FastF32 = FastF32(0.0);
     const ONE: FastF32 = FastF32(1.0);
     const EPSILON: FastF32 = FastF32(f32::EPSILON);
@@ -110,7 +112,7 @@ impl Float for FastF32 {
     }
     #[inline(always)]
     fn sqrt(self) -> FastF32 {
-        FastF32(crate::math::sqrt_fast_f32(self.0))
+        FastF32(crate::num::math::sqrt_fast_f32(self.0))
     }
     #[inline(always)]
     fn min(self, o: FastF32) -> FastF32 {
@@ -127,5 +129,138 @@ impl Float for FastF32 {
     #[inline(always)]
     fn to_glam(v: V3<FastF32>) -> glam::Vec3 {
         glam::Vec3::new(v.x.0, v.y.0, v.z.0)
+    }
+}
+
+/// The portable lane type: eight scalars in an array, each operation a loop the compiler may
+/// vectorise (used for scalars without a `wide` type, such as `FastF32`).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Lanes8<F>(pub [F; LANES]);
+
+#[inline(always)]
+fn zip<F: Copy>(a: [F; LANES], b: [F; LANES], f: impl Fn(F, F) -> F) -> [F; LANES] {
+    let mut out = a;
+    for (o, y) in out.iter_mut().zip(b) {
+        *o = f(*o, y);
+    }
+    out
+}
+
+#[inline(always)]
+fn cmp<F: Copy>(a: [F; LANES], b: [F; LANES], f: impl Fn(F, F) -> bool) -> [bool; LANES] {
+    let mut out = [false; LANES];
+    for ((o, x), y) in out.iter_mut().zip(a).zip(b) {
+        *o = f(x, y);
+    }
+    out
+}
+
+macro_rules! lanes8_op {
+    ($tr:ident, $m:ident, $op:tt) => {
+        impl<F: Float> $tr for Lanes8<F> {
+            type Output = Self;
+            #[inline(always)]
+            fn $m(self, o: Self) -> Self {
+                Lanes8(zip(self.0, o.0, |x, y| x $op y))
+            }
+        }
+    };
+}
+lanes8_op!(Add, add, +);
+lanes8_op!(Sub, sub, -);
+lanes8_op!(Mul, mul, *);
+lanes8_op!(Div, div, /);
+
+impl<F: Float> Neg for Lanes8<F> {
+    type Output = Self;
+    #[inline(always)]
+    fn neg(self) -> Self {
+        Lanes8(self.0.map(|x| -x))
+    }
+}
+
+impl<F: Float> Lane for Lanes8<F> {
+    #[inline(always)]
+    fn from_array(a: [F; LANES]) -> Self {
+        Lanes8(a)
+    }
+    #[inline(always)]
+    fn to_array(self) -> [F; LANES] {
+        self.0
+    }
+    #[inline(always)]
+    fn any(m: [bool; LANES]) -> bool {
+        m.iter().any(|&x| x)
+    }
+    #[inline(always)]
+    fn mask_array(m: [bool; LANES]) -> [bool; LANES] {
+        m
+    }
+}
+
+impl<F: Float> LaneOps for Lanes8<F> {
+    type F = F;
+    type Mask = [bool; LANES];
+    #[inline(always)]
+    fn splat(x: F) -> Self {
+        Lanes8([x; LANES])
+    }
+    #[inline(always)]
+    fn sqrt(self) -> Self {
+        Lanes8(self.0.map(Float::sqrt))
+    }
+    #[inline(always)]
+    fn abs(self) -> Self {
+        Lanes8(self.0.map(|x| if x < F::ZERO { -x } else { x }))
+    }
+    #[inline(always)]
+    fn lt(self, o: Self) -> [bool; LANES] {
+        cmp(self.0, o.0, |x, y| x < y)
+    }
+    #[inline(always)]
+    fn le(self, o: Self) -> [bool; LANES] {
+        cmp(self.0, o.0, |x, y| x <= y)
+    }
+    #[inline(always)]
+    fn gt(self, o: Self) -> [bool; LANES] {
+        cmp(self.0, o.0, |x, y| x > y)
+    }
+    #[inline(always)]
+    fn eq(self, o: Self) -> [bool; LANES] {
+        cmp(self.0, o.0, |x, y| x == y)
+    }
+    #[inline(always)]
+    fn finite(self) -> [bool; LANES] {
+        self.0.map(Float::is_fin)
+    }
+    #[inline(always)]
+    fn select(m: [bool; LANES], a: Self, b: Self) -> Self {
+        let mut out = b.0;
+        for ((o, x), c) in out.iter_mut().zip(a.0).zip(m) {
+            if c {
+                *o = x;
+            }
+        }
+        Lanes8(out)
+    }
+    #[inline(always)]
+    fn and(a: [bool; LANES], b: [bool; LANES]) -> [bool; LANES] {
+        let mut out = a;
+        for (o, y) in out.iter_mut().zip(b) {
+            *o = *o && y;
+        }
+        out
+    }
+    #[inline(always)]
+    fn or(a: [bool; LANES], b: [bool; LANES]) -> [bool; LANES] {
+        let mut out = a;
+        for (o, y) in out.iter_mut().zip(b) {
+            *o = *o || y;
+        }
+        out
+    }
+    #[inline(always)]
+    fn not(a: [bool; LANES]) -> [bool; LANES] {
+        a.map(|x| !x)
     }
 }

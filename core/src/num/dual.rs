@@ -3,7 +3,7 @@
 
 use core::ops::{Add, AddAssign, Div, Mul, MulAssign, Neg, Sub, SubAssign};
 
-use crate::real::Real;
+use crate::num::real::{Real, sealed::Sealed};
 
 /// A dual number: value `re` and derivative `du` along one direction.
 ///
@@ -115,6 +115,8 @@ impl<T: Real> MulAssign for Dual<T> {
     }
 }
 
+impl<T: Real> Sealed for Dual<T> {}
+
 impl<T: Real> Real for Dual<T> {
     type F = T::F;
     #[inline(always)]
@@ -145,9 +147,11 @@ impl<T: Real> Real for Dual<T> {
 
 /// Splits a vector of dual numbers into its value and derivative vectors.
 #[inline(always)]
-pub(crate) fn split<T: Real>(v: crate::vec::V3<Dual<T>>) -> (crate::vec::V3<T>, crate::vec::V3<T>) {
+pub(crate) fn split<T: Real>(
+    v: crate::num::vec::V3<Dual<T>>,
+) -> (crate::num::vec::V3<T>, crate::num::vec::V3<T>) {
     (
-        crate::vec::V3::new(v.x.re, v.y.re, v.z.re),
-        crate::vec::V3::new(v.x.du, v.y.du, v.z.du),
+        crate::num::vec::V3::new(v.x.re, v.y.re, v.z.re),
+        crate::num::vec::V3::new(v.x.du, v.y.du, v.z.du),
     )
 }

@@ -1,0 +1,222 @@
+//! Mesh topology: the edges two triangles share, found by sorting the triangles' edges by their
+//! vertex indices in caller-provided scratch (no allocation), and the typed errors of the
+//! mesh-level steps ([`MeshError`]).
+
+use core::fmt;
+
+/// Scratch entry of [`fit_seams`](super::fit_seams), [`close_cracks`](super::close_cracks) and
+/// [`Scene::build`](crate::Scene::build): one triangle edge keyed by its two vertex indices. The
+/// caller provides `3 × triangles` of them (any contents; [`SharedEdge::default`] will do).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct SharedEdge {
+    /// `lo << 32 | hi` of the two vertex indices.
+    key: u64,
+    /// `3 × triangle + local edge`.
+    slot: u32,
+}
+
+/// Why a mesh-level step ([`fit_seams`](super::fit_seams), [`close_cracks`](super::close_cracks),
+/// [`clamp_vertex_normals`](super::clamp_vertex_normals)) could not run.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MeshError {
+    /// The patches, the triangles and the seams differ in number.
+    LengthMismatch {
+        /// Patches given.
+        patches: usize,
+        /// Triangles given.
+        triangles: usize,
+        /// Seams given.
+        seams: usize,
+    },
+    /// The scratch storage holds fewer than `3 × triangles` entries.
+    ScratchTooSmall {
+        /// Entries needed.
+        needed: usize,
+    },
+    /// More triangles than the scratch entries can index (`3 × triangles` must fit a `u32`).
+    TooManyTriangles,
+    /// [`close_cracks`](crate::mesh::cracks::close_cracks): the patches and the triangles differ in
+    /// number.
+    PatchCount {
+        /// Patches given.
+        patches: usize,
+        /// Triangles given.
+        triangles: usize,
+    },
+    /// A triangle has a vertex index at or above the vertex count, or repeats an index.
+    BadIndex {
+        /// The triangle.
+        triangle: usize,
+    },
+}
+
+impl fmt::Display for MeshError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            MeshError::LengthMismatch {
+                patches,
+                triangles,
+                seams,
+            } => write!(
+                f,
+                "seams: {patches} patches, {triangles} triangles and {seams} seams differ in number"
+            ),
+            MeshError::PatchCount { patches, triangles } => write!(
+                f,
+                "cracks: {patches} patches and {triangles} triangles differ in number"
+            ),
+            MeshError::ScratchTooSmall { needed } => {
+                write!(f, "seams: scratch too small, need {needed} edge entries")
+            }
+            MeshError::TooManyTriangles => f.write_str("seams: too many triangles"),
+            MeshError::BadIndex { triangle } => write!(
+                f,
+                "seams: triangle {triangle} has an out-of-range or repeated vertex index"
+            ),
+        }
+    }
+}
+
+impl core::error::Error for MeshError {}
+
+/// Calls `visit(ta, ja, tb, jb)` for every edge shared by exactly two triangles that traverse
+/// it in opposite directions: edge `ja` of triangle `ta` (from its vertex `ja` to `ja + 1`) and
+/// edge `jb` of triangle `tb`, in the order of the edges' sorted vertex keys. `scratch` holds at
+/// least `3 × triangles.len()` entries (contents on return unspecified).
+///
+/// Errors: [`MeshError::TooManyTriangles`], [`MeshError::ScratchTooSmall`] and
+/// [`MeshError::BadIndex`] (an index at or above `vertex_count`, or repeated in a triangle).
+pub(crate) fn for_each_shared_edge(
+    triangles: &[[u32; 3]],
+    vertex_count: usize,
+    scratch: &mut [SharedEdge],
+    mut visit: impl FnMut(usize, usize, usize, usize),
+) -> Result<(), MeshError> {
+    let Some(needed) = triangles.len().checked_mul(3) else {
+        return Err(MeshError::TooManyTriangles);
+    };
+    if u32::try_from(needed).is_err() {
+        return Err(MeshError::TooManyTriangles);
+    }
+    let Some(edges) = scratch.get_mut(..needed) else {
+        return Err(MeshError::ScratchTooSmall { needed });
+    };
+    for (t, tri) in triangles.iter().enumerate() {
+        let [a, b, c] = *tri;
+        let ok = [a, b, c]
+            .iter()
+            .all(|&i| usize::try_from(i).is_ok_and(|i| i < vertex_count));
+        if !ok || a == b || b == c || c == a {
+            return Err(MeshError::BadIndex { triangle: t });
+        }
+    }
+    let mut slots = edges.iter_mut();
+    for (t, tri) in triangles.iter().enumerate() {
+        for j in 0..3 {
+            let (a, b) = edge_ends(tri, j);
+            if let Some(e) = slots.next() {
+                let (lo, hi) = if a < b { (a, b) } else { (b, a) };
+                *e = SharedEdge {
+                    key: (u64::from(lo) << 32) | u64::from(hi),
+                    slot: (3 * t + j) as u32,
+                };
+            }
+        }
+    }
+    heap_sort(edges);
+    let mut rest: &[SharedEdge] = edges;
+    while let Some(first) = rest.first() {
+        let run = rest.iter().take_while(|e| e.key == first.key).count();
+        let (group, tail) = rest.split_at(run.min(rest.len()));
+        rest = tail;
+        let [ea, eb] = match group {
+            [ea, eb] => [*ea, *eb],
+            _ => continue,
+        };
+        let (ta, ja) = (ea.slot as usize / 3, ea.slot as usize % 3);
+        let (tb, jb) = (eb.slot as usize / 3, eb.slot as usize % 3);
+        let (Some(tri_a), Some(tri_b)) = (triangles.get(ta), triangles.get(tb)) else {
+            continue;
+        };
+        // Opposite directions: A runs a → b, B runs b → a.
+        if edge_ends(tri_a, ja).0 == edge_ends(tri_b, jb).0 {
+            continue;
+        }
+        visit(ta, ja, tb, jb);
+    }
+    Ok(())
+}
+
+/// `true` when entry `a` sorts before entry `b` (by key, then slot); `false` out of range.
+#[inline(always)]
+fn before(v: &[SharedEdge], a: usize, b: usize) -> bool {
+    match (v.get(a), v.get(b)) {
+        (Some(x), Some(y)) => (x.key, x.slot) < (y.key, y.slot),
+        _ => false,
+    }
+}
+
+/// Swaps entries `a` and `b` when both are in range.
+#[inline(always)]
+fn swap_in(v: &mut [SharedEdge], a: usize, b: usize) {
+    if a < v.len() && b < v.len() {
+        v.swap(a, b);
+    }
+}
+
+/// Moves entry `root` down the max-heap `v[..end]`.
+fn sift_down(v: &mut [SharedEdge], mut root: usize, end: usize) {
+    loop {
+        let mut child = 2 * root + 1;
+        if child >= end {
+            return;
+        }
+        if child + 1 < end && before(v, child, child + 1) {
+            child += 1;
+        }
+        if !before(v, root, child) {
+            return;
+        }
+        swap_in(v, root, child);
+        root = child;
+    }
+}
+
+/// Sorts the edges by key, then slot: an in-place heapsort, `O(n log n)`, no recursion. (Core's
+/// `sort_unstable_by` keeps a panic path for inconsistent orderings, which the crate's no-panic
+/// link proof rejects.)
+fn heap_sort(v: &mut [SharedEdge]) {
+    let n = v.len();
+    let mut start = n / 2;
+    while start > 0 {
+        start -= 1;
+        sift_down(v, start, n);
+    }
+    let mut end = n;
+    while end > 1 {
+        end -= 1;
+        swap_in(v, 0, end);
+        sift_down(v, 0, end);
+    }
+}
+
+/// Vertex indices `(start, end)` of local edge `j` of a triangle (`j` mod 3).
+#[inline(always)]
+fn edge_ends(tri: &[u32; 3], j: usize) -> (u32, u32) {
+    let [a, b, c] = *tri;
+    match j % 3 {
+        0 => (a, b),
+        1 => (b, c),
+        _ => (c, a),
+    }
+}
+
+/// `x` with `x_j = 1 − t`, `x_{j+1} = t` (the point at `t` on edge `j`), the third zero.
+#[inline(always)]
+pub(crate) fn edge_bary(j: usize, t: f64) -> [f64; 3] {
+    match j % 3 {
+        0 => [1.0 - t, t, 0.0],
+        1 => [0.0, 1.0 - t, t],
+        _ => [t, 0.0, 1.0 - t],
+    }
+}

@@ -1,0 +1,95 @@
+//! Eight evaluations at once: the lane type the kernel evaluates its height function over.
+//!
+//! [`Lane`] is an 8-wide vector of one precision with the few operations the kernel needs
+//! (arithmetic, square root, comparisons into masks, selects). Every precision names its lane
+//! type through [`Float::L8`]: `f32` uses [`wide::f32x8`] and `f64` [`wide::f64x8`] (from the
+//! `wide` crate with default features off: no_std; AVX/AVX2 when the target enables them, two
+//! SSE2 or NEON halves otherwise, a scalar fallback elsewhere), and other scalars (`FastF32`) the
+//! portable [`Lanes8`] array. The kernel's arithmetic is written once, over [`Lane`], with
+//! selects instead of branches, so one call costs about as much as one scalar evaluation on
+//! AVX2 (docs/METHOD.md §8).
+//!
+//! How an embedding renderer gets the wide instructions: compile with the target's features,
+//! e.g. `RUSTFLAGS="-C target-cpu=native"` or `-C target-feature=+avx2,+fma` on x86-64 (NEON is
+//! on by default on aarch64). Without them the code is still correct, using SSE2 halves.
+
+pub(crate) use crate::num::real::{LANES, Lane, LaneOps};
+
+macro_rules! impl_wide {
+    ($l:ty, $f:ty) => {
+        impl Lane for $l {
+            #[inline(always)]
+            fn from_array(a: [$f; LANES]) -> Self {
+                <$l>::new(a)
+            }
+            #[inline(always)]
+            fn to_array(self) -> [$f; LANES] {
+                <$l>::to_array(self)
+            }
+            #[inline(always)]
+            fn any(m: Self) -> bool {
+                m.any()
+            }
+            #[inline(always)]
+            fn mask_array(m: Self) -> [bool; LANES] {
+                let bits = m.to_bitmask();
+                core::array::from_fn(|i| bits & (1 << i) != 0)
+            }
+        }
+        impl LaneOps for $l {
+            type F = $f;
+            type Mask = $l;
+            #[inline(always)]
+            fn splat(x: $f) -> Self {
+                <$l>::splat(x)
+            }
+            #[inline(always)]
+            fn sqrt(self) -> Self {
+                <$l>::sqrt(self)
+            }
+            #[inline(always)]
+            fn abs(self) -> Self {
+                <$l>::abs(self)
+            }
+            #[inline(always)]
+            fn lt(self, o: Self) -> Self {
+                self.simd_lt(o)
+            }
+            #[inline(always)]
+            fn le(self, o: Self) -> Self {
+                self.simd_le(o)
+            }
+            #[inline(always)]
+            fn gt(self, o: Self) -> Self {
+                self.simd_gt(o)
+            }
+            #[inline(always)]
+            fn eq(self, o: Self) -> Self {
+                self.simd_eq(o)
+            }
+            #[inline(always)]
+            fn finite(self) -> Self {
+                <$l>::is_finite(self)
+            }
+            #[inline(always)]
+            fn select(m: Self, a: Self, b: Self) -> Self {
+                m.select(a, b)
+            }
+            #[inline(always)]
+            fn and(a: Self, b: Self) -> Self {
+                a & b
+            }
+            #[inline(always)]
+            fn or(a: Self, b: Self) -> Self {
+                a | b
+            }
+            #[inline(always)]
+            fn not(a: Self) -> Self {
+                !a
+            }
+        }
+    };
+}
+
+impl_wide!(wide::f32x8, f32);
+impl_wide!(wide::f64x8, f64);

@@ -1,0 +1,11 @@
+//! The number layer (private): the scalar traits and their primitive impls ([`real`]), vectors,
+//! dual numbers, intervals, lanes and the optional `FastF32`. Imports nothing else of the crate.
+
+pub(crate) mod dual;
+#[cfg(feature = "micromath")]
+pub(crate) mod fast;
+pub(crate) mod interval;
+pub(crate) mod lanes;
+pub(crate) mod math;
+pub(crate) mod real;
+pub(crate) mod vec;
