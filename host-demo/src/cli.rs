@@ -150,6 +150,10 @@ struct TraceArgs {
     /// neighbours, so their edge curves meet).
     #[arg(long, value_enum, default_value = "face")]
     field: Field,
+    /// The normal of the snx,sny,snz columns: seamless (continuous across shared edges, what
+    /// `render` shades with) or the patches' exact geometric normal (then equal to nx,ny,nz).
+    #[arg(long, value_enum, default_value = "seamless")]
+    normals: Normals,
 }
 
 #[derive(Args, Debug)]
@@ -162,6 +166,10 @@ struct EvalArgs {
     /// Evaluation precision.
     #[arg(long, value_enum, default_value = "f32")]
     precision: Precision,
+    /// The normal of the snx,sny,snz columns: seamless (continuous across shared edges, what
+    /// `render` shades with) or the patches' exact geometric normal (then equal to nx,ny,nz).
+    #[arg(long, value_enum, default_value = "seamless")]
+    normals: Normals,
 }
 
 #[derive(Args, Debug)]
@@ -263,11 +271,13 @@ pub fn run(cli: Cli) -> Result<()> {
             iterations: a.iterations,
             precision: a.precision,
             field: a.field.into(),
+            normals: a.normals,
         }),
         Cmd::Eval(a) => commands::eval::run(EvalOptions {
             source: a.src.into(),
             points: a.points,
             precision: a.precision,
+            normals: a.normals,
         }),
         Cmd::Inspect(a) => commands::inspect::run(InspectOptions {
             source: a.src.into(),

@@ -133,7 +133,7 @@ pub fn render<F: Prec>(
                     hit: true,
                     point: p,
                     triangle: scene
-                        .tri_ids
+                        .tri_ids()
                         .get(hit.patch as usize)
                         .copied()
                         .unwrap_or(u32::MAX),

@@ -221,13 +221,13 @@ impl Builder {
 /// The level of each patch of `scene` for `level`, and how many hit the cap.
 fn patch_levels<F: Prec>(scene: &Scene<F>, level: Level) -> (Vec<u32>, usize) {
     match level {
-        Level::Uniform(l) => (vec![l.max(1); scene.patches.len()], 0),
+        Level::Uniform(l) => (vec![l.max(1); scene.patches().len()], 0),
         Level::MaxError {
             max_error,
             max_level,
         } => {
             let chosen: Vec<(u32, bool)> = scene
-                .patches
+                .patches()
                 .par_iter()
                 .map(|p| {
                     let mut l = 1;
@@ -261,7 +261,7 @@ pub fn tessellate<F: Prec>(mesh: &Mesh, level: Level) -> Result<(Tessellation, S
         )));
     }
     // Level of each mesh edge: the largest of its sides' levels.
-    let tri_of = |pi: usize| mesh.triangles[scene.tri_ids[pi] as usize];
+    let tri_of = |pi: usize| mesh.triangles[scene.tri_ids()[pi] as usize];
     let edge_key = |a: u32, b: u32| (a.min(b), a.max(b));
     let mut edge_level: HashMap<(u32, u32), (u32, u32)> = HashMap::new();
     for (pi, &l) in levels.iter().enumerate() {
@@ -280,7 +280,7 @@ pub fn tessellate<F: Prec>(mesh: &Mesh, level: Level) -> Result<(Tessellation, S
     };
     let mut tris: Vec<[u32; 3]> = Vec::with_capacity(total as usize);
     let mut origins: Vec<Origin> = Vec::with_capacity(total as usize);
-    for (pi, patch) in scene.patches.iter().enumerate() {
+    for (pi, patch) in scene.patches().iter().enumerate() {
         let t = tri_of(pi);
         let l = levels[pi];
         let eval = |w1: f64, w2: f64| {
@@ -518,7 +518,7 @@ pub fn max_distance<F: Prec>(t: &Tessellation, scene: &Scene<F>) -> Distance {
         .zip(&t.origins)
         .map(|(tri, o)| {
             let v = tri.map(|i| t.mesh.positions[i as usize]);
-            let patch = &scene.patches[o.patch as usize];
+            let patch = &scene.patches()[o.patch as usize];
             let d = PROBES
                 .iter()
                 .enumerate()
@@ -536,9 +536,9 @@ pub fn max_distance<F: Prec>(t: &Tessellation, scene: &Scene<F>) -> Distance {
     for (d, p) in per {
         if d > out.max {
             out.max = d;
-            out.worst_triangle = scene.tri_ids[p as usize];
+            out.worst_triangle = scene.tri_ids()[p as usize];
         }
-        if scene.patches[p as usize].normal_clamp().is_none() {
+        if scene.patches()[p as usize].normal_clamp().is_none() {
             out.max_unclamped = out.max_unclamped.max(d);
         }
     }
@@ -566,7 +566,7 @@ pub fn max_distance_to(t: &Tessellation, dist: impl Fn(DVec3) -> f64 + Sync) -> 
 pub fn surface_distance_to<F: Prec>(scene: &Scene<F>, dist: impl Fn(DVec3) -> f64 + Sync) -> f64 {
     const K: u32 = 12;
     scene
-        .patches
+        .patches()
         .par_iter()
         .map(|p| {
             let mut worst = 0.0f64;

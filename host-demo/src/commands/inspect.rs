@@ -5,7 +5,8 @@ use std::collections::HashMap;
 use std::fmt::Write as _;
 
 use glam::DVec3;
-use smoothtri::{DPatch, LineField, Patch, Seam, SharedEdge, fit_seams};
+use smoothtri::mesh::Seam;
+use smoothtri::{DPatch, LineField, Patch};
 
 use super::MeshSource;
 use crate::error::Result;
@@ -89,33 +90,27 @@ fn key(p: DVec3) -> [u64; 3] {
 /// by exact vertex positions; the second patch's edge is walked in the matching direction),
 /// the patches on `field`.
 pub fn cracks(mesh: &Mesh, field: LineField) -> Cracks {
+    // The f64 scene as the builder makes it (remedy, crack closure, seams); a triangle the
+    // core rejects has no patch and the zero seam.
+    let scene = Scene::<f64>::build_with(mesh, field, true).ok();
     let patches: Vec<Option<DPatch>> = (0..mesh.triangles.len())
         .map(|t| {
-            let (p, n) = mesh.triangle(t);
-            Patch::<f64>::with_field(p, n, field).ok()
+            let sc = scene.as_ref()?;
+            sc.patch_of_tri(t).map(|i| sc.patches()[i])
         })
         .collect();
-    // Seams over the accepted patches (the index buffer of those triangles); a triangle the
-    // core rejects gets the zero seam.
-    let kept: Vec<usize> = (0..patches.len())
-        .filter(|&t| patches[t].is_some())
+    let seams: Vec<Seam<f64>> = (0..mesh.triangles.len())
+        .map(|t| {
+            scene
+                .as_ref()
+                .and_then(|sc| sc.patch_of_tri(t).map(|i| sc.seams()[i]))
+                .unwrap_or_default()
+        })
         .collect();
-    let kept_patches: Vec<DPatch> = kept.iter().filter_map(|&t| patches[t]).collect();
-    let kept_tris: Vec<[u32; 3]> = kept.iter().map(|&t| mesh.triangles[t]).collect();
-    let mut fitted = vec![Seam::default(); kept.len()];
-    let mut scratch = vec![SharedEdge::default(); 3 * kept.len()];
-    let seam_edges = fit_seams(
-        &kept_patches,
-        &kept_tris,
-        mesh.positions.len(),
-        &mut scratch,
-        &mut fitted,
-    )
-    .unwrap_or(0);
-    let mut seams = vec![Seam::<f64>::default(); patches.len()];
-    for (&t, s) in kept.iter().zip(fitted) {
-        seams[t] = s;
-    }
+    let seam_edges = scene
+        .as_ref()
+        .and_then(|sc| sc.report().seam_edges)
+        .unwrap_or(0);
     // Undirected edge → list of (triangle, local edge, forward?) with forward meaning the
     // edge runs from the smaller key to the larger.
     let mut edges: HashMap<EdgeKey, Vec<(usize, usize, bool)>> = HashMap::new();
@@ -201,8 +196,7 @@ pub fn inspect<F: Prec>(name: &str, mesh: &Mesh, field: LineField) -> Result<Str
         "bounding box: min ({}, {}, {})  max ({}, {}, {})  diagonal {}",
         lo.x, lo.y, lo.z, hi.x, hi.y, hi.z, diag
     );
-    let scene =
-        Scene::<F>::build_on(mesh, field).and_then(|mut sc| sc.fit_seams(mesh).map(|()| sc));
+    let scene = Scene::<F>::build_with(mesh, field, true);
     let _ = writeln!(
         s,
         "line field: {}",
@@ -223,7 +217,7 @@ pub fn inspect<F: Prec>(name: &str, mesh: &Mesh, field: LineField) -> Result<Str
             s,
             "patches ({}): {} accepted, {} rejected",
             F::PRECISION,
-            sc.patches.len(),
+            sc.patches().len(),
             sc.rejected.len()
         );
         for (why, n) in sc.rejected_summary() {
@@ -232,8 +226,8 @@ pub fn inspect<F: Prec>(name: &str, mesh: &Mesh, field: LineField) -> Result<Str
         let _ = writeln!(
             s,
             "  remedied (normals clamped toward the face normal, Patch::new_or_tilted): {}{}",
-            sc.remedied.len(),
-            if sc.remedied.is_empty() {
+            sc.remedied().len(),
+            if sc.remedied().is_empty() {
                 String::new()
             } else {
                 format!(" = {}", sc.remedied_summary())
@@ -320,14 +314,14 @@ pub fn inspect<F: Prec>(name: &str, mesh: &Mesh, field: LineField) -> Result<Str
         c.max_shading_jump_deg, c.mean_shading_jump_deg, c.seam_edges
     );
     if let Some(sc) = &scene {
-        let pbytes = std::mem::size_of_val(sc.patches.as_slice());
+        let pbytes = std::mem::size_of_val(sc.patches());
         let bvh = sc.bvh();
         let _ = writeln!(
             s,
             "memory ({}): patches {} bytes ({} × {}), BVH {} bytes ({} nodes + indices), total {} bytes",
             F::PRECISION,
             pbytes,
-            sc.patches.len(),
+            sc.patches().len(),
             std::mem::size_of::<Patch<F>>(),
             bvh.memory_bytes(),
             bvh.node_count(),
@@ -337,10 +331,10 @@ pub fn inspect<F: Prec>(name: &str, mesh: &Mesh, field: LineField) -> Result<Str
             s,
             "seams ({}): {} bytes ({} × {}), {} shared edges fitted (seamless shading normals)",
             F::PRECISION,
-            std::mem::size_of_val(sc.seams.as_slice()),
-            sc.seams.len(),
+            std::mem::size_of_val(sc.seams()),
+            sc.seams().len(),
             std::mem::size_of::<Seam<F>>(),
-            sc.seam_edges
+            sc.report().seam_edges.unwrap_or(0)
         );
         let _ = writeln!(
             s,
@@ -348,14 +342,14 @@ pub fn inspect<F: Prec>(name: &str, mesh: &Mesh, field: LineField) -> Result<Str
              diagonal); each side reaches across by {}× the gap (at most {} of its altitude, \
              smoothtri::close_cracks)",
             F::PRECISION,
-            sc.cracks.open_edges,
-            sc.cracks.shared_edges,
-            sc.cracks.widest_gap,
-            sc.cracks.widest_gap / diag.max(f64::MIN_POSITIVE),
-            smoothtri::crack::CRACK_REACH,
-            smoothtri::crack::MAX_CRACK_REACH
+            sc.report().cracks.open_edges,
+            sc.report().cracks.shared_edges,
+            sc.report().cracks.widest_gap,
+            sc.report().cracks.widest_gap / diag.max(f64::MIN_POSITIVE),
+            smoothtri::internal::CRACK_REACH,
+            smoothtri::internal::MAX_CRACK_REACH
         );
-        if let Some(vc) = sc.vertex_clamps {
+        if let Some(vc) = sc.report().vertex_clamps {
             let _ = writeln!(
                 s,
                 "remedy per vertex ({}): {} vertex normals clamped (one normal for all faces \

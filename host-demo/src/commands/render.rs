@@ -128,11 +128,9 @@ fn render_panel<F: Prec>(
     normals: Normals,
     field: LineField,
 ) -> Result<Panel> {
-    let mut scene = build_scene::<F>(mesh, note, field)?;
     // Only the smooth mode shades with the seams.
-    if normals == Normals::Seamless && mode == Mode::Smooth {
-        scene.fit_seams(mesh)?;
-    }
+    let seams = normals == Normals::Seamless && mode == Mode::Smooth;
+    let scene = build_scene::<F>(mesh, note, field, seams)?;
     let t = tracer::<F>(mode, n)?;
     let r = crate::renderer::render(&scene, cam, t, mesh.diagonal(), true);
     Ok(Panel::from(r))
@@ -140,8 +138,13 @@ fn render_panel<F: Prec>(
 
 /// The scene of `mesh` in precision `F` on `field`; `note` prints its note about skipped or
 /// clamped triangles.
-fn build_scene<F: Prec>(mesh: &Mesh, note: bool, field: LineField) -> Result<Scene<F>> {
-    let scene = Scene::<F>::build_on(mesh, field)?;
+fn build_scene<F: Prec>(
+    mesh: &Mesh,
+    note: bool,
+    field: LineField,
+    seams: bool,
+) -> Result<Scene<F>> {
+    let scene = Scene::<F>::build_with(mesh, field, seams)?;
     if let Some(text) = scene.rejected_note().filter(|_| note) {
         eprintln!("{text}");
     }
@@ -182,7 +185,7 @@ fn render_panel_gpu(
     normals: Normals,
     field: LineField,
 ) -> Result<Panel> {
-    let mut scene = build_scene::<f32>(mesh, note, field)?;
+    let mut scene = build_scene::<f32>(mesh, note, field, false)?;
     scene.normals = normals;
     let r = render_gpu(gpu, &scene, cam, mode, n, mesh.diagonal())?;
     Ok(Panel::from(r))
@@ -282,7 +285,7 @@ pub fn render_gpu(
                 hit: true,
                 point: hit.point.as_dvec3(),
                 triangle: scene
-                    .tri_ids
+                    .tri_ids()
                     .get(hit.patch as usize)
                     .copied()
                     .unwrap_or(u32::MAX),
@@ -300,7 +303,7 @@ pub fn render_gpu(
 /// The Phong shading normal of a flat hit: the vertex normals interpolated at its
 /// barycentrics (the face normal where they cancel), as the CPU's `flat_hit`.
 fn phong_normal(scene: &Scene<f32>, hit: &Hit<f32>) -> Vec3 {
-    let Some(p) = scene.patches.get(hit.patch as usize) else {
+    let Some(p) = scene.patches().get(hit.patch as usize) else {
         return hit.normal;
     };
     let [n0, n1, n2] = p.normals();

@@ -139,7 +139,7 @@ fn run_in<F: Prec>(a: &TessellateOptions, name: &str, mesh: &Mesh) -> Result<Str
     let _ = writeln!(
         s,
         "tessellated {name}: {} patches, {} ({})",
-        scene.patches.len(),
+        scene.patches().len(),
         match a.level {
             Level::Uniform(l) => format!("level {l} ({} sub-triangles each)", l * l),
             Level::MaxError { .. } => level_summary(&t.levels),
@@ -161,11 +161,11 @@ fn run_in<F: Prec>(a: &TessellateOptions, name: &str, mesh: &Mesh) -> Result<Str
         dist.max / diag.max(f64::MIN_POSITIVE),
         dist.worst_triangle
     );
-    if !scene.remedied.is_empty() {
+    if !scene.remedied().is_empty() {
         let _ = writeln!(
             s,
             "  over the {} patches with their normals as given (not clamped): {:.3e}",
-            scene.patches.len() - scene.remedied.len(),
+            scene.patches().len() - scene.remedied().len(),
             dist.max_unclamped
         );
     }

@@ -8,7 +8,7 @@ use super::MeshSource;
 use crate::csvio::{display_name, num, read_text, rows, vec3};
 use crate::error::{DemoError, Result};
 use crate::mesh::Mesh;
-use crate::tracer::{Mode, Prec, Precision, Scene, tracer};
+use crate::tracer::{Mode, Normals, Prec, Precision, Scene, tracer};
 
 /// Options of `trace`.
 #[derive(Clone, Debug)]
@@ -23,24 +23,29 @@ pub struct TraceOptions {
     pub precision: Precision,
     /// The line field the patches are built on.
     pub field: LineField,
+    /// The normal of the `snx,sny,snz` columns.
+    pub normals: Normals,
 }
 
 /// Loads the mesh and traces the rays in the chosen precision.
 pub fn run(a: TraceOptions) -> Result<()> {
     let (_, mesh) = a.source.load(false)?;
     match a.precision {
-        Precision::F32 => trace::<f32>(&mesh, &a.rays, a.iterations, a.field),
-        Precision::F64 => trace::<f64>(&mesh, &a.rays, a.iterations, a.field),
+        Precision::F32 => trace::<f32>(&mesh, &a.rays, a.iterations, a.field, a.normals),
+        Precision::F64 => trace::<f64>(&mesh, &a.rays, a.iterations, a.field, a.normals),
     }
 }
 
 /// Traces the rays of `rays_path` (`-` for stdin) against `mesh` in precision `F` and prints
-/// the closest hit with `t > 0` of each as CSV on stdout, the patches on `field`.
+/// the closest hit with `t > 0` of each as CSV on stdout, the patches on `field`; the
+/// `snx,sny,snz` columns hold the shading normal `normals` asks for (the seams are fitted only
+/// for [`Normals::Seamless`]).
 pub fn trace<F: Prec>(
     mesh: &Mesh,
     rays_path: &str,
     iterations: usize,
     field: LineField,
+    normals: Normals,
 ) -> Result<()> {
     let t = tracer::<F>(Mode::Smooth, iterations)?;
     let text = read_text(rays_path)?;
@@ -59,33 +64,34 @@ pub fn trace<F: Prec>(
         }
         rays.push(Ray::<F>::new(F::v(o), F::v(d)));
     }
-    let scene = Scene::<F>::build_on(mesh, field)?;
+    let scene = Scene::<F>::build_with(mesh, field, normals == Normals::Seamless)?;
     if let Some(note) = scene.rejected_note() {
         eprintln!("{note}");
     }
     let bvh = scene.bvh();
-    let mut out = String::from("ray,hit,t,x,y,z,nx,ny,nz,triangle,w1,w2,t_error\n");
+    let mut out = String::from("ray,hit,t,x,y,z,nx,ny,nz,snx,sny,snz,triangle,w1,w2,t_error\n");
     for (i, ray) in rays.iter().enumerate() {
         match t.closest(&bvh, ray, F::MIN_POSITIVE, F::MAX) {
             Some(h) => {
                 let tri = scene
-                    .tri_ids
+                    .tri_ids()
                     .get(h.patch as usize)
                     .copied()
                     .unwrap_or(u32::MAX);
                 let _ = writeln!(
                     out,
-                    "{i},1,{},{},{},{tri},{},{},{}",
+                    "{i},1,{},{},{},{},{tri},{},{},{}",
                     h.t,
                     vec3::<F>(h.point),
                     vec3::<F>(h.normal),
+                    vec3::<F>(scene.shading_normal(&h)),
                     h.w1,
                     h.w2,
                     h.t_error
                 );
             }
             None => {
-                let _ = writeln!(out, "{i},0,,,,,,,,,,,");
+                let _ = writeln!(out, "{i},0,,,,,,,,,,,,,,");
             }
         }
     }

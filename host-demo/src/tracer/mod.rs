@@ -95,10 +95,10 @@ impl<F: Float, const N: usize> Tracer<F> for Smooth<N> {
         true
     }
     fn closest(&self, bvh: &Bvh<'_, F>, ray: &Ray<F>, t_min: F, t_max: F) -> Option<Hit<F>> {
-        bvh.closest_hit::<N>(ray, t_min, t_max).ok().flatten()
+        bvh.closest_hit::<N>(ray, t_min, t_max)
     }
     fn occluded(&self, bvh: &Bvh<'_, F>, ray: &Ray<F>, t_min: F, t_max: F) -> bool {
-        bvh.any_hit::<N>(ray, t_min, t_max).unwrap_or(false)
+        bvh.any_hit::<N>(ray, t_min, t_max)
     }
 }
 
@@ -111,8 +111,6 @@ impl<F: Float> Tracer<F> for Flat {
             let ns = p.normals();
             flat_hit(&p.vertices(), self.phong.then_some(&ns), ray, a, b)
         })
-        .ok()
-        .flatten()
     }
     fn occluded(&self, bvh: &Bvh<'_, F>, ray: &Ray<F>, t_min: F, t_max: F) -> bool {
         self.closest(bvh, ray, t_min, t_max).is_some()
