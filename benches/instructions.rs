@@ -59,7 +59,7 @@ fn scene_rays<const N: usize>(scene: &Scene, reps: usize) -> usize {
     for _ in 0..reps {
         for r in &rays {
             let h = bvh.closest_hit::<N>(black_box(r), 0.0, f32::INFINITY);
-            hits += matches!(h, Ok(Some(_))) as usize;
+            hits += matches!(h, Some(_)) as usize;
         }
     }
     hits
@@ -103,7 +103,7 @@ fn run_case(name: &str, reps: usize) -> usize {
             for _ in 0..reps {
                 for t in &tiles {
                     let h = bvh.closest_hit_packet::<8>(black_box(t), 0.0, f32::INFINITY);
-                    hits += h.map_or(0, |h| h.iter().flatten().count());
+                    hits += h.iter().flatten().count();
                 }
             }
             hits
@@ -119,7 +119,7 @@ fn run_case(name: &str, reps: usize) -> usize {
                     let h = bvh.closest_with(black_box(r), 0.0, f32::INFINITY, |p, a, b| {
                         flat_hit(&p.vertices(), None, r, a, b)
                     });
-                    hits += matches!(h, Ok(Some(_))) as usize;
+                    hits += matches!(h, Some(_)) as usize;
                 }
             }
             hits

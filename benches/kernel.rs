@@ -11,7 +11,7 @@ use criterion::{Criterion, criterion_group};
 
 mod common;
 use common::*;
-use smoothtri::kernel::max_lane_calls;
+use smoothtri::max_lane_calls;
 use smoothtri::{DEFAULT_SAMPLES, DRay, Patch, Ray, flat_hit, moller_trumbore};
 use smoothtri_demo::scenes::torus;
 
@@ -89,7 +89,7 @@ fn bench_scene(c: &mut Criterion) {
         let bvh = smooth.bvh();
         b.iter(|| {
             rays.iter()
-                .filter(|r| matches!(bvh.closest_hit::<8>(r, 0.0, f32::INFINITY), Ok(Some(_))))
+                .filter(|r| matches!(bvh.closest_hit::<8>(r, 0.0, f32::INFINITY), Some(_)))
                 .count()
         })
     });
@@ -106,7 +106,7 @@ fn bench_scene(c: &mut Criterion) {
                             a,
                             t
                         )),
-                        Ok(Some(_))
+                        Some(_)
                     )
                 })
                 .count()
@@ -290,7 +290,7 @@ fn summary() {
     let (ts, tf) = interleaved(
         || {
             rays.iter()
-                .filter(|r| matches!(bs.closest_hit::<8>(r, 0.0, f32::INFINITY), Ok(Some(_))))
+                .filter(|r| matches!(bs.closest_hit::<8>(r, 0.0, f32::INFINITY), Some(_)))
                 .count()
         },
         || {
@@ -304,7 +304,7 @@ fn summary() {
                             a,
                             t
                         )),
-                        Ok(Some(_))
+                        Some(_)
                     )
                 })
                 .count()
@@ -312,20 +312,20 @@ fn summary() {
         10,
     );
     let mem =
-        |sc: &Scene| sc.patches.len() * std::mem::size_of::<Patch>() + sc.bvh().memory_bytes();
+        |sc: &Scene| sc.patches().len() * std::mem::size_of::<Patch>() + sc.bvh().memory_bytes();
     println!(
         "\n| scene (160×120 camera rays, closest hit) | triangles | max error to torus | Mrays/s | memory |"
     );
     println!("|---|---|---|---|---|");
     println!(
         "| smooth torus 8×8, f32, N = 8 | {} | 7.3e-3 | {:.2} | {} KiB |",
-        smooth.patches.len(),
+        smooth.patches().len(),
         rays.len() as f64 / ts / 1e6,
         mem(&smooth) / 1024
     );
     println!(
         "| flat torus {n}×{n} (equal error) | {} | {:.1e} | {:.2} | {} KiB |",
-        flat.patches.len(),
+        flat.patches().len(),
         err,
         rays.len() as f64 / tf / 1e6,
         mem(&flat) / 1024

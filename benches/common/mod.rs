@@ -3,7 +3,7 @@
 #![allow(dead_code)]
 
 use glam::{DVec3, Vec3};
-use smoothtri::{Bvh, BvhNode, DPatch, DRay, LineField, Patch, Ray};
+use smoothtri::{BuildOptions, Bvh, DPatch, DRay, LineField, OwnedScene, Patch, Ray, Vertices};
 use smoothtri_demo::scenes::{Mesh, torus, torus_distance};
 
 /// Deterministic SplitMix64.
@@ -113,32 +113,34 @@ pub fn flat_torus_matching(target: f64) -> (usize, f64) {
     (200, f64::NAN)
 }
 
-/// A BVH scene in owned storage.
+/// A scene built by the core's builder ([`OwnedScene`]: crack closure, no seams), `f32`.
 pub struct Scene {
-    pub patches: Vec<Patch>,
-    pub nodes: Vec<BvhNode<f32>>,
-    pub order: Vec<u32>,
+    owned: OwnedScene<f32>,
 }
 impl Scene {
     pub fn new(m: &Mesh) -> Self {
         Self::new_on(m, LineField::Face)
     }
     pub fn new_on(m: &Mesh, field: LineField) -> Self {
-        let patches = patches32_on(m, field);
-        let mut nodes = vec![BvhNode::default(); Bvh::<f32>::nodes_needed(patches.len())];
-        let mut order = vec![0u32; patches.len()];
-        let used = Bvh::build(&patches, &mut nodes, &mut order)
-            .unwrap()
-            .node_count();
-        nodes.truncate(used);
-        Scene {
-            patches,
-            nodes,
-            order,
-        }
+        let flat = |v: &[DVec3]| -> Vec<f64> { v.iter().flat_map(|p| p.to_array()).collect() };
+        let (pos, nrm) = (flat(&m.positions), flat(&m.normals));
+        let owned = OwnedScene::build(
+            Vertices::packed(&pos),
+            Vertices::packed(&nrm),
+            &m.triangles,
+            &BuildOptions {
+                field,
+                seams: false,
+            },
+        )
+        .expect("the bench meshes build");
+        Scene { owned }
     }
     pub fn bvh(&self) -> Bvh<'_, f32> {
-        Bvh::from_parts(&self.patches, &self.nodes, &self.order)
+        *self.owned.scene().bvh()
+    }
+    pub fn patches(&self) -> &[Patch] {
+        self.owned.scene().patches()
     }
 }
 

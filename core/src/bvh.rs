@@ -84,6 +84,20 @@ pub struct BvhNode<F: Float> {
 }
 
 impl<F: Float> BvhNode<F> {
+    /// A node from its parts, for owners that store trees themselves (serialised, uploaded and
+    /// read back): an interior node (`count == 0`) with children `first` and `first + 1`, or a
+    /// leaf of `order[first..first + count]`. [`Bvh::from_parts`] checks what they make.
+    ///
+    /// # Panics
+    /// Never.
+    pub fn new(bounds: Aabb<F>, first: u32, count: u32) -> Self {
+        BvhNode {
+            bounds,
+            first,
+            count,
+        }
+    }
+
     /// The node's box (the union of its patches' shell boxes).
     ///
     /// # Panics

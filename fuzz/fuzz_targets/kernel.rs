@@ -156,7 +156,7 @@ fn check_hit<F: Float>(h: &Hit<F>, t_min: F, t_max: F, reach: f64, utol: f64) {
 }
 
 fn check_stats(s: KernelStats, k: u32, n: u32) {
-    let bound = 8 * smoothtri::kernel::max_lane_calls(k as usize, n as usize) as u32;
+    let bound = 8 * smoothtri::max_lane_calls(k as usize, n as usize) as u32;
     assert!(
         s.height_evals <= bound,
         "{} height evaluations, bound {bound}",

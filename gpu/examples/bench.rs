@@ -21,7 +21,7 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use glam::DVec3;
-use smoothtri::{Bvh, BvhNode, LineField, Patch, Ray};
+use smoothtri::{LineField, Ray};
 use smoothtri_demo::mesh::{Mesh, angle_weighted_normals};
 use smoothtri_demo::scenes::{teapot, tilted_normal_sphere, torus};
 use smoothtri_demo::{Camera, Scene};
@@ -84,35 +84,6 @@ fn wavy_torus(n: usize) -> Mesh {
         m.triangles.iter().map(|t| t.map(|i| i as usize)),
     );
     m
-}
-
-/// The mesh's patches (steep normals clamped as the demo does) and their BVH.
-struct Built {
-    patches: Vec<Patch>,
-    nodes: Vec<BvhNode<f32>>,
-    order: Vec<u32>,
-}
-
-/// The flat baseline's triangles and BVH (the patches' vertices; no crack closure, whose
-/// reach would only grow the flat boxes).
-fn flat_build(mesh: &Mesh) -> Result<Built, String> {
-    let patches: Vec<Patch> = (0..mesh.triangles.len())
-        .filter_map(|t| {
-            let (p, n) = mesh.triangle(t);
-            Patch::new_or_tilted(p.map(|x| x.as_vec3()), n.map(|x| x.as_vec3())).ok()
-        })
-        .collect();
-    let mut nodes = vec![BvhNode::default(); Bvh::<f32>::nodes_needed(patches.len())];
-    let mut order = vec![0u32; patches.len()];
-    let used = Bvh::build(&patches, &mut nodes, &mut order)
-        .map_err(|e| e.to_string())?
-        .node_count();
-    nodes.truncate(used);
-    Ok(Built {
-        patches,
-        nodes,
-        order,
-    })
 }
 
 /// Throughput of closest hits of `rays` on `scene`, the best of `repeat` runs.
@@ -230,14 +201,13 @@ fn main() -> Result<(), String> {
             })
             .collect();
         // As a renderer builds it: patches, cracks closed, BVH (`Scene::build`).
-        let b = Scene::<f32>::build_on(&mesh, field).map_err(|e| e.to_string())?;
+        let b = Scene::<f32>::build_with(&mesh, field, false).map_err(|e| e.to_string())?;
         let bvh = b.bvh();
         let smooth = GpuScene::smooth(&gpu, &bvh).map_err(|e| e.to_string())?;
         let s = rate(&smooth, o.iterations, &rays, o.repeat).map_err(|e| e.to_string())?;
         for (flat_name, flat_mesh) in flats {
-            let fb = flat_build(&flat_mesh)?;
-            let fbvh = Bvh::from_parts(&fb.patches, &fb.nodes, &fb.order);
-            let flat = GpuScene::flat(&gpu, &fbvh).map_err(|e| e.to_string())?;
+            let fb = Scene::<f32>::build(&flat_mesh).map_err(|e| e.to_string())?;
+            let flat = GpuScene::flat(&gpu, &fb.bvh()).map_err(|e| e.to_string())?;
             let f = rate(&flat, 0, &rays, o.repeat).map_err(|e| e.to_string())?;
             let ratio = match (s.kernel, f.kernel) {
                 (Some(sk), Some(fk)) => format!("{:.1}×", fk / sk),
@@ -246,11 +216,11 @@ fn main() -> Result<(), String> {
             println!(
                 "| {name} ({} hits) | {} | {:.1} / {} | {flat_name} ({} hits) | {} | {:.1} / {} | {ratio} |",
                 s.hits,
-                b.patches.len(),
+                b.patches().len(),
                 s.call,
                 opt(s.kernel),
                 f.hits,
-                fb.patches.len(),
+                fb.patches().len(),
                 f.call,
                 opt(f.kernel),
             );

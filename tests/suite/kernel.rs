@@ -2,11 +2,12 @@
 //! guarantee and its work bound, within the named bounds of [`smoothtri::accuracy`]. Prints
 //! what it measures: `cargo test --release --test suite kernel:: -- --nocapture`.
 
+use crate::common::pins::*;
 use crate::common::*;
 use glam::{DVec3, Vec3};
 use smoothtri::accuracy::*;
-use smoothtri::kernel::max_lane_calls;
-use smoothtri::kernel::refine::{EARLY_STOP, WORST_SHRINK};
+use smoothtri::max_lane_calls;
+use smoothtri::internal::{EARLY_STOP, WORST_SHRINK};
 use smoothtri::{DEFAULT_SAMPLES, DPatch, DRay, Float, Patch, Ray};
 use smoothtri_demo::scenes::{Mesh, cube, icosphere, torus};
 

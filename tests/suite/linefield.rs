@@ -6,7 +6,7 @@
 use crate::common::*;
 use glam::DVec3;
 use smoothtri::accuracy::F32_VS_F64_POINT;
-use smoothtri::lanes::LANES;
+use smoothtri::internal::LANES;
 use smoothtri::{Bvh, BvhNode, DPatch, DRay, Float, LineField, Patch, Ray};
 
 /// Random patches (well-shaped, normals within 40° of the face) on the shared field, whose
@@ -102,9 +102,9 @@ fn packets_agree_on_tilted_sections() {
                 let target = rng.unit() * 0.5;
                 Ray::new(conv(o), conv((target - o).normalize()))
             });
-            let got = bvh.closest_hit_packet::<4>(&rays, F::ZERO, inf).unwrap();
+            let got = bvh.closest_hit_packet::<4>(&rays, F::ZERO, inf);
             for (ray, g) in rays.iter().zip(got) {
-                let want = bvh.closest_hit::<4>(ray, F::ZERO, inf).unwrap();
+                let want = bvh.closest_hit::<4>(ray, F::ZERO, inf);
                 match (g, want) {
                     (Some(g), Some(w)) => {
                         hits += 1;
@@ -130,7 +130,7 @@ fn packets_agree_on_tilted_sections() {
 /// the shared field, leaves the others bit for bit, and reports typed errors for bad input.
 #[test]
 fn vertex_clamps_resolve_the_cylinder_and_errors_are_typed() {
-    use smoothtri::{MeshError, VertexClamp, clamp_vertex_normals};
+    use smoothtri::mesh::{MeshError, VertexClamp, clamp_vertex_normals};
     let m = cylinder(8).to_mesh();
     let n = m.positions.len();
     let mut out = vec![DVec3::ZERO; n];

@@ -3,11 +3,13 @@
 //! the true torus, and `fit_seams`'s errors and non-manifold cases.
 //! `cargo test --release --test suite seam:: -- --nocapture` prints the measured values.
 
+use crate::common::pins::*;
 use crate::common::*;
 use glam::DVec3;
 use smoothtri::accuracy::*;
-use smoothtri::seam::{FIT_SAMPLES, TWIST_TERMS};
-use smoothtri::{Patch, Seam, SharedEdge, MeshError, fit_seams};
+use smoothtri::internal::{FIT_SAMPLES, TWIST_TERMS};
+use smoothtri::Patch;
+use smoothtri::mesh::{MeshError, Seam, SharedEdge, fit_seams};
 use smoothtri_demo::scenes::{self, Mesh};
 
 /// The patches of `mesh` (every triangle accepted, some perhaps with clamped normals:

@@ -3,7 +3,7 @@
 //! faces, in `f64` and `f32`.
 
 use crate::common::*;
-use smoothtri::accuracy::SHELL_CLEARANCE;
+use crate::common::pins::SHELL_CLEARANCE;
 use smoothtri::{DPatch, LineField, Patch};
 
 #[test]

@@ -7,9 +7,8 @@
 
 use crate::common::*;
 use glam::DVec3;
-use smoothtri::{
-    Bvh, BvhNode, LineField, Patch, Ray, SharedEdge, VertexClamp, clamp_vertex_normals, close_cracks,
-};
+use smoothtri::mesh::{SharedEdge, VertexClamp, clamp_vertex_normals, close_cracks};
+use smoothtri::{Bvh, BvhNode, LineField, Patch, Ray};
 use smoothtri_demo::scenes::{self, Mesh};
 
 fn diagonal(mesh: &Mesh) -> f64 {
@@ -145,9 +144,7 @@ fn fall_through<F: P>(
             for (kind, target) in [(0, c), (1, target_near), (2, (c + cb) * 0.5)] {
                 let o = target + u * dist;
                 let ray = Ray::<F>::new(F::v(o), F::v(-u));
-                let hit = bvh
-                    .closest_hit::<4>(&ray, F::ZERO, F::from_f64(f64::INFINITY))
-                    .unwrap();
+                let hit = bvh.closest_hit::<4>(&ray, F::ZERO, F::from_f64(f64::INFINITY));
                 let through = match hit {
                     None => true,
                     Some(h) => h.t.to_f64() > dist + slack,
@@ -172,7 +169,7 @@ fn fall_through<F: P>(
         let rays: [Ray<F>; 8] = std::array::from_fn(|i| chunk[i].0);
         let hits = bvh
             .closest_hit_packet::<4>(&rays, F::ZERO, F::from_f64(f64::INFINITY))
-            .unwrap();
+            ;
         for (h, &(_, single_through)) in hits.iter().zip(chunk) {
             let through = h.is_none_or(|h| h.t.to_f64() > dist + slack);
             assert_eq!(through, single_through, "packet and single ray disagree");

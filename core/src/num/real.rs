@@ -193,9 +193,32 @@ pub trait Float: Real<F = Self> + Copy + Default + PartialEq {
     /// Square root (correctly rounded, libm); NaN for negative input.
     fn sqrt(self) -> Self;
     /// Converts from the glam vector.
+    #[doc(hidden)]
     fn from_glam(v: Self::Vec3) -> V3<Self>;
     /// Converts to the glam vector.
+    #[doc(hidden)]
     fn to_glam(v: V3<Self>) -> Self::Vec3;
+    /// Rounds an `f64` vector to this precision (each component once; exact for `f64`).
+    ///
+    /// # Panics
+    /// Never.
+    #[inline]
+    fn from_dvec3(v: glam::DVec3) -> Self::Vec3 {
+        Self::to_glam(V3 {
+            x: Self::from_f64(v.x),
+            y: Self::from_f64(v.y),
+            z: Self::from_f64(v.z),
+        })
+    }
+    /// Widens a vector of this precision to `f64` (exact).
+    ///
+    /// # Panics
+    /// Never.
+    #[inline]
+    fn to_dvec3(v: Self::Vec3) -> glam::DVec3 {
+        let w = Self::from_glam(v);
+        glam::DVec3::new(w.x.to_f64(), w.y.to_f64(), w.z.to_f64())
+    }
     /// The smaller of two numbers (the other one if one is NaN).
     fn min(self, o: Self) -> Self;
     /// The larger of two numbers (the other one if one is NaN).

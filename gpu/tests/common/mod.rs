@@ -67,7 +67,7 @@ impl Tree {
         Tree { nodes, order }
     }
     pub fn bvh<'a>(&'a self, patches: &'a [Patch]) -> Bvh<'a, f32> {
-        Bvh::from_parts(patches, &self.nodes, &self.order)
+        Bvh::from_parts(patches, &self.nodes, &self.order).expect("a tree made by Bvh::build")
     }
 }
 

@@ -8,6 +8,7 @@ use glam::DVec3;
 use smoothtri::Float;
 use smoothtri_demo::scenes::{self, Mesh};
 
+pub mod pins;
 mod random;
 pub use random::*;
 

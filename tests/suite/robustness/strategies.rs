@@ -284,11 +284,7 @@ impl RayParam {
 
 /// An `f64` vector rounded to precision `F`.
 pub fn to_f<F: smoothtri::Float>(v: DVec3) -> F::Vec3 {
-    F::to_glam(smoothtri::vec::V3::new(
-        F::from_f64(v.x),
-        F::from_f64(v.y),
-        F::from_f64(v.z),
-    ))
+    F::from_dvec3(v)
 }
 
 /// The accepted patches of `inputs`, patch `i` shifted by `(i, 7i mod 5, 3i mod 4)·10^spread`
