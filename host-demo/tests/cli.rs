@@ -373,11 +373,14 @@ fn trace_csv_round_trip() {
             ],
         );
         let lines: Vec<&str> = r.out.lines().collect();
-        assert_eq!(lines[0], "ray,hit,t,x,y,z,nx,ny,nz,triangle,w1,w2,t_error");
+        assert_eq!(
+            lines[0],
+            "ray,hit,t,x,y,z,nx,ny,nz,snx,sny,snz,triangle,w1,w2,t_error"
+        );
         assert_eq!(lines.len(), 5);
         let rows: Vec<Vec<String>> = lines[1..].iter().map(|l| parse_fields(l)).collect();
         for (i, row) in rows.iter().enumerate() {
-            assert_eq!(row.len(), 13, "{row:?}");
+            assert_eq!(row.len(), 16, "{row:?}");
             assert_eq!(row[0], i.to_string());
         }
         assert_eq!(rows[2][1], "0");
@@ -393,8 +396,13 @@ fn trace_csv_round_trip() {
             assert!((p.length() - 3f64.sqrt()).abs() < 1e-5, "{row:?}");
             let n = DVec3::new(v[4], v[5], v[6]);
             assert!((n.length() - 1.0).abs() < 1e-5);
-            assert!(v[7] >= 0.0 && v[7] < 12.0 && v[7].fract() == 0.0);
-            assert!(v[10] >= 0.0);
+            // The seamless shading normal: unit, and radial like the geometric one on a
+            // sphere's patches (the correction vanishes there).
+            let sn = DVec3::new(v[7], v[8], v[9]);
+            assert!((sn.length() - 1.0).abs() < 1e-5);
+            assert!((sn - p.normalize()).length() < 1e-4, "{row:?}");
+            assert!(v[10] >= 0.0 && v[10] < 12.0 && v[10].fract() == 0.0);
+            assert!(v[13] >= 0.0);
             if prec == "f32" {
                 // Printed floats read back exactly (shortest round trip).
                 for s in &row[2..] {
@@ -408,6 +416,27 @@ fn trace_csv_round_trip() {
         let t3: f64 = rows[3][2].parse().expect("t");
         let z3: f64 = rows[3][5].parse().expect("z");
         assert!((5.0 - 2.0 * t3 - z3).abs() < 1e-5, "t in units of dir");
+        // With the geometric normal asked for, the shading columns repeat nx,ny,nz, and every
+        // other column is unchanged.
+        let g = ok(
+            d.path(),
+            &[
+                "trace",
+                "--scene",
+                "cube",
+                "--rays",
+                "rays.csv",
+                "--precision",
+                prec,
+                "--normals",
+                "geometric",
+            ],
+        );
+        for (seamless, geometric) in r.out.lines().zip(g.out.lines()).skip(1) {
+            let (a, b) = (parse_fields(seamless), parse_fields(geometric));
+            assert_eq!(b[6..9], b[9..12], "{geometric}");
+            assert_eq!((&a[..9], &a[12..]), (&b[..9], &b[12..]));
+        }
     }
     // stdin
     let r = run_in(
@@ -445,7 +474,12 @@ fn eval_of_vertices_is_exact() {
             ],
         );
         let lines: Vec<&str> = r.out.lines().collect();
-        assert_eq!(lines[0], "triangle,w1,w2,x,y,z,nx,ny,nz");
+        assert_eq!(lines[0], "triangle,w1,w2,x,y,z,nx,ny,nz,snx,sny,snz");
+        // At the vertices the shading normal is the vertex normal itself.
+        for l in &lines[1..4] {
+            let f = parse_fields(l);
+            assert_eq!(f[6..9], f[9..12], "{l}");
+        }
         let xyz = |l: &str| -> Vec<f64> {
             parse_fields(l)[3..6]
                 .iter()

@@ -16,13 +16,13 @@
 use core::fmt::Write;
 use core::hint::black_box;
 
-use smoothtri::dual::Dual;
-use smoothtri::sphere::{curvature, nearest_root};
-use smoothtri::vec::V3;
+use smoothtri::mesh::{
+    MeshError, Seam, SharedEdge, VertexClamp, clamp_vertex_normals, close_cracks, fit_seams,
+};
 use smoothtri::{
-    Aabb, Bvh, BvhError, BvhNode, DEFAULT_SAMPLES, FastF32, Float, Hit, KernelStats, LineField,
-    Patch, PatchError, Ray, Real, Seam, SharedEdge, MeshError, VertexClamp, clamp_vertex_normals,
-    close_cracks, fit_seams, flat_hit, moller_trumbore,
+    Aabb, BuildError, BuildOptions, Bvh, BvhError, BvhNode, DEFAULT_SAMPLES, FastF32, Float, Hit,
+    KernelStats, LineField, Patch, PatchError, Ray, Scene, SceneSizes, SceneStorage, Vertices,
+    flat_hit, max_lane_calls, moller_trumbore,
 };
 
 unsafe extern "C" {
@@ -64,80 +64,32 @@ fn display_len(x: &dyn core::fmt::Display) -> u32 {
 
 /// A world vector from `f64` components, opaque to the optimiser.
 fn v<F: Float>(x: f64, y: f64, z: f64) -> F::Vec3 {
-    black_box(F::to_glam(V3::new(
-        F::from_f64(x),
-        F::from_f64(y),
-        F::from_f64(z),
-    )))
+    black_box(F::from_dvec3(glam::DVec3::new(x, y, z)))
+}
+
+/// Whether every component of a vector is finite.
+fn fin<F: Float>(v: F::Vec3) -> bool {
+    let d = F::to_dvec3(v);
+    F::from_f64(d.x).is_fin() && F::from_f64(d.y).is_fin() && F::from_f64(d.z).is_fin()
 }
 
 fn c<F: Float>(x: f64) -> F {
     black_box(F::from_f64(x))
 }
 
-/// The scalar layer: `Real`, `Float`, `V3`, `Dual`, and the sphere functions on plain and dual
-/// numbers.
+/// The public scalar face: `Float`'s constants and functions, and the work bound.
 fn scalars<F: Float>() -> u32 {
     let x = c::<F>(2.0);
     let y = c::<F>(-0.5);
-    // Real (provided and required methods), on F and on nested duals over F.
-    let r = x.sqrt0() + y.abs() + y.max0() + F::lit(0.25) + F::cst(x.re()) + F::zero() + F::one();
-    let s = x.sign1() + y.sign1();
-    let d = Dual::var(x) * Dual::constant(y) + Dual::var(y) / Dual::var(x) - Dual::constant(x);
-    let mut dd = -d;
-    dd += Dual::var(x);
-    dd -= Dual::constant(y);
-    dd *= Dual::var(y);
-    let dd = dd.sqrt0() + dd.abs() + dd.max0();
-    let nested: Dual<Dual<F>> = Dual::var(Dual::var(x)) * Dual::var(Dual::constant(y));
-    let fin = r.all_finite() as u32
-        + dd.all_finite() as u32
-        + nested.sqrt0().all_finite() as u32
-        + (d.sign1() > F::ZERO) as u32
-        + (d == dd) as u32
-        + (d < dd) as u32;
-    // Float.
     let f = x.sqrt() + x.min(y) + x.max(y) + F::from_f64(F::EPSILON.to_f64()) - F::MIN_POSITIVE
         + F::MAX * F::ZERO
         + F::MIN * F::ZERO
         + F::ONE;
-    let flags = f.is_fin() as u32 + f.is_nan() as u32;
-    // V3.
-    let a = V3::new(x, y, F::ONE);
-    let b = V3::<F>::zero() + F::from_glam(v::<F>(0.3, 0.2, 0.1));
-    let m = a
-        .cross(b)
-        .try_normalize()
-        .unwrap_or(V3::new(F::ZERO, F::ZERO, F::ONE));
-    let w = a.lerp(b, y) - m * x;
-    let lifted: V3<Dual<F>> = V3::lift(w);
-    let vv = (-lifted).re();
-    let vec_ok = vv.all_finite() as u32 + (a.dot(b) + w.length() + w.length2() > F::ZERO) as u32;
-    // Spheres, on F and on duals.
-    let k = curvature(a, m, b);
-    let root = nearest_root(b, a, w, m, k);
-    let kd = curvature(lifted, V3::lift(m), V3::lift(b));
-    let rd = nearest_root(V3::lift(b), lifted, V3::lift(a), V3::lift(m), kd);
-    let sph = (k + root + s).is_fin() as u32 + rd.all_finite() as u32;
-    fin + flags + vec_ok + sph
-}
-
-/// Everything above the scalar layer, in precision `F`.
-/// Every method of the lane type of `F` (the kernel's eight-wide evaluation) and the work bound.
-fn lanes<F: Float>() -> u32 {
-    use smoothtri::lanes::{LANES, Lane, LaneOps};
-    let a = F::L8::from_array(core::array::from_fn(|i| c::<F>(i as f64 - 3.5)));
-    let b = black_box(F::L8::splat(c::<F>(0.5)));
-    let x = ((a + b) * b - a / b).abs().sqrt() + (-a);
-    let m = F::L8::and(a.lt(b), F::L8::not(a.eq(b)));
-    let m = F::L8::or(m, F::L8::and(a.le(b), a.gt(b)));
-    let m = F::L8::and(m, x.finite());
-    let y = F::L8::select(m, x, b).to_array();
-    let mut acc = F::L8::any(m) as u32 + F::L8::mask_array(m).iter().filter(|&&q| q).count() as u32;
-    acc += y.iter().filter(|q| q.is_fin()).count() as u32;
-    acc += (smoothtri::kernel::max_lane_calls(black_box(DEFAULT_SAMPLES), black_box(8)) + LANES)
-        as u32;
-    acc
+    let w = F::to_dvec3(v::<F>(0.3, 0.2, 0.1));
+    f.is_fin() as u32
+        + f.is_nan() as u32
+        + (w.x > 0.0) as u32
+        + max_lane_calls(black_box(DEFAULT_SAMPLES), black_box(8)) as u32
 }
 
 fn exercise<F: Float>() -> u32 {
@@ -173,7 +125,7 @@ fn exercise<F: Float>() -> u32 {
                 let ray = Ray::<F>::new(v::<F>(2.0, 2.0, 2.0), v::<F>(-1.0, -1.0, -1.0));
                 let h = q.intersect::<4>(&ray, c::<F>(0.0), c::<F>(f64::INFINITY));
                 acc += h.map_or(0, |h| h.t.is_fin() as u32);
-                acc += F::from_glam(q.point(c::<F>(0.1), c::<F>(0.7))).all_finite() as u32;
+                acc += fin::<F>(q.point(c::<F>(0.1), c::<F>(0.7))) as u32;
             }
         }
     }
@@ -193,19 +145,19 @@ fn exercise<F: Float>() -> u32 {
     let (lo, hi) = patch.height_range();
     acc += patch.roots_certified() as u32;
     let vs = [x, xn, nn, d1, d2, ce, cn, v0, n0, nf];
-    acc += vs.iter().filter(|q| F::from_glam(**q).all_finite()).count() as u32;
+    acc += vs.iter().filter(|q| fin::<F>(**q)).count() as u32;
     acc += (h + lo + hi).is_fin() as u32;
     // Boxes.
     let b = patch.bounds();
     let u = b.union(&Aabb::new(b.min(), b.max())).union(&Aabb::EMPTY);
     let e = Aabb::<F>::default();
-    acc += F::from_glam(u.max()).all_finite() as u32 + (e == Aabb::EMPTY) as u32;
+    acc += fin::<F>(u.max()) as u32 + (e == Aabb::EMPTY) as u32;
     let data = patch.data();
     acc += (data.sigma[1].is_fin() && data == black_box(patch).data()) as u32;
     // Rays and the per-patch kernels.
     let ray = Ray::<F>::new(v::<F>(2.0, 2.0, 2.0), v::<F>(-1.0, -1.0, -1.0));
     let at = ray.at(c::<F>(0.5));
-    acc += F::from_glam(at).all_finite() as u32;
+    acc += fin::<F>(at) as u32;
     let (t0, t1) = (c::<F>(0.0), c::<F>(f64::INFINITY));
     let hit: Option<Hit<F>> = patch.intersect::<8>(&ray, t0, t1);
     let (hit2, stats): (_, KernelStats) = patch.intersect_stats::<DEFAULT_SAMPLES, 5>(&ray, t0, t1);
@@ -231,31 +183,35 @@ fn exercise<F: Float>() -> u32 {
             acc += bvh.patches().len() as u32;
             let root = bvh.nodes().first().copied().unwrap_or_default();
             acc += root.first() + root.count() + bvh.order().len() as u32;
-            acc += F::from_glam(root.bounds().min()).all_finite() as u32;
-            if let Ok(Some(h)) = bvh.closest_hit::<8>(&ray, t0, t1) {
+            acc += fin::<F>(root.bounds().min()) as u32;
+            if let Some(h) = bvh.closest_hit::<8>(&ray, t0, t1) {
                 acc += h.patch;
             }
-            let rays = [ray; smoothtri::lanes::LANES];
-            if let Ok(hs) = bvh.closest_hit_packet::<4>(black_box(&rays), t0, t1) {
-                acc += hs.iter().flatten().count() as u32;
-            }
-            if let Ok(true) = bvh.any_hit::<4>(&ray, t0, t1) {
-                acc += 1;
-            }
+            let rays = [ray; 8];
+            let hs = bvh.closest_hit_packet::<4>(black_box(&rays), t0, t1);
+            acc += hs.iter().flatten().count() as u32;
+            acc += bvh.any_hit::<4>(&ray, t0, t1) as u32;
             let with = bvh.closest_with(&ray, t0, t1, |p, a, b| {
                 flat_hit(&p.vertices(), Some(&p.normals()), &ray, a, b)
             });
-            if let Err(e) = with {
-                acc += display_len(&e);
+            acc += with.is_some() as u32;
+            // Re-wrapped storage, checked once.
+            if let Ok(again) = Bvh::from_parts(&patches, bvh.nodes(), bvh.order()) {
+                acc += again.closest_hit::<2>(&ray, t0, t1).is_some() as u32;
             }
         }
         Err(e) => acc += display_len(&e),
     }
     // Storage not made by `build`: typed errors, never a panic.
     let junk = [BvhNode::<F>::default(); 3];
-    let raw = Bvh::from_parts(black_box(&patches), black_box(&junk), black_box(&order));
-    if let Err(e) = raw.closest_hit::<2>(&ray, t0, t1) {
-        acc += display_len(&e);
+    let junk = [
+        junk[0],
+        BvhNode::new(junk[1].bounds(), black_box(1), 0),
+        BvhNode::new(Aabb::EMPTY, black_box(0), black_box(9)),
+    ];
+    match Bvh::from_parts(black_box(&patches), black_box(&junk), black_box(&order)) {
+        Ok(raw) => acc += raw.closest_hit::<2>(&ray, t0, t1).is_some() as u32,
+        Err(e) => acc += display_len(&e),
     }
     let mut few = [BvhNode::<F>::default(); 1];
     if let Err(e) = Bvh::build(black_box(&patches), &mut few, &mut order) {
@@ -332,13 +288,13 @@ fn seams<F: Float>(patches: &[Patch<F>], ray: &Ray<F>) -> u32 {
         let n = seam.shading_normal(patch, w1, w2);
         let g = patch.point_normal(w1, w2).1;
         let m = seam.correct(patch, w1, w2, g);
-        acc += F::from_glam(n).all_finite() as u32 + F::from_glam(m).all_finite() as u32;
+        acc += fin::<F>(n) as u32 + fin::<F>(m) as u32;
         acc += seam.is_zero() as u32 + (seam == &wild) as u32;
     }
     if let Some(p) = ps.first() {
         if let Some(h) = p.intersect::<4>(ray, c::<F>(0.0), c::<F>(f64::INFINITY)) {
             let n = wild.correct(p, h.w1, h.w2, h.normal);
-            acc += F::from_glam(n).all_finite() as u32;
+            acc += fin::<F>(n) as u32;
         }
     }
     acc
@@ -367,7 +323,7 @@ fn vertex_clamps<F: Float>() -> u32 {
     let mut acc = 0;
     match clamp_vertex_normals(&pos, &nrm, &tris, &mut out, &mut scratch) {
         Ok(r) => {
-            acc += (r.clamped + r.unresolved) as u32 + F::from_glam(out[4]).all_finite() as u32
+            acc += (r.clamped + r.unresolved) as u32 + fin::<F>(out[4]) as u32
         }
         Err(e) => acc += display_len(&e),
     }
@@ -383,6 +339,138 @@ fn vertex_clamps<F: Float>() -> u32 {
     acc
 }
 
+/// The scene builder into caller storage: both fields, with and without seams, every query and
+/// report, and its errors (short storage, bad indices, bad layouts, nothing usable).
+fn builder<F: Float>() -> u32 {
+    const V: usize = 6;
+    const T: usize = 4;
+    // An octahedron's upper half plus a degenerate triangle, interleaved position + normal.
+    let mut buf = [0.0f64; 6 * V];
+    let corners = [
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [-1.0, 0.0, 0.0],
+        [0.0, -1.0, 0.0],
+        [0.0, 0.0, 1.0],
+        [0.0, 0.0, 1.0],
+    ];
+    for (slot, p) in buf.chunks_exact_mut(6).zip(corners) {
+        for (k, x) in p.iter().enumerate() {
+            if let Some(s) = slot.get_mut(k) {
+                *s = *x;
+            }
+            if let Some(s) = slot.get_mut(k + 3) {
+                *s = *x;
+            }
+        }
+    }
+    let buf = black_box(buf);
+    let tris: [[u32; 3]; T] = black_box([[0, 1, 4], [1, 2, 4], [2, 3, 4], [4, 5, 4]]);
+    let mut acc = 0;
+    let (Ok(pos), Ok(nrm)) = (
+        Vertices::strided(&buf, 0, 6, V),
+        Vertices::strided(&buf, 3, 6, V),
+    ) else {
+        return acc;
+    };
+    acc += pos.len() as u32 + pos.is_empty() as u32 + pos.get(black_box(9)).is_none() as u32;
+    let packed = Vertices::packed(black_box(&buf));
+    acc += packed.get(2).map_or(0, |p| (p[0] > 0.0) as u32);
+    if let Err(e) = Vertices::strided(&buf, black_box(5), 6, V) {
+        acc += display_len(&e);
+    }
+    for field in [LineField::Face, black_box(LineField::Vertex)] {
+        for seams in [false, black_box(true)] {
+            let options = BuildOptions { field, seams };
+            let Some(sizes) = SceneSizes::new(V, T, &options) else {
+                continue;
+            };
+            acc += sizes.bytes::<F>().map_or(0, |b| b as u32);
+            let mut patches = [Patch::<F>::default(); T];
+            let mut ids = [0u32; T];
+            let mut nodes = [BvhNode::<F>::default(); 2 * T - 1];
+            let mut order = [0u32; T];
+            let mut seam_store = [Seam::<F>::default(); T];
+            let mut triangles = [[0u32; 3]; T];
+            let mut edges = [SharedEdge::default(); 3 * T];
+            let zero = v::<F>(0.0, 0.0, 0.0);
+            let (mut vp, mut vn, mut vc) = ([zero; V], [zero; V], [zero; V]);
+            let mut clamps = [VertexClamp::<F>::default(); V];
+            let storage = SceneStorage {
+                patches: &mut patches,
+                triangle_ids: &mut ids,
+                nodes: &mut nodes,
+                order: &mut order,
+                seams: &mut seam_store,
+                triangles: &mut triangles,
+                edges: &mut edges,
+                vertex_positions: &mut vp,
+                vertex_normals: &mut vn,
+                clamped_normals: &mut vc,
+                vertex_clamps: &mut clamps,
+            };
+            let mut rejected = 0u32;
+            let built = Scene::<F>::build_reporting(pos, nrm, &tris, &options, storage, |t, e| {
+                rejected += t + display_len(&e)
+            });
+            match built {
+                Ok(scene) => {
+                    let ray = Ray::<F>::new(v::<F>(0.2, 0.3, 3.0), v::<F>(0.0, 0.0, -1.0));
+                    let (t0, t1) = (c::<F>(0.0), c::<F>(f64::INFINITY));
+                    if let Some(h) = scene.closest_hit::<4>(&ray, t0, t1) {
+                        acc += h.triangle + fin::<F>(h.shading_normal) as u32;
+                        acc += fin::<F>(scene.shading_normal(&h.hit)) as u32;
+                        acc += scene.scene_hit(h.hit).triangle;
+                    }
+                    acc += scene.any_hit::<4>(&ray, t0, t1) as u32;
+                    acc += scene.patch_of_triangle(black_box(3)).is_some() as u32;
+                    acc += scene.bvh().node_count() as u32 + scene.patches().len() as u32;
+                    acc += scene.triangle_ids().len() as u32 + scene.seams().len() as u32;
+                    acc += scene.memory_bytes() as u32;
+                    let r = scene.report();
+                    acc += (r.patches + r.remedied + r.bvh_nodes) as u32;
+                    acc += r.rejected.by_reason().iter().map(|(_, n)| *n as u32).sum::<u32>();
+                    acc += r.seam_edges.unwrap_or(0) as u32 + r.cracks.shared_edges as u32;
+                    acc += r.first_rejected.map_or(0, |(t, e)| t + display_len(&e));
+                    acc += r.vertex_clamps.map_or(0, |c| c.clamped as u32);
+                }
+                Err(e) => acc += display_len(&e),
+            }
+            acc += rejected;
+        }
+    }
+    // Errors: an index out of range, nothing usable, no triangles, short storage.
+    let options = BuildOptions::default();
+    let mut patches = [Patch::<F>::default(); 1];
+    let mut ids = [0u32; T];
+    let mut nodes = [BvhNode::<F>::default(); 2 * T - 1];
+    let mut order = [0u32; T];
+    let mut triangles = [[0u32; 3]; T];
+    let mut edges = [SharedEdge::default(); 3 * T];
+    let bad: [&[[u32; 3]]; 4] = black_box([&[[0, 1, 9]], &[[4, 5, 4]], &[], &tris]);
+    for tris in bad {
+        let storage = SceneStorage {
+            patches: &mut patches,
+            triangle_ids: &mut ids,
+            nodes: &mut nodes,
+            order: &mut order,
+            seams: &mut [],
+            triangles: &mut triangles,
+            edges: &mut edges,
+            vertex_positions: &mut [],
+            vertex_normals: &mut [],
+            clamped_normals: &mut [],
+            vertex_clamps: &mut [],
+        };
+        match Scene::<F>::build(pos, nrm, tris, &options, storage) {
+            Ok(s) => acc += s.patches().len() as u32,
+            Err(e) => acc += display_len(&e),
+        }
+    }
+    acc += display_len(&black_box(BuildError::TooLarge));
+    acc
+}
+
 /// Entry point: aligns the stack as the C ABI expects, then calls [`main`].
 #[cfg(target_arch = "x86_64")]
 #[unsafe(naked)]
@@ -393,7 +481,7 @@ pub extern "C" fn _start() -> ! {
 
 extern "C" fn main() -> ! {
     let r = exercise::<f32>() + exercise::<f64>() + exercise::<FastF32>();
-    let r = r + lanes::<f32>() + lanes::<f64>() + lanes::<FastF32>();
+    let r = r + builder::<f32>() + builder::<f64>() + builder::<FastF32>();
     let r = r + vertex_clamps::<f32>() + vertex_clamps::<f64>() + vertex_clamps::<FastF32>();
     // SAFETY: libc's exit, linked from the C library (only the start files are left out).
     unsafe { exit(if black_box(r) >= 3 { 0 } else { 1 }) }

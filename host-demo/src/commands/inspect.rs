@@ -61,12 +61,15 @@ pub struct Cracks {
     /// Mean over edges of the per-edge maximum surface-normal angle, degrees.
     pub mean_surface_jump_deg: f64,
     /// Maximum angle between the two patches' seamless *shading* normals
-    /// ([`Seam::shading_normal`], seams fitted by [`fit_seams`] on the mesh's index buffer) at
+    /// ([`Seam::shading_normal`](smoothtri::mesh::Seam::shading_normal), seams fitted by [`fit_seams`](smoothtri::mesh::fit_seams) on the mesh's index buffer) at
     /// the same edge samples, degrees: what the smooth render mode shades with by default.
     pub max_shading_jump_deg: f64,
     /// Mean over edges of the per-edge maximum shading-normal angle, degrees.
     pub mean_shading_jump_deg: f64,
-    /// Shared edges [`fit_seams`] fitted (matched by vertex index, so vertices split in the
+    /// Interior edges left out because a side's normals were clamped per patch (the remedy of
+    /// `Patch::new_or_tilted`): that side no longer interpolates the mesh's normals there.
+    pub remedied: usize,
+    /// Shared edges [`fit_seams`](smoothtri::mesh::fit_seams) fitted (matched by vertex index, so vertices split in the
     /// index buffer make boundaries there, unlike the position matching above).
     pub seam_edges: usize,
 }
@@ -90,14 +93,19 @@ fn key(p: DVec3) -> [u64; 3] {
 /// by exact vertex positions; the second patch's edge is walked in the matching direction),
 /// the patches on `field`.
 pub fn cracks(mesh: &Mesh, field: LineField) -> Cracks {
-    // The f64 scene as the builder makes it (remedy, crack closure, seams); a triangle the
-    // core rejects has no patch and the zero seam.
+    // The f64 scene as the builder makes it (crack closure, seams); a triangle the core
+    // rejects has no patch and the zero seam. Edges of patches the per-patch remedy clamped
+    // are counted apart (`Cracks::remedied`).
     let scene = Scene::<f64>::build_with(mesh, field, true).ok();
-    let patches: Vec<Option<DPatch>> = (0..mesh.triangles.len())
+    let built: Vec<Option<DPatch>> = (0..mesh.triangles.len())
         .map(|t| {
             let sc = scene.as_ref()?;
             sc.patch_of_tri(t).map(|i| sc.patches()[i])
         })
+        .collect();
+    let patches: Vec<Option<DPatch>> = built
+        .iter()
+        .map(|p| p.filter(|p| p.normal_clamp().is_none()))
         .collect();
     let seams: Vec<Seam<f64>> = (0..mesh.triangles.len())
         .map(|t| {
@@ -138,6 +146,7 @@ pub fn cracks(mesh: &Mesh, field: LineField) -> Cracks {
                 let (ta, ea, fa) = list[0];
                 let (tb, eb, fb) = list[1];
                 let (Some(pa), Some(pb)) = (&patches[ta], &patches[tb]) else {
+                    c.remedied += (built[ta].is_some() && built[tb].is_some()) as usize;
                     continue;
                 };
                 let (mut gap, mut jump, mut sjump, mut hjump) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
@@ -290,6 +299,14 @@ pub fn inspect<F: Prec>(name: &str, mesh: &Mesh, field: LineField) -> Result<Str
         "shared edges: {} interior, {} boundary, {} non-manifold ({} samples per edge, f64 patches)",
         c.edges, c.boundary, c.non_manifold, EDGE_SAMPLES
     );
+    if c.remedied > 0 {
+        let _ = writeln!(
+            s,
+            "              {} more interior edges next to a patch whose normals were clamped per \
+             patch are left out below (that side leaves the mesh's normals there)",
+            c.remedied
+        );
+    }
     let _ = writeln!(
         s,
         "crack width:  max {:.3e} ({:.3e} of diagonal), mean {:.3e}",
