@@ -20,7 +20,7 @@
 //! | [`Patch::edge_point_normal`] | [`accuracy::F64_EDGE_VS_REFERENCE`] of the size, normals [`accuracy::F64_EDGE_NORMAL_VS_REFERENCE`] | normals at the ends [`accuracy::F32_INTERPOLATION`] | `tests/data/`; the vertex normals |
 //! | [`Patch::roots_certified`] | sound: no root missing or switched anywhere on a certified patch (interval arithmetic, outward rounded) | the same, on the `f32` data widened | every folded or jumping patch of the domain study refused (`tests/suite/domain.rs`) |
 //! | every unit vector returned | length 1 ± [`accuracy::UNIT_LENGTH_ULPS`] ε | the same | |
-//! | [`Patch::intersect`] `t` | within `t_error` (worst-case bound: [`Patch::intersect`]); N = 8: sphere hits to [`accuracy::F64_SPHERE_HIT`] of the radius, the torus at rounding from N = 4 (docs/ACCURACY.md) | sphere hits to [`accuracy::F32_SPHERE_HIT`] of the radius | analytic spheres; the kernel at N = 40 |
+//! | [`Patch::intersect`] `t` | within `t_error` (worst-case bound: [`Patch::intersect`]); N = 8: sphere hits to [`accuracy::F64_SPHERE_HIT`] of the radius, the torus at rounding from N = 4 (docs/MEASUREMENTS.md) | sphere hits to [`accuracy::F32_SPHERE_HIT`] of the radius | analytic spheres; the kernel at N = 40 |
 //!
 //! `FastF32` (feature `micromath`) trades accuracy for a square root without FPU support (its
 //! square root is within [`accuracy::FASTF32_SQRT_REL`] relative): its surfaces deviate by up
@@ -33,7 +33,44 @@
 //! undefined symbol (`no-panic-check/`). Evaluations of accepted patches return finite values;
 //! queries with non-finite rays return no hit.
 //!
-//! # Example
+//! # Building a scene
+//!
+//! [`Scene::build`] turns a renderer's buffers into a traceable scene in caller storage (no
+//! allocation; with the `alloc` feature [`OwnedScene`] owns it). [`SceneSizes::new`] gives the
+//! length of every slice from the counts alone:
+//!
+//! ```
+//! use glam::Vec3;
+//! use smoothtri::mesh::{Seam, SharedEdge, VertexClamp};
+//! use smoothtri::{BuildOptions, BvhNode, Patch, Ray, Scene, SceneSizes, SceneStorage, Vertices};
+//!
+//! // The upper half of an octahedron with radial normals (exactly the unit sphere), packed.
+//! let p = [1.0f32, 0.0, 0.0, 0.0, 1.0, 0.0, -1.0, 0.0, 0.0, 0.0, -1.0, 0.0, 0.0, 0.0, 1.0];
+//! let ib = [[0u32, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4]];
+//! let options = BuildOptions::default(); // the paper's line field, no seams
+//! let n = SceneSizes::new(5, 4, &options).unwrap();
+//! assert_eq!((n.patches, n.nodes, n.edges, n.seams, n.vertices), (4, 7, 12, 0, 0));
+//! // Fixed-size storage, as firmware would hold it.
+//! let mut patches = [Patch::<f32>::default(); 4];
+//! let (mut ids, mut order, mut tris) = ([0u32; 4], [0u32; 4], [[0u32; 3]; 4]);
+//! let mut nodes = [BvhNode::default(); 7];
+//! let mut edges = [SharedEdge::default(); 12];
+//! let storage = SceneStorage {
+//!     patches: &mut patches, triangle_ids: &mut ids, nodes: &mut nodes, order: &mut order,
+//!     seams: &mut [], triangles: &mut tris, edges: &mut edges,
+//!     vertex_positions: &mut [], vertex_normals: &mut [], clamped_normals: &mut [],
+//!     vertex_clamps: &mut [],
+//! };
+//! let (pos, nrm) = (Vertices::packed(&p), Vertices::packed(&p));
+//! let scene = Scene::build(pos, nrm, &ib, &options, storage).unwrap();
+//! let hit = scene.closest_hit::<4>(&Ray::new(Vec3::splat(2.0), -Vec3::ONE), 0.0, f32::INFINITY);
+//! let hit = hit.unwrap();
+//! assert!((hit.hit.point.length() - 1.0).abs() < 2e-6); // the method reproduces spheres
+//! assert_eq!(hit.triangle, 0);
+//! # let _ = (Seam::<f32>::default(), VertexClamp::<f32>::default());
+//! ```
+//!
+//! # One patch
 //!
 //! ```
 //! use smoothtri::Patch;
@@ -45,6 +82,14 @@
 //! assert!((x.length() - 1.0).abs() < 2e-6); // the method reproduces spheres
 //! assert!((n - x).length() < 1e-5);          // with radial normals
 //! ```
+//!
+//! # Layers
+//!
+//! The crate is built in layers that import downward only: numbers (scalars, vectors, dual
+//! numbers, intervals, eight-wide lanes), the patch record, the surface (edge spheres, edge
+//! curves, line fields, the surface and its shell), the kernel, [`Patch`], [`Bvh`], and
+//! [`mesh`] (shared edges, the remedy per vertex, crack closure, seams and the builder). Only
+//! the root items, [`accuracy`] and [`mesh`] are public.
 #![no_std]
 #![cfg_attr(docsrs, feature(doc_cfg))]
 #![forbid(unsafe_code)]

@@ -435,7 +435,7 @@ impl<F: Float> Patch<F> {
     /// `WORST_SHRINK` = 5 by every refinement step (tested on
     /// every patch test of random rays in `tests/suite/kernel.rs`). Convergence is usually far
     /// faster: from N = 4, `f64` hits on the torus are at rounding
-    /// (the table of docs/ACCURACY.md); at N = 8 `f64`
+    /// (the table of docs/MEASUREMENTS.md); at N = 8 `f64`
     /// hits on spheres are on the sphere to [`F64_SPHERE_HIT`](crate::accuracy::F64_SPHERE_HIT).
     /// Rays that cross the surface twice within one sampling step `(tb − ta)/(K + 1)` may be
     /// reported as misses.

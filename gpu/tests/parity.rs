@@ -208,9 +208,7 @@ fn cube_with_averaged_normals_matches_the_sphere_and_the_cpu() {
 /// Whether the CPU's hit/miss answer changes when the ray's origin moves by [`SILHOUETTE`]
 /// sideways (in four directions perpendicular to it): the ray is that close to a silhouette.
 fn cpu_near_silhouette(bvh: &smoothtri::Bvh<'_, f32>, ray: &Ray) -> bool {
-    let hit = |r: &Ray| {
-        bvh.closest_hit::<N>(r, 0.0, f32::INFINITY).is_some()
-    };
+    let hit = |r: &Ray| bvh.closest_hit::<N>(r, 0.0, f32::INFINITY).is_some();
     let base = hit(ray);
     let (u, v) = perpendiculars(ray.dir);
     [u, -u, v, -v]
@@ -291,10 +289,9 @@ fn flat_baseline_matches_the_cpu() {
         .expect("trace");
     let (mut hits, mut worst) = (0, 0.0f32);
     for (ray, g) in rays.iter().zip(&got) {
-        let c = bvh
-            .closest_with(ray, 0.0, f32::INFINITY, |p, a, b| {
-                smoothtri::flat_hit(&p.vertices(), None, ray, a, b)
-            });
+        let c = bvh.closest_with(ray, 0.0, f32::INFINITY, |p, a, b| {
+            smoothtri::flat_hit(&p.vertices(), None, ray, a, b)
+        });
         match (g, c) {
             (Some(g), Some(c)) => {
                 hits += 1;

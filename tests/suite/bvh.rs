@@ -2,8 +2,8 @@
 
 use crate::common::*;
 use glam::{DVec3, Vec3};
-use smoothtri::accuracy::F64_SPHERE_HIT;
 use smoothtri::MAX_DEPTH;
+use smoothtri::accuracy::F64_SPHERE_HIT;
 use smoothtri::internal::MAX_LEAF;
 use smoothtri::{Bvh, BvhError, BvhNode, DPatch, DRay, Float, Hit, Patch, Ray};
 use smoothtri_demo::scenes::{icosphere, torus};
@@ -65,10 +65,7 @@ fn closest_and_any_hit_equal_brute_force() {
                 .iter()
                 .any(|p| p.intersect::<6>(&ray, 0.0, short).is_some());
             assert!(!brute, "brute force hits before the closest hit {t}");
-            assert!(
-                !bvh.any_hit::<6>(&ray, 0.0, short),
-                "shadow ray hits"
-            );
+            assert!(!bvh.any_hit::<6>(&ray, 0.0, short), "shadow ray hits");
         }
         tested += 1;
     }

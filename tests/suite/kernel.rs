@@ -6,8 +6,8 @@ use crate::common::pins::*;
 use crate::common::*;
 use glam::{DVec3, Vec3};
 use smoothtri::accuracy::*;
-use smoothtri::max_lane_calls;
 use smoothtri::internal::{EARLY_STOP, WORST_SHRINK};
+use smoothtri::max_lane_calls;
 use smoothtri::{DEFAULT_SAMPLES, DPatch, DRay, Float, Patch, Ray};
 use smoothtri_demo::scenes::{Mesh, cube, icosphere, torus};
 

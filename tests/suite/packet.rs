@@ -100,9 +100,7 @@ fn packets_with_bad_rays_are_finite_or_none() {
         Ray::new(Vec3::ZERO, Vec3::new(f32::NAN, 1.0, 0.0)),
     ];
     let rays = [good, bad[0], bad[1], good, bad[2], bad[3], good, good];
-    let got = bvh
-        .closest_hit_packet::<4>(&rays, 0.0, f32::INFINITY)
-        ;
+    let got = bvh.closest_hit_packet::<4>(&rays, 0.0, f32::INFINITY);
     for (r, g) in rays.iter().zip(got) {
         let want = bvh.closest_hit::<4>(r, 0.0, f32::INFINITY);
         assert_eq!(g.is_some(), want.is_some());

@@ -6,9 +6,9 @@
 use crate::common::pins::*;
 use crate::common::*;
 use glam::DVec3;
+use smoothtri::Patch;
 use smoothtri::accuracy::*;
 use smoothtri::internal::{FIT_SAMPLES, TWIST_TERMS};
-use smoothtri::Patch;
 use smoothtri::mesh::{MeshError, Seam, SharedEdge, fit_seams};
 use smoothtri_demo::scenes::{self, Mesh};
 

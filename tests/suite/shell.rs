@@ -2,8 +2,8 @@
 //! random patches), with a clearance of [`SHELL_CLEARANCE`] of its width to the height range's
 //! faces, in `f64` and `f32`.
 
-use crate::common::*;
 use crate::common::pins::SHELL_CLEARANCE;
+use crate::common::*;
 use smoothtri::{DPatch, LineField, Patch};
 
 #[test]

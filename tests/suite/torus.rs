@@ -2,10 +2,10 @@
 //! triangles, to the true torus (major radius 1, minor 0.4, analytic normals; 91 samples per
 //! triangle). `cargo test --release --test suite torus:: -- --nocapture` prints the measured values.
 
+use crate::common::pins::{TORUS_8X8_DISTANCE, TORUS_16X16_DISTANCE};
 use crate::common::*;
 use glam::DVec3;
 use smoothtri::DPatch;
-use crate::common::pins::{TORUS_8X8_DISTANCE, TORUS_16X16_DISTANCE};
 use smoothtri_demo::scenes::{torus, torus_distance};
 
 /// Maximum distance to the torus over a barycentric grid of `m` subdivisions per triangle, of

@@ -167,9 +167,7 @@ fn fall_through<F: P>(
     // value for value like the single-ray kernel, so the same rays hit.
     for chunk in packet.chunks_exact(8) {
         let rays: [Ray<F>; 8] = std::array::from_fn(|i| chunk[i].0);
-        let hits = bvh
-            .closest_hit_packet::<4>(&rays, F::ZERO, F::from_f64(f64::INFINITY))
-            ;
+        let hits = bvh.closest_hit_packet::<4>(&rays, F::ZERO, F::from_f64(f64::INFINITY));
         for (h, &(_, single_through)) in hits.iter().zip(chunk) {
             let through = h.is_none_or(|h| h.t.to_f64() > dist + slack);
             assert_eq!(through, single_through, "packet and single ray disagree");

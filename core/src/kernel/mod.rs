@@ -27,11 +27,11 @@ pub mod refine;
 
 pub(crate) use packet::crossings_packet;
 
+use crate::geometry::Patch;
 use crate::geometry::Shape;
 use crate::num::lanes::Lane;
 use crate::num::real::Float;
 use crate::num::vec::V3;
-use crate::geometry::Patch;
 use crate::ray::{Hit, Ray};
 use crate::surface::field::Section;
 use crate::surface::height::{self, Prepared, f_lanes};

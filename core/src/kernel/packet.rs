@@ -13,9 +13,9 @@
 //! Work per packet and patch: at most `K + 2 + N` lane calls, whatever the input. A lane whose
 //! ray misses the shell (or is inactive) rides along and its result is ignored.
 
+use crate::geometry::Patch;
 use crate::num::lanes::{LANES, Lane};
 use crate::num::real::Float;
-use crate::geometry::Patch;
 use crate::ray::Ray;
 
 use super::refine::{Bracket, ItpLane, bracket_step};

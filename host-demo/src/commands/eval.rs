@@ -38,8 +38,11 @@ pub fn eval<F: Prec>(mesh: &Mesh, points_path: &str, normals: Normals) -> Result
     let text = read_text(points_path)?;
     let points_path = display_name(points_path);
     let rows = rows(&text, points_path, &["triangle", "w1", "w2"])?;
-    let scene =
-        Scene::<F>::build_with(mesh, smoothtri::LineField::Face, normals == Normals::Seamless)?;
+    let scene = Scene::<F>::build_with(
+        mesh,
+        smoothtri::LineField::Face,
+        normals == Normals::Seamless,
+    )?;
     let mut out = String::from("triangle,w1,w2,x,y,z,nx,ny,nz,snx,sny,snz\n");
     for (line, f) in &rows {
         let tri: usize = f[0].parse().map_err(|_| {

@@ -35,7 +35,8 @@ impl<F: Prec> Scene<F> {
     /// `seams` (what only shading needs: fitting costs 98 `f64` normal evaluations per shared
     /// edge).
     pub fn build_with(mesh: &Mesh, field: LineField, seams: bool) -> Result<Self> {
-        let flat = |v: &[glam::DVec3]| -> Vec<f64> { v.iter().flat_map(|p| p.to_array()).collect() };
+        let flat =
+            |v: &[glam::DVec3]| -> Vec<f64> { v.iter().flat_map(|p| p.to_array()).collect() };
         let (pos, nrm) = (flat(&mesh.positions), flat(&mesh.normals));
         let mut rejected = Vec::new();
         let owned = OwnedScene::<F>::build_reporting(

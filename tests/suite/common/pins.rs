@@ -16,7 +16,6 @@ pub const TORUS_16X16_DISTANCE: f64 = 6.23e-4;
 /// range's width away from its faces. Measured: closest 0.169. Asserted by `tests/suite/shell.rs`.
 pub const SHELL_CLEARANCE: f64 = 0.1;
 
-
 /// Bounds of one row of [`TORUS_F64_BY_ITERATIONS`]: the kernel's error at `n` refinement
 /// iterations, as distances along the ray (`|t − t₄₀|·|dir|`, against the same kernel at
 /// N = 40), on a torus of major radius 1.
@@ -58,8 +57,6 @@ pub const TORUS_F64_BY_ITERATIONS: [IterationBound; 7] = [
     row(16, 4e-15, 2e-15, 1.0e-12),
     row(24, 4e-15, 2e-15, 1.0e-12),
 ];
-
-
 
 /// As [`SEAM_JUMP_DEG`] on the built-in teapot (4×4 per Bézier patch; edges of clamped or
 /// folded patches left out), where the geometric normal swings by up to 27° along some edges,

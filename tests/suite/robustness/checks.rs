@@ -4,8 +4,8 @@
 use super::strategies::{RayParam, to_f};
 use glam::DVec3;
 use proptest::prelude::*;
-use smoothtri::accuracy::UNIT_LENGTH_ULPS;
 use smoothtri::MIN_NORMAL_COS;
+use smoothtri::accuracy::UNIT_LENGTH_ULPS;
 use smoothtri::{Bvh, BvhNode, Float, Hit, KernelStats, Patch, PatchError, Ray};
 
 // ---------------------------------------------------------------------------------------------
