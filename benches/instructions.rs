@@ -59,7 +59,7 @@ fn scene_rays<const N: usize>(scene: &Scene, reps: usize) -> usize {
     for _ in 0..reps {
         for r in &rays {
             let h = bvh.closest_hit::<N>(black_box(r), 0.0, f32::INFINITY);
-            hits += matches!(h, Some(_)) as usize;
+            hits += h.is_some() as usize;
         }
     }
     hits
@@ -119,7 +119,7 @@ fn run_case(name: &str, reps: usize) -> usize {
                     let h = bvh.closest_with(black_box(r), 0.0, f32::INFINITY, |p, a, b| {
                         flat_hit(&p.vertices(), None, r, a, b)
                     });
-                    hits += matches!(h, Some(_)) as usize;
+                    hits += h.is_some() as usize;
                 }
             }
             hits

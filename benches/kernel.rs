@@ -89,7 +89,7 @@ fn bench_scene(c: &mut Criterion) {
         let bvh = smooth.bvh();
         b.iter(|| {
             rays.iter()
-                .filter(|r| matches!(bvh.closest_hit::<8>(r, 0.0, f32::INFINITY), Some(_)))
+                .filter(|r| bvh.closest_hit::<8>(r, 0.0, f32::INFINITY).is_some())
                 .count()
         })
     });
@@ -98,16 +98,10 @@ fn bench_scene(c: &mut Criterion) {
         b.iter(|| {
             rays.iter()
                 .filter(|r| {
-                    matches!(
-                        bvh.closest_with(r, 0.0, f32::INFINITY, |p, a, t| flat_hit(
-                            &p.vertices(),
-                            None,
-                            r,
-                            a,
-                            t
-                        )),
-                        Some(_)
-                    )
+                    bvh.closest_with(r, 0.0, f32::INFINITY, |p, a, t| {
+                        flat_hit(&p.vertices(), None, r, a, t)
+                    })
+                    .is_some()
                 })
                 .count()
         })
@@ -290,29 +284,22 @@ fn summary() {
     let (ts, tf) = interleaved(
         || {
             rays.iter()
-                .filter(|r| matches!(bs.closest_hit::<8>(r, 0.0, f32::INFINITY), Some(_)))
+                .filter(|r| bs.closest_hit::<8>(r, 0.0, f32::INFINITY).is_some())
                 .count()
         },
         || {
             rays.iter()
                 .filter(|r| {
-                    matches!(
-                        bf.closest_with(r, 0.0, f32::INFINITY, |p, a, t| flat_hit(
-                            &p.vertices(),
-                            None,
-                            r,
-                            a,
-                            t
-                        )),
-                        Some(_)
-                    )
+                    bf.closest_with(r, 0.0, f32::INFINITY, |p, a, t| {
+                        flat_hit(&p.vertices(), None, r, a, t)
+                    })
+                    .is_some()
                 })
                 .count()
         },
         10,
     );
-    let mem =
-        |sc: &Scene| sc.patches().len() * std::mem::size_of::<Patch>() + sc.bvh().memory_bytes();
+    let mem = |sc: &Scene| std::mem::size_of_val(sc.patches()) + sc.bvh().memory_bytes();
     println!(
         "\n| scene (160×120 camera rays, closest hit) | triangles | max error to torus | Mrays/s | memory |"
     );
