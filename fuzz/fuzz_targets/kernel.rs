@@ -14,7 +14,6 @@
 use arbitrary::Arbitrary;
 use glam::DVec3;
 use libfuzzer_sys::fuzz_target;
-use smoothtri::vec::V3;
 use smoothtri::{Float, Hit, KernelStats, Patch, Ray};
 
 #[derive(Arbitrary, Debug)]
@@ -69,16 +68,11 @@ fn structured(inp: &Input) -> ([DVec3; 3], [DVec3; 3]) {
 }
 
 fn to_f<F: Float>(v: DVec3) -> F::Vec3 {
-    F::to_glam(V3::new(
-        F::from_f64(v.x),
-        F::from_f64(v.y),
-        F::from_f64(v.z),
-    ))
+    F::from_dvec3(v)
 }
 
 fn to_d<F: Float>(v: F::Vec3) -> DVec3 {
-    let w = F::from_glam(v);
-    DVec3::new(w.x.to_f64(), w.y.to_f64(), w.z.to_f64())
+    F::to_dvec3(v)
 }
 
 /// Unit length within `tol`.

@@ -3,7 +3,7 @@
 //! return an error (that is its job); it must never panic, and an accepted mesh must give
 //! finite patches, evaluations and hits.
 
-use smoothtri::{Bvh, BvhNode, DPatch, DRay};
+use smoothtri::{BuildOptions, DRay, OwnedScene, Vertices};
 
 pub fn run(ext: &str, data: &[u8]) {
     let dir = std::env::temp_dir().join(format!("smoothtri-fuzz-{}", std::process::id()));
@@ -17,28 +17,34 @@ pub fn run(ext: &str, data: &[u8]) {
         return;
     };
     let mesh = &loaded.mesh;
-    let mut patches = Vec::new();
-    for t in 0..mesh.triangles.len().min(2000) {
-        let (pp, nn) = mesh.triangle(t);
-        if let Ok(patch) = DPatch::new_or_tilted(pp, nn) {
-            let (x, n) = patch.point_normal(1.0 / 3.0, 1.0 / 3.0);
-            assert!(x.is_finite() && n.is_finite(), "non-finite evaluation");
-            patches.push(patch);
-        }
-    }
-    if patches.is_empty() {
+    // The scene as a renderer builds it (the core's builder, with seams), at most 2000
+    // triangles.
+    let tris = &mesh.triangles[..mesh.triangles.len().min(2000)];
+    let flat = |v: &[glam::DVec3]| -> Vec<f64> { v.iter().flat_map(|p| p.to_array()).collect() };
+    let (pos, nrm) = (flat(&mesh.positions), flat(&mesh.normals));
+    let options = BuildOptions {
+        seams: true,
+        ..BuildOptions::default()
+    };
+    let Ok(owned) =
+        OwnedScene::<f64>::build(Vertices::packed(&pos), Vertices::packed(&nrm), tris, &options)
+    else {
         return;
+    };
+    let scene = owned.scene();
+    for patch in scene.patches() {
+        let (x, n) = patch.point_normal(1.0 / 3.0, 1.0 / 3.0);
+        assert!(x.is_finite() && n.is_finite(), "non-finite evaluation");
     }
-    let mut nodes = vec![BvhNode::default(); Bvh::<f64>::nodes_needed(patches.len())];
-    let mut order = vec![0u32; patches.len()];
-    let bvh = Bvh::build(&patches, &mut nodes, &mut order).expect("bvh over accepted patches");
     let (lo, hi) = mesh.bounds();
     let c = (lo + hi) * 0.5;
     let ray = DRay::new(
         c + (hi - lo) + glam::DVec3::splat(1.0),
         -(hi - lo) - glam::DVec3::splat(1.0),
     );
-    if let Ok(Some(h)) = bvh.closest_hit::<8>(&ray, 0.0, f64::INFINITY) {
-        assert!(h.t.is_finite() && h.point.is_finite() && h.normal.is_finite());
+    if let Some(h) = scene.closest_hit::<8>(&ray, 0.0, f64::INFINITY) {
+        let p = h.hit.point;
+        assert!(h.hit.t.is_finite() && p.is_finite() && h.hit.normal.is_finite());
+        assert!(h.shading_normal.is_finite(), "non-finite shading normal");
     }
 }

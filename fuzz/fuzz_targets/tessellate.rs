@@ -75,7 +75,7 @@ fn check<F: smoothtri_demo::Prec>(m: &Mesh, level: Level, prec: Precision) {
     let out = &t.mesh;
     assert_eq!(out.positions.len(), out.normals.len());
     assert_eq!(out.triangles.len(), t.origins.len());
-    assert_eq!(t.levels.len(), scene.patches.len());
+    assert_eq!(t.levels.len(), scene.patches().len());
     assert!(
         out.positions.iter().all(|p| p.is_finite()),
         "non-finite position"
