@@ -7,6 +7,7 @@
 #[macro_use]
 mod common;
 
+mod builder;
 mod bvh;
 mod domain;
 mod kernel;
