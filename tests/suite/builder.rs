@@ -9,8 +9,8 @@ use smoothtri::mesh::{
     Seam, SharedEdge, VertexClamp, clamp_vertex_normals, close_cracks, fit_seams,
 };
 use smoothtri::{
-    BuildError, BuildOptions, Bvh, BvhNode, LineField, OwnedScene, Patch, PatchError, Ray, Scene,
-    SceneSizes, SceneStorage, Vertices,
+    BuildError, BuildOptions, Bvh, BvhNode, Float, LineField, OwnedScene, Patch, PatchError, Ray,
+    Scene, SceneSizes, SceneStorage, Vertices,
 };
 use smoothtri_demo::scenes::{self, Mesh};
 
@@ -146,6 +146,55 @@ fn the_builder_equals_the_steps_bit_for_bit() {
     }
 }
 
+/// Owned storage of the sizes `n` (slice `short`, counted in `SceneStorage`'s field order, one
+/// slot short), lent out as a `SceneStorage`.
+struct Store<F: Float> {
+    patches: Vec<Patch<F>>,
+    ids: Vec<u32>,
+    nodes: Vec<BvhNode<F>>,
+    order: Vec<u32>,
+    seams: Vec<Seam<F>>,
+    tris: Vec<[u32; 3]>,
+    edges: Vec<SharedEdge>,
+    vertex: [Vec<F::Vec3>; 3],
+    clamps: Vec<VertexClamp<F>>,
+}
+
+impl<F: P> Store<F> {
+    fn new(n: &SceneSizes, short: Option<usize>) -> Self {
+        let len = |k: usize, want: usize| if short == Some(k) { want - 1 } else { want };
+        let z = F::v(DVec3::ZERO);
+        Store {
+            patches: vec![Patch::default(); len(0, n.patches)],
+            ids: vec![0; len(1, n.patches)],
+            nodes: vec![BvhNode::default(); len(2, n.nodes)],
+            order: vec![0; len(3, n.patches)],
+            seams: vec![Seam::default(); len(4, n.seams)],
+            tris: vec![[0; 3]; len(5, n.patches)],
+            edges: vec![SharedEdge::default(); len(6, n.edges)],
+            vertex: [7, 8, 9].map(|k| vec![z; len(k, n.vertices)]),
+            clamps: vec![VertexClamp::default(); len(10, n.vertices)],
+        }
+    }
+
+    fn storage(&mut self) -> SceneStorage<'_, F> {
+        let [vp, vn, vc] = &mut self.vertex;
+        SceneStorage {
+            patches: &mut self.patches,
+            triangle_ids: &mut self.ids,
+            nodes: &mut self.nodes,
+            order: &mut self.order,
+            seams: &mut self.seams,
+            triangles: &mut self.tris,
+            edges: &mut self.edges,
+            vertex_positions: vp,
+            vertex_normals: vn,
+            clamped_normals: vc,
+            vertex_clamps: &mut self.clamps,
+        }
+    }
+}
+
 /// Storage of exactly the sizes `SceneSizes` gives (arrays on the stack would do as well),
 /// interleaved `f32` input read with a stride, against packed `f64` input rounded once.
 #[test]
@@ -175,29 +224,8 @@ fn strided_input_into_exact_storage() {
         (n.seams, n.edges, n.vertices),
         (n.patches, 3 * n.patches, v)
     );
-    let mut patches = vec![Patch::<f32>::default(); n.patches];
-    let (mut ids, mut order) = (vec![0u32; n.patches], vec![0u32; n.patches]);
-    let mut nodes = vec![BvhNode::default(); n.nodes];
-    let mut seams = vec![Seam::default(); n.seams];
-    let mut tris = vec![[0u32; 3]; n.patches];
-    let mut edges = vec![SharedEdge::default(); n.edges];
-    let zero = glam::Vec3::ZERO;
-    let (mut vp, mut vn, mut vc) = (vec![zero; v], vec![zero; v], vec![zero; v]);
-    let mut clamps = vec![VertexClamp::default(); v];
-    let storage = SceneStorage {
-        patches: &mut patches,
-        triangle_ids: &mut ids,
-        nodes: &mut nodes,
-        order: &mut order,
-        seams: &mut seams,
-        triangles: &mut tris,
-        edges: &mut edges,
-        vertex_positions: &mut vp,
-        vertex_normals: &mut vn,
-        clamped_normals: &mut vc,
-        vertex_clamps: &mut clamps,
-    };
-    let scene = Scene::<f32>::build(pos, nrm, &m.triangles, &options, storage).unwrap();
+    let mut store = Store::<f32>::new(&n, None);
+    let scene = Scene::<f32>::build(pos, nrm, &m.triangles, &options, store.storage()).unwrap();
     let (p64, n64) = buffers(&m);
     let owned = OwnedScene::<f32>::build(
         Vertices::packed(&p64),
@@ -338,33 +366,8 @@ fn bad_input_and_storage_are_typed_errors() {
     };
     let n = SceneSizes::new(m.positions.len(), m.triangles.len(), &options).unwrap();
     for short in 0..11 {
-        let len = |k: usize, want: usize| if k == short { want - 1 } else { want };
-        let mut patches = vec![Patch::<f64>::default(); len(0, n.patches)];
-        let mut ids = vec![0u32; len(1, n.patches)];
-        let mut nodes = vec![BvhNode::default(); len(2, n.nodes)];
-        let mut order = vec![0u32; len(3, n.patches)];
-        let mut seams = vec![Seam::default(); len(4, n.seams)];
-        let mut tris = vec![[0u32; 3]; len(5, n.patches)];
-        let mut edges = vec![SharedEdge::default(); len(6, n.edges)];
-        let z = DVec3::ZERO;
-        let mut vp = vec![z; len(7, n.vertices)];
-        let mut vn = vec![z; len(8, n.vertices)];
-        let mut vc = vec![z; len(9, n.vertices)];
-        let mut clamps = vec![VertexClamp::default(); len(10, n.vertices)];
-        let storage = SceneStorage {
-            patches: &mut patches,
-            triangle_ids: &mut ids,
-            nodes: &mut nodes,
-            order: &mut order,
-            seams: &mut seams,
-            triangles: &mut tris,
-            edges: &mut edges,
-            vertex_positions: &mut vp,
-            vertex_normals: &mut vn,
-            clamped_normals: &mut vc,
-            vertex_clamps: &mut clamps,
-        };
-        match Scene::<f64>::build(pv, nv, &m.triangles, &options, storage) {
+        let mut store = Store::<f64>::new(&n, Some(short));
+        match Scene::<f64>::build(pv, nv, &m.triangles, &options, store.storage()) {
             Err(BuildError::StorageTooSmall {
                 buffer,
                 needed,
