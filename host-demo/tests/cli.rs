@@ -448,6 +448,65 @@ fn trace_csv_round_trip() {
     assert_eq!(r.out.lines().count(), 5);
 }
 
+/// Blender 2.4x writes a bare text line into the PLY header ("Created by Blender3D 247 …",
+/// without `comment`); other readers take it as a comment, and so does ours (blank header lines
+/// too). The body is read as usual.
+#[test]
+fn ply_headers_with_bare_text_lines_load() {
+    let d = tmp();
+    let c = cube();
+    let text = ply_text(&c).replacen(
+        "format ascii 1.0\n",
+        "format ascii 1.0\nCreated by Blender3D 247 - www.blender.org, source file: 'x.blend'\n\n",
+        1,
+    );
+    write(d.path(), "blender.ply", &text);
+    write(d.path(), "plain.ply", &ply_text(&c));
+    let a = ok(d.path(), &["inspect", "--mesh", "blender.ply"]);
+    let b = ok(d.path(), &["inspect", "--mesh", "plain.ply"]);
+    assert_eq!(
+        a.out.replace("blender.ply", "plain.ply"),
+        b.out,
+        "the same mesh either way"
+    );
+}
+
+/// Real exports from Debian's `assimp-testmodels` (installed by `.ci/run`; skipped where the
+/// package is absent unless `SMOOTHTRI_REQUIRE_ASSETS` is set): Blender 2.47's PLY with its bare
+/// header line loads, a glTF 1.0 file is refused by name, a truncated binary PLY is one line.
+#[test]
+fn real_exports_load_or_fail_in_one_line() {
+    let root = Path::new("/usr/share/assimp/models");
+    if !root.is_dir() {
+        assert!(
+            std::env::var_os("SMOOTHTRI_REQUIRE_ASSETS").is_none(),
+            "assimp-testmodels is not installed"
+        );
+        eprintln!("skipped: no {}", root.display());
+        return;
+    }
+    let d = tmp();
+    let wuson = root.join("PLY/Wuson.ply");
+    let r = ok(
+        d.path(),
+        &["inspect", "--mesh", wuson.to_str().expect("path")],
+    );
+    assert!(r.out.contains("triangles: 3732"), "{}", r.out);
+    let old = root.join("glTF/TwoBoxes/TwoBoxes.gltf");
+    fails(
+        d.path(),
+        &["inspect", "--mesh", old.to_str().expect("path")],
+        &["TwoBoxes.gltf", "glTF 1.0 is not supported"],
+    );
+    let pond = root.join("PLY/pond.0.ply");
+    let r = fails(
+        d.path(),
+        &["inspect", "--mesh", pond.to_str().expect("path")],
+        &["pond.0.ply", "end of file"],
+    );
+    assert_eq!(r.err.trim_end().lines().count(), 1, "{}", r.err);
+}
+
 #[test]
 fn eval_of_vertices_is_exact() {
     let d = tmp();
@@ -721,7 +780,27 @@ fn bad_input_is_one_readable_error() {
         "bad.ply",
         "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nend_header\nzz\n",
     );
-    fails(p, &["render", "--mesh", "bad.ply"], &["bad.ply"]);
+    let bad = fails(p, &["render", "--mesh", "bad.ply"], &["bad.ply", "line 6"]);
+    // One readable line, without the parser's debug structures.
+    assert_eq!(bad.err.trim_end().lines().count(), 1, "{}", bad.err);
+    assert!(!bad.err.contains("ParseError"), "{}", bad.err);
+    // A glTF 1.0 document (named dictionaries, asset version 1.0) is refused by name.
+    write(
+        p,
+        "old.gltf",
+        r#"{"asset":{"version":"1.0"},"meshes":{"m":{"primitives":[]}},"nodes":{}}"#,
+    );
+    fails(
+        p,
+        &["render", "--mesh", "old.gltf"],
+        &["old.gltf", "glTF 1.0 is not supported"],
+    );
+    write(p, "older.gltf", r#"{"meshes":{"m":{}},"accessors":{}}"#);
+    fails(
+        p,
+        &["render", "--mesh", "older.gltf"],
+        &["glTF 1.0 is not supported"],
+    );
     write(
         p,
         "range.ply",
@@ -836,7 +915,7 @@ fn malformed_glb_containers_are_readable_errors() {
         (
             "version.glb",
             wrong_version,
-            "GLB version 1 is not supported (expected 2)".into(),
+            "GLB version 1 (glTF 1.0) is not supported (only glTF 2.0; convert the file to 2.0 first)".into(),
         ),
         (
             "past.glb",

@@ -124,7 +124,15 @@ impl fmt::Display for GlbError {
                 m.escape_ascii()
             ),
             GlbError::Version(v) => {
-                write!(f, "GLB version {v} is not supported (expected {VERSION})")
+                if *v == 1 {
+                    write!(
+                        f,
+                        "GLB version 1 (glTF 1.0) is not supported (only glTF 2.0; convert the \
+                         file to 2.0 first)"
+                    )
+                } else {
+                    write!(f, "GLB version {v} is not supported (expected {VERSION})")
+                }
             }
             GlbError::Length { declared, actual } => write!(
                 f,

@@ -58,6 +58,12 @@ pub fn parse(bytes: &[u8], path: &str) -> Result<LoadedMesh> {
     } else {
         (bytes, None)
     };
+    if let Some(v) = version_1(json) {
+        return Err(DemoError::format(
+            path,
+            format!("glTF {v} is not supported (only glTF 2.0; convert the file to 2.0 first)"),
+        ));
+    }
     let doc =
         document(json).map_err(|e| DemoError::format(path, format!("malformed glTF: {e}")))?;
     let buffers = buffers(&doc, blob, path)?;
@@ -470,6 +476,26 @@ pub fn write_glb(mesh: &Mesh, generator: &str) -> Result<Vec<u8>> {
         h2 = hi[2],
     );
     Ok(glb::build(json.as_bytes(), Some(&bin)))
+}
+
+/// The version of a glTF 1.x document (`asset.version` "1…", or, when absent, the 1.0 layout
+/// of named dictionaries where 2.0 has arrays), `None` for anything else (glTF 2.0, or JSON
+/// that the 2.0 parser will judge).
+fn version_1(json: &[u8]) -> Option<String> {
+    let root: serde_json::Value = serde_json::from_slice(json).ok()?;
+    let version = match root.get("asset").and_then(|a| a.get("version")) {
+        Some(serde_json::Value::String(v)) => Some(v.clone()),
+        Some(serde_json::Value::Number(n)) => Some(n.to_string()),
+        _ => None,
+    };
+    match version {
+        Some(v) if v.starts_with('1') => Some(v),
+        Some(_) => None,
+        None => ["meshes", "accessors", "nodes", "buffers"]
+            .iter()
+            .any(|k| root.get(*k).is_some_and(serde_json::Value::is_object))
+            .then(|| "1.0".to_owned()),
+    }
 }
 
 /// Deserialises and validates a glTF JSON document (the `gltf` crate's checks: indices in

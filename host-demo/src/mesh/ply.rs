@@ -42,13 +42,86 @@ pub fn load(path: &str) -> Result<LoadedMesh> {
     parse(&bytes, path)
 }
 
+/// The keywords that start a PLY header line.
+const HEADER_KEYWORDS: [&str; 7] = [
+    "ply",
+    "format",
+    "comment",
+    "obj_info",
+    "element",
+    "property",
+    "end_header",
+];
+
+/// `bytes` with every header line that starts with no PLY keyword (Blender 2.4x writes a bare
+/// "Created by Blender3D …" line) or is blank turned into a `comment`, as other readers
+/// (assimp, MeshLab) take them; `None` when the header needs no change. The body after
+/// `end_header` is kept byte for byte.
+fn lenient_header(bytes: &[u8]) -> Option<Vec<u8>> {
+    let mut out = Vec::with_capacity(bytes.len() + 64);
+    let mut changed = false;
+    let mut rest = bytes;
+    while !rest.is_empty() {
+        let end = rest
+            .iter()
+            .position(|&b| b == b'\n')
+            .map_or(rest.len(), |i| i + 1);
+        let (line, tail) = rest.split_at(end);
+        rest = tail;
+        let text = String::from_utf8_lossy(line);
+        let word = text.split_whitespace().next().unwrap_or("");
+        if HEADER_KEYWORDS.contains(&word) {
+            out.extend_from_slice(line);
+        } else {
+            changed = true;
+            out.extend_from_slice(b"comment ");
+            let start = line.iter().position(|&b| b != b' ' && b != b'\t');
+            out.extend_from_slice(start.and_then(|i| line.get(i..)).unwrap_or(b"\n"));
+        }
+        if word == "end_header" {
+            out.extend_from_slice(rest);
+            return changed.then_some(out);
+        }
+    }
+    None
+}
+
+/// A PLY parser error on one line: its first line, then what it read and why, without the
+/// parser's debug structures.
+fn one_line(e: &dyn std::fmt::Display) -> String {
+    let text = e.to_string();
+    let mut lines = text.lines().map(str::trim).filter(|l| !l.is_empty());
+    let mut out = lines
+        .next()
+        .unwrap_or("unreadable")
+        .trim_end_matches('.')
+        .to_owned();
+    if let Some(first) = out.get(..1) {
+        out = first.to_lowercase() + &out[1..];
+    }
+    for l in lines {
+        if let Some(s) = l.strip_prefix("String:") {
+            let s = s.trim().trim_matches('\'');
+            let short: String = s.chars().take(48).collect();
+            let more = if s.chars().count() > 48 { "…" } else { "" };
+            out += &format!(" ('{short}{more}')");
+        } else if let Some(why) = l.strip_prefix("Error:") {
+            if !why.contains('{') {
+                out += &format!(": {}", why.trim().trim_end_matches('.'));
+            }
+        }
+    }
+    out
+}
+
 /// Parses the bytes of a PLY file (see [`load`]); `path` names it in messages.
 pub fn parse(bytes: &[u8], path: &str) -> Result<LoadedMesh> {
-    let mut reader = bytes;
+    let lenient = lenient_header(bytes);
+    let mut reader = lenient.as_deref().unwrap_or(bytes);
     let parser = ply_rs_bw::parser::Parser::<ply_rs_bw::ply::DefaultElement>::new();
     let ply = parser
         .read_ply(&mut reader)
-        .map_err(|e| DemoError::format(path, format!("malformed PLY: {e}")))?;
+        .map_err(|e| DemoError::format(path, format!("malformed PLY: {}", one_line(&e))))?;
     let verts = ply
         .payload
         .get("vertex")
