@@ -105,10 +105,10 @@ fn one_line(e: &dyn std::fmt::Display) -> String {
             let short: String = s.chars().take(48).collect();
             let more = if s.chars().count() > 48 { "…" } else { "" };
             out += &format!(" ('{short}{more}')");
-        } else if let Some(why) = l.strip_prefix("Error:") {
-            if !why.contains('{') {
-                out += &format!(": {}", why.trim().trim_end_matches('.'));
-            }
+        } else if let Some(why) = l.strip_prefix("Error:")
+            && !why.contains('{')
+        {
+            out += &format!(": {}", why.trim().trim_end_matches('.'));
         }
     }
     out
