@@ -124,8 +124,8 @@ pub use kernel::{DEFAULT_SAMPLES, KernelStats, max_lane_calls};
 #[cfg(feature = "alloc")]
 pub use mesh::OwnedScene;
 pub use mesh::{
-    BuildError, BuildOptions, BuildReport, Rejections, Scene, SceneHit, SceneSizes, SceneStorage,
-    Vertices,
+    BuildError, BuildObserver, BuildOptions, BuildReport, BuildStage, Rejections, Scene, SceneHit,
+    SceneSizes, SceneStorage, Vertices,
 };
 #[cfg(feature = "micromath")]
 pub use num::fast::FastF32;

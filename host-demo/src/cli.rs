@@ -100,6 +100,9 @@ struct RenderArgs {
     /// neighbours, so their edge curves meet).
     #[arg(long, value_enum, default_value = "face")]
     field: Field,
+    /// Also print the scene build's time per step (vertex normals, patches, cracks, seams, BVH).
+    #[arg(long)]
+    verbose: bool,
 }
 
 #[derive(Args, Debug)]
@@ -253,6 +256,7 @@ pub fn run(cli: Cli) -> Result<()> {
             gpu: a.gpu,
             normals: a.normals,
             field: a.field.into(),
+            verbose: a.verbose,
         }),
         Cmd::Precision(a) => commands::precision::run(PrecisionOptions {
             source: a.src.into(),

@@ -403,3 +403,55 @@ fn default_patches_are_never_hit() {
         assert!(p.intersect::<4>(&ray, 0.0, f32::INFINITY).is_none());
     }
 }
+
+/// The observer sees each step start once, in order, then `Done`; and the rejected triangles.
+#[test]
+fn the_observer_sees_every_step_in_order() {
+    use smoothtri::{BuildObserver, BuildStage};
+    #[derive(Default)]
+    struct Log(Vec<BuildStage>, Vec<u32>);
+    impl BuildObserver for Log {
+        fn rejected(&mut self, t: u32, _: PatchError) {
+            self.1.push(t);
+        }
+        fn stage(&mut self, s: BuildStage) {
+            self.0.push(s);
+        }
+    }
+    let mut m = scenes::teapot(4);
+    m.triangles.push([0, 0, 1]);
+    let (pos, nrm) = buffers(&m);
+    for (field, seams, want) in [
+        (
+            LineField::Face,
+            false,
+            vec![BuildStage::Patches, BuildStage::Cracks, BuildStage::Bvh],
+        ),
+        (
+            LineField::Vertex,
+            true,
+            vec![
+                BuildStage::VertexNormals,
+                BuildStage::Patches,
+                BuildStage::Cracks,
+                BuildStage::Seams,
+                BuildStage::Bvh,
+            ],
+        ),
+    ] {
+        let mut log = Log::default();
+        OwnedScene::<f32>::build_observed(
+            Vertices::packed(&pos),
+            Vertices::packed(&nrm),
+            &m.triangles,
+            &BuildOptions { field, seams },
+            &mut log,
+        )
+        .unwrap();
+        let mut want = want;
+        want.push(BuildStage::Done);
+        assert_eq!(log.0, want);
+        assert_eq!(log.1, vec![m.triangles.len() as u32 - 1]);
+        assert!(want.iter().all(|s| !s.name().is_empty()));
+    }
+}

@@ -412,6 +412,67 @@ impl From<BvhError> for BuildError {
     }
 }
 
+/// The steps of [`Scene::build`], in the order they run (the first only on
+/// [`LineField::Vertex`], seams only with [`BuildOptions::seams`]), as told to a
+/// [`BuildObserver`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum BuildStage {
+    /// The per-vertex remedy ([`clamp_vertex_normals`]).
+    VertexNormals,
+    /// One patch per triangle.
+    Patches,
+    /// Crack closure ([`close_cracks`]).
+    Cracks,
+    /// The seamless shading normals ([`fit_seams`]).
+    Seams,
+    /// The BVH.
+    Bvh,
+    /// The scene is built.
+    Done,
+}
+
+impl BuildStage {
+    /// Lower-case name, for reports.
+    ///
+    /// # Panics
+    /// Never.
+    pub fn name(self) -> &'static str {
+        match self {
+            BuildStage::VertexNormals => "vertex normals",
+            BuildStage::Patches => "patches",
+            BuildStage::Cracks => "cracks",
+            BuildStage::Seams => "seams",
+            BuildStage::Bvh => "BVH",
+            BuildStage::Done => "done",
+        }
+    }
+}
+
+/// What [`Scene::build_observed`] tells its caller while it builds; both methods do nothing
+/// by default.
+pub trait BuildObserver {
+    /// Triangle `triangle` was rejected for `why` (called in index order).
+    fn rejected(&mut self, triangle: u32, why: PatchError) {
+        let _ = (triangle, why);
+    }
+    /// `stage` starts now (and [`BuildStage::Done`] once at the end of a successful build).
+    fn stage(&mut self, stage: BuildStage) {
+        let _ = stage;
+    }
+}
+
+/// Nothing to observe.
+impl BuildObserver for () {}
+
+/// The observer of [`Scene::build_reporting`]: rejected triangles only.
+pub(crate) struct Rejected<R>(pub(crate) R);
+
+impl<R: FnMut(u32, PatchError)> BuildObserver for Rejected<R> {
+    fn rejected(&mut self, triangle: u32, why: PatchError) {
+        (self.0)(triangle, why);
+    }
+}
+
 /// A closest hit of a [`Scene`]: the kernel's [`Hit`] with the input triangle and the
 /// shading normal.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -493,7 +554,24 @@ impl<'a, F: Float> Scene<'a, F> {
         indices: &[[u32; 3]],
         options: &BuildOptions,
         storage: SceneStorage<'a, F>,
-        mut rejected: impl FnMut(u32, PatchError),
+        rejected: impl FnMut(u32, PatchError),
+    ) -> Result<Self, BuildError> {
+        let mut observer = Rejected(rejected);
+        Self::build_observed(positions, normals, indices, options, storage, &mut observer)
+    }
+
+    /// [`Scene::build`], telling `observer` each rejected triangle (in index order) and the
+    /// start of each step ([`BuildStage`]), so a caller can time the steps or show progress.
+    ///
+    /// # Panics
+    /// Never (unless `observer` panics).
+    pub fn build_observed<T: Float>(
+        positions: Vertices<'_, T>,
+        normals: Vertices<'_, T>,
+        indices: &[[u32; 3]],
+        options: &BuildOptions,
+        storage: SceneStorage<'a, F>,
+        observer: &mut impl BuildObserver,
     ) -> Result<Self, BuildError> {
         let vertex_count = positions.len();
         if normals.len() != vertex_count {
@@ -533,16 +611,31 @@ impl<'a, F: Float> Scene<'a, F> {
         };
         // 1. The per-vertex remedy (shared field only).
         if options.field == LineField::Vertex {
+            observer.stage(BuildStage::VertexNormals);
             for (i, (p, n)) in vpos.iter_mut().zip(vnrm.iter_mut()).enumerate() {
                 if let (Some(a), Some(b)) = (positions.vec3::<F>(i), normals.vec3::<F>(i)) {
                     *p = a;
                     *n = b;
                 }
             }
+            // Triangles that repeat an index (zero area: rejected as patches below) have no
+            // face normal to clamp toward; the remedy runs over the others.
+            let mut distinct = 0;
+            for tri in indices {
+                let [a, b, c] = *tri;
+                if a != b && b != c && a != c {
+                    if let Some(slot) = triangles.get_mut(distinct) {
+                        *slot = *tri;
+                    }
+                    distinct += 1;
+                }
+            }
+            let distinct = triangles.get(..distinct).ok_or(BuildError::TooLarge)?;
             report.vertex_clamps =
-                Some(clamp_vertex_normals(vpos, vnrm, indices, clamped, clamps)?);
+                Some(clamp_vertex_normals(vpos, vnrm, distinct, clamped, clamps)?);
         }
         // 2. One patch per triangle, in index order.
+        observer.stage(BuildStage::Patches);
         let mut count = 0usize;
         for (t, tri) in indices.iter().enumerate() {
             let corner = |k: usize| -> Option<(F::Vec3, F::Vec3)> {
@@ -577,7 +670,7 @@ impl<'a, F: Float> Scene<'a, F> {
                 Err(e) => {
                     report.rejected.count(e);
                     report.first_rejected.get_or_insert((t as u32, e));
-                    rejected(t as u32, e);
+                    observer.rejected(t as u32, e);
                 }
             }
         }
@@ -599,6 +692,7 @@ impl<'a, F: Float> Scene<'a, F> {
             vertex_count,
             options,
             report,
+            observer,
         )
     }
 
@@ -616,6 +710,7 @@ impl<'a, F: Float> Scene<'a, F> {
         vertex_count: usize,
         options: &BuildOptions,
         mut report: BuildReport,
+        observer: &mut impl BuildObserver,
     ) -> Result<Self, BuildError> {
         let short = BuildError::TooLarge;
         let patches = patches.get_mut(..count).ok_or(short)?;
@@ -623,10 +718,12 @@ impl<'a, F: Float> Scene<'a, F> {
         let triangles = triangles.get(..count).ok_or(short)?;
         report.patches = count;
         // 3. Crack closure.
+        observer.stage(BuildStage::Cracks);
         report.cracks = close_cracks(patches, triangles, vertex_count, edges)?;
         let patches: &'a [Patch<F>] = patches;
         // 4. Seams.
         let seams: &'a [Seam<F>] = if options.seams {
+            observer.stage(BuildStage::Seams);
             let seams = seams.get_mut(..count).ok_or(short)?;
             report.seam_edges = Some(fit_seams(patches, triangles, vertex_count, edges, seams)?);
             seams
@@ -634,8 +731,10 @@ impl<'a, F: Float> Scene<'a, F> {
             &[]
         };
         // 5. The BVH.
+        observer.stage(BuildStage::Bvh);
         let bvh = Bvh::build(patches, nodes, order)?;
         report.bvh_nodes = bvh.node_count();
+        observer.stage(BuildStage::Done);
         Ok(Scene {
             bvh,
             triangle_ids,

@@ -66,8 +66,8 @@ pub(crate) mod topology;
 pub(crate) mod vertex_normals;
 
 pub use build::{
-    BuildError, BuildOptions, BuildReport, Rejections, Scene, SceneHit, SceneSizes, SceneStorage,
-    Vertices,
+    BuildError, BuildObserver, BuildOptions, BuildReport, BuildStage, Rejections, Scene, SceneHit,
+    SceneSizes, SceneStorage, Vertices,
 };
 #[cfg(feature = "alloc")]
 pub(crate) mod owned;

@@ -4,7 +4,8 @@ use alloc::vec;
 use alloc::vec::Vec;
 
 use super::build::{
-    BuildError, BuildOptions, BuildReport, Scene, SceneSizes, SceneStorage, Vertices,
+    BuildError, BuildObserver, BuildOptions, BuildReport, Rejected, Scene, SceneSizes,
+    SceneStorage, Vertices,
 };
 use super::seams::Seam;
 use super::topology::SharedEdge;
@@ -52,6 +53,21 @@ impl<F: Float> OwnedScene<F> {
         options: &BuildOptions,
         rejected: impl FnMut(u32, PatchError),
     ) -> Result<Self, BuildError> {
+        let mut observer = Rejected(rejected);
+        Self::build_observed(positions, normals, indices, options, &mut observer)
+    }
+
+    /// [`Scene::build_observed`] into storage of its own.
+    ///
+    /// # Panics
+    /// Never (unless `observer` panics).
+    pub fn build_observed<T: Float>(
+        positions: Vertices<'_, T>,
+        normals: Vertices<'_, T>,
+        indices: &[[u32; 3]],
+        options: &BuildOptions,
+        observer: &mut impl BuildObserver,
+    ) -> Result<Self, BuildError> {
         let sizes =
             SceneSizes::new(positions.len(), indices.len(), options).ok_or(BuildError::TooLarge)?;
         let mut patches = vec![Patch::<F>::default(); sizes.patches];
@@ -80,7 +96,7 @@ impl<F: Float> OwnedScene<F> {
             vertex_clamps: &mut clamps,
         };
         let report =
-            *Scene::build_reporting(positions, normals, indices, options, storage, rejected)?
+            *Scene::build_observed(positions, normals, indices, options, storage, observer)?
                 .report();
         patches.truncate(report.patches);
         triangle_ids.truncate(report.patches);

@@ -353,6 +353,14 @@ pub fn inspect<F: Prec>(name: &str, mesh: &Mesh, field: LineField) -> Result<Str
             std::mem::size_of::<Seam<F>>(),
             sc.report().seam_edges.unwrap_or(0)
         );
+        let (p, se, b) = sc.bytes_per_triangle();
+        let _ = writeln!(
+            s,
+            "per triangle ({}): patch {p:.0} + seams {se:.0} + BVH {b:.0} = {:.0} bytes",
+            F::PRECISION,
+            p + se + b
+        );
+        let _ = writeln!(s, "build ({}): {}", F::PRECISION, sc.timing_line());
         let _ = writeln!(
             s,
             "cracks closed ({}): {} of {} shared edges part, widest gap {:.3e} ({:.3e} of \

@@ -47,6 +47,8 @@ pub struct RenderOptions {
     pub normals: Normals,
     /// The line field the patches are built on (`smoothtri::LineField`).
     pub field: LineField,
+    /// Print the build's time per step (`--verbose`).
+    pub verbose: bool,
 }
 
 /// One rendered panel and its primary-hit mask.
@@ -59,6 +61,15 @@ pub(crate) struct Panel {
     pub seconds: f64,
     /// Primary hits per pixel.
     pub mask: Vec<crate::renderer::PixelHit>,
+}
+
+/// What `render` prints on stderr about a scene it builds.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Note {
+    /// The note about skipped and clamped triangles.
+    pub skipped: bool,
+    /// The build's time per step (`--verbose`).
+    pub timing: bool,
 }
 
 /// [`render_panel`] in the precision `prec` names.
@@ -76,7 +87,10 @@ pub(crate) fn render_panel_in(
         cam,
         mode,
         n,
-        note,
+        Note {
+            skipped: note,
+            timing: false,
+        },
         Normals::default(),
         LineField::Face,
     )
@@ -90,7 +104,7 @@ fn render_panel_with(
     cam: &Camera,
     mode: Mode,
     n: usize,
-    note: bool,
+    note: Note,
     normals: Normals,
     field: LineField,
 ) -> Result<Panel> {
@@ -124,7 +138,7 @@ fn render_panel<F: Prec>(
     cam: &Camera,
     mode: Mode,
     n: usize,
-    note: bool,
+    note: Note,
     normals: Normals,
     field: LineField,
 ) -> Result<Panel> {
@@ -140,13 +154,16 @@ fn render_panel<F: Prec>(
 /// clamped triangles.
 fn build_scene<F: Prec>(
     mesh: &Mesh,
-    note: bool,
+    note: Note,
     field: LineField,
     seams: bool,
 ) -> Result<Scene<F>> {
     let scene = Scene::<F>::build_with(mesh, field, seams)?;
-    if let Some(text) = scene.rejected_note().filter(|_| note) {
+    if let Some(text) = scene.rejected_note().filter(|_| note.skipped) {
         eprintln!("{text}");
+    }
+    if note.timing {
+        eprintln!("build ({}): {}", F::PRECISION, scene.timing_line());
     }
     Ok(scene)
 }
@@ -181,7 +198,7 @@ fn render_panel_gpu(
     cam: &Camera,
     mode: Mode,
     n: usize,
-    note: bool,
+    note: Note,
     normals: Normals,
     field: LineField,
 ) -> Result<Panel> {
@@ -340,9 +357,15 @@ pub fn run(a: RenderOptions) -> Result<()> {
         vec![a.mode]
     };
     let mut panels = Vec::new();
-    let panel = |m: Mode, n: usize, note: bool| match &gpu {
-        Some(g) => render_panel_gpu(g, &mesh, &cam, m, n, note, a.normals, a.field),
-        None => render_panel_with(a.precision, &mesh, &cam, m, n, note, a.normals, a.field),
+    let panel = |m: Mode, n: usize, first: bool| {
+        let note = Note {
+            skipped: first,
+            timing: first && a.verbose,
+        };
+        match &gpu {
+            Some(g) => render_panel_gpu(g, &mesh, &cam, m, n, note, a.normals, a.field),
+            None => render_panel_with(a.precision, &mesh, &cam, m, n, note, a.normals, a.field),
+        }
     };
     for (k, &m) in modes.iter().enumerate() {
         panels.push(panel(m, a.iterations, k == 0)?);

@@ -3,8 +3,11 @@
 
 use std::collections::BTreeMap;
 
+use std::time::Instant;
+
 use smoothtri::{
-    BuildOptions, BuildReport, Bvh, Float, Hit, LineField, OwnedScene, Patch, PatchError, Vertices,
+    BuildObserver, BuildOptions, BuildReport, BuildStage, Bvh, Float, Hit, LineField, OwnedScene,
+    Patch, PatchError, Vertices,
 };
 
 use super::{Normals, Prec};
@@ -21,6 +24,30 @@ pub struct Scene<F: Float> {
     /// The normal [`Scene::shading_normal`] returns: seamless only when the scene was built
     /// with seams.
     pub normals: Normals,
+    /// Wall-clock seconds of each step of the build, in order.
+    pub stage_seconds: Vec<(BuildStage, f64)>,
+}
+
+/// Records the rejected triangles and times the steps.
+struct Recorder {
+    rejected: Vec<(u32, PatchError)>,
+    stages: Vec<(BuildStage, f64)>,
+    current: Option<(BuildStage, Instant)>,
+}
+
+impl BuildObserver for Recorder {
+    fn rejected(&mut self, triangle: u32, why: PatchError) {
+        self.rejected.push((triangle, why));
+    }
+    fn stage(&mut self, stage: BuildStage) {
+        let now = Instant::now();
+        if let Some((s, t)) = self.current.take() {
+            self.stages.push((s, (now - t).as_secs_f64()));
+        }
+        if stage != BuildStage::Done {
+            self.current = Some((stage, now));
+        }
+    }
 }
 
 impl<F: Prec> Scene<F> {
@@ -38,24 +65,56 @@ impl<F: Prec> Scene<F> {
         let flat =
             |v: &[glam::DVec3]| -> Vec<f64> { v.iter().flat_map(|p| p.to_array()).collect() };
         let (pos, nrm) = (flat(&mesh.positions), flat(&mesh.normals));
-        let mut rejected = Vec::new();
-        let owned = OwnedScene::<F>::build_reporting(
+        let mut rec = Recorder {
+            rejected: Vec::new(),
+            stages: Vec::new(),
+            current: None,
+        };
+        let owned = OwnedScene::<F>::build_observed(
             Vertices::packed(&pos),
             Vertices::packed(&nrm),
             &mesh.triangles,
             &BuildOptions { field, seams },
-            |t, e| rejected.push((t, e)),
+            &mut rec,
         )
         .map_err(|e| DemoError::Empty { msg: e.to_string() })?;
         Ok(Scene {
             owned,
-            rejected,
+            rejected: rec.rejected,
+            stage_seconds: rec.stages,
             normals: if seams {
                 Normals::Seamless
             } else {
                 Normals::Geometric
             },
         })
+    }
+
+    /// The build's time per step, one line: `patches 0.012 s, cracks …; total 0.1 s (N
+    /// triangles/s)`.
+    pub fn timing_line(&self) -> String {
+        let total: f64 = self.stage_seconds.iter().map(|(_, t)| t).sum();
+        let parts: Vec<String> = self
+            .stage_seconds
+            .iter()
+            .map(|(s, t)| format!("{} {t:.3} s", s.name()))
+            .collect();
+        format!(
+            "{}; total {total:.3} s ({:.0} triangles/s, one thread)",
+            parts.join(", "),
+            self.report().triangles as f64 / total.max(1e-9)
+        )
+    }
+
+    /// Bytes per input triangle of what the scene holds: `(patches, seams, BVH)`.
+    pub fn bytes_per_triangle(&self) -> (f64, f64, f64) {
+        let n = self.report().triangles.max(1) as f64;
+        let b = self.bvh();
+        (
+            std::mem::size_of_val(self.patches()) as f64 / n,
+            std::mem::size_of_val(self.seams()) as f64 / n,
+            b.memory_bytes() as f64 / n,
+        )
     }
 
     /// The core's scene, for queries.
