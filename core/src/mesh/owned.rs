@@ -70,6 +70,14 @@ impl<F: Float> OwnedScene<F> {
     ) -> Result<Self, BuildError> {
         let sizes =
             SceneSizes::new(positions.len(), indices.len(), options).ok_or(BuildError::TooLarge)?;
+        // Storage the allocator could not describe (more than `isize::MAX` bytes) is refused
+        // here rather than by `Vec`'s capacity-overflow panic.
+        if sizes
+            .bytes::<F>()
+            .is_none_or(|b| isize::try_from(b).is_err())
+        {
+            return Err(BuildError::TooLarge);
+        }
         let mut patches = vec![Patch::<F>::default(); sizes.patches];
         let mut triangle_ids = vec![0u32; sizes.patches];
         let mut nodes = vec![BvhNode::<F>::default(); sizes.nodes];

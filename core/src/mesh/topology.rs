@@ -66,12 +66,12 @@ impl fmt::Display for MeshError {
                 "cracks: {patches} patches and {triangles} triangles differ in number"
             ),
             MeshError::ScratchTooSmall { needed } => {
-                write!(f, "seams: scratch too small, need {needed} edge entries")
+                write!(f, "mesh: scratch too small, need {needed} edge entries")
             }
-            MeshError::TooManyTriangles => f.write_str("seams: too many triangles"),
+            MeshError::TooManyTriangles => f.write_str("mesh: too many triangles"),
             MeshError::BadIndex { triangle } => write!(
                 f,
-                "seams: triangle {triangle} has an out-of-range or repeated vertex index"
+                "mesh: triangle {triangle} has an out-of-range or repeated vertex index"
             ),
         }
     }
