@@ -3,7 +3,7 @@
 #![allow(dead_code)]
 
 use glam::{DVec3, Vec3};
-use smoothtri::{BuildOptions, Bvh, DPatch, DRay, LineField, OwnedScene, Patch, Ray, Vertices};
+use smoothtri::{Bvh, DPatch, DRay, LineField, Patch, Ray};
 use smoothtri_demo::scenes::{Mesh, torus, torus_distance};
 
 /// Deterministic SplitMix64.
@@ -113,34 +113,24 @@ pub fn flat_torus_matching(target: f64) -> (usize, f64) {
     (200, f64::NAN)
 }
 
-/// A scene built by the core's builder ([`OwnedScene`]: crack closure, no seams), `f32`.
+/// A scene built as the demo builds it (the core's builder: crack closure, no seams), `f32`.
 pub struct Scene {
-    owned: OwnedScene<f32>,
+    built: smoothtri_demo::Scene<f32>,
 }
 impl Scene {
     pub fn new(m: &Mesh) -> Self {
         Self::new_on(m, LineField::Face)
     }
     pub fn new_on(m: &Mesh, field: LineField) -> Self {
-        let flat = |v: &[DVec3]| -> Vec<f64> { v.iter().flat_map(|p| p.to_array()).collect() };
-        let (pos, nrm) = (flat(&m.positions), flat(&m.normals));
-        let owned = OwnedScene::build(
-            Vertices::packed(&pos),
-            Vertices::packed(&nrm),
-            &m.triangles,
-            &BuildOptions {
-                field,
-                seams: false,
-            },
-        )
-        .expect("the bench meshes build");
-        Scene { owned }
+        let built =
+            smoothtri_demo::Scene::build_with(m, field, false).expect("the bench meshes build");
+        Scene { built }
     }
     pub fn bvh(&self) -> Bvh<'_, f32> {
-        *self.owned.scene().bvh()
+        self.built.bvh()
     }
     pub fn patches(&self) -> &[Patch] {
-        self.owned.scene().patches()
+        self.built.patches()
     }
 }
 

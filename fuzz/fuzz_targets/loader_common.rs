@@ -3,7 +3,7 @@
 //! return an error (that is its job); it must never panic, and an accepted mesh must give
 //! finite patches, evaluations and hits.
 
-use smoothtri::{BuildOptions, DRay, OwnedScene, Vertices};
+use smoothtri::{DRay, LineField};
 
 pub fn run(ext: &str, data: &[u8]) {
     let dir = std::env::temp_dir().join(format!("smoothtri-fuzz-{}", std::process::id()));
@@ -17,21 +17,14 @@ pub fn run(ext: &str, data: &[u8]) {
         return;
     };
     let mesh = &loaded.mesh;
-    // The scene as a renderer builds it (the core's builder, with seams), at most 2000
+    // The scene as the demo builds it (the core's builder, with seams), at most 2000
     // triangles.
-    let tris = &mesh.triangles[..mesh.triangles.len().min(2000)];
-    let flat = |v: &[glam::DVec3]| -> Vec<f64> { v.iter().flat_map(|p| p.to_array()).collect() };
-    let (pos, nrm) = (flat(&mesh.positions), flat(&mesh.normals));
-    let options = BuildOptions {
-        seams: true,
-        ..BuildOptions::default()
-    };
-    let Ok(owned) =
-        OwnedScene::<f64>::build(Vertices::packed(&pos), Vertices::packed(&nrm), tris, &options)
-    else {
+    let mut head = mesh.clone();
+    head.triangles.truncate(2000);
+    let Ok(built) = smoothtri_demo::Scene::<f64>::build_with(&head, LineField::Face, true) else {
         return;
     };
-    let scene = owned.scene();
+    let scene = built.core();
     for patch in scene.patches() {
         let (x, n) = patch.point_normal(1.0 / 3.0, 1.0 / 3.0);
         assert!(x.is_finite() && n.is_finite(), "non-finite evaluation");

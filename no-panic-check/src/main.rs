@@ -424,6 +424,7 @@ fn builder<F: Float>() -> u32 {
                     }
                     acc += scene.any_hit::<4>(&ray, t0, t1) as u32;
                     acc += scene.patch_of_triangle(black_box(3)).is_some() as u32;
+                    acc += scene.patch_index(black_box(2)).map_or(0, |i| i as u32);
                     acc += scene.bvh().node_count() as u32 + scene.patches().len() as u32;
                     acc += scene.triangle_ids().len() as u32 + scene.seams().len() as u32;
                     acc += scene.memory_bytes() as u32;

@@ -123,6 +123,7 @@ fn check_equals_steps<F: P>(name: &str, m: &Mesh, options: BuildOptions) {
             };
             assert_eq!(g.shading_normal, sn, "{name}");
             assert_eq!(scene.patch_of_triangle(g.triangle), Some(&patches[i]));
+            assert_eq!(scene.patch_index(g.triangle), Some(i));
         }
     }
     assert!(hits > 50, "{name}: {hits} hits");

@@ -836,8 +836,16 @@ impl<'a, F: Float> Scene<'a, F> {
     /// # Panics
     /// Never.
     pub fn patch_of_triangle(&self, triangle: u32) -> Option<&'a Patch<F>> {
-        let i = self.triangle_ids.binary_search(&triangle).ok()?;
-        self.bvh.patches().get(i)
+        self.bvh.patches().get(self.patch_index(triangle)?)
+    }
+
+    /// The index in [`Scene::patches`] of input triangle `triangle`'s patch, `None` when it
+    /// was rejected (or out of range). Binary search over [`Scene::triangle_ids`].
+    ///
+    /// # Panics
+    /// Never.
+    pub fn patch_index(&self, triangle: u32) -> Option<usize> {
+        self.triangle_ids.binary_search(&triangle).ok()
     }
 
     /// The BVH (for the baselines of [`Bvh::closest_with`], packets, uploads).

@@ -139,7 +139,7 @@ impl<F: Prec> Scene<F> {
 
     /// The patch index of mesh triangle `t`, `None` when it was rejected.
     pub fn patch_of_tri(&self, t: usize) -> Option<usize> {
-        self.tri_ids().binary_search(&u32::try_from(t).ok()?).ok()
+        self.owned.scene().patch_index(u32::try_from(t).ok()?)
     }
 
     /// The seams (empty when built without).
