@@ -322,9 +322,7 @@ fn vertex_clamps<F: Float>() -> u32 {
     let mut scratch = [VertexClamp::<F>::default(); 5];
     let mut acc = 0;
     match clamp_vertex_normals(&pos, &nrm, &tris, &mut out, &mut scratch) {
-        Ok(r) => {
-            acc += (r.clamped + r.unresolved) as u32 + fin::<F>(out[4]) as u32
-        }
+        Ok(r) => acc += (r.clamped + r.unresolved) as u32 + fin::<F>(out[4]) as u32,
         Err(e) => acc += display_len(&e),
     }
     for r in [
@@ -430,7 +428,12 @@ fn builder<F: Float>() -> u32 {
                     acc += scene.memory_bytes() as u32;
                     let r = scene.report();
                     acc += (r.patches + r.remedied + r.bvh_nodes) as u32;
-                    acc += r.rejected.by_reason().iter().map(|(_, n)| *n as u32).sum::<u32>();
+                    acc += r
+                        .rejected
+                        .by_reason()
+                        .iter()
+                        .map(|(_, n)| *n as u32)
+                        .sum::<u32>();
                     acc += r.seam_edges.unwrap_or(0) as u32 + r.cracks.shared_edges as u32;
                     acc += r.first_rejected.map_or(0, |(t, e)| t + display_len(&e));
                     acc += r.vertex_clamps.map_or(0, |c| c.clamped as u32);
