@@ -42,7 +42,9 @@
 //! ```
 //! use glam::Vec3;
 //! use smoothtri::mesh::{Seam, SharedEdge, VertexClamp};
-//! use smoothtri::{BuildOptions, BvhNode, Patch, Ray, Scene, SceneSizes, SceneStorage, Vertices};
+//! use smoothtri::{
+//!     BuildOptions, BvhNode, EdgeWork, Patch, Ray, Scene, SceneSizes, SceneStorage, Vertices,
+//! };
 //!
 //! // The upper half of an octahedron with radial normals (exactly the unit sphere), packed.
 //! let p = [1.0f32, 0.0, 0.0, 0.0, 1.0, 0.0, -1.0, 0.0, 0.0, 0.0, -1.0, 0.0, 0.0, 0.0, 1.0];
@@ -50,14 +52,16 @@
 //! let options = BuildOptions::default(); // the paper's line field, no seams
 //! let n = SceneSizes::new(5, 4, &options).unwrap();
 //! assert_eq!((n.patches, n.nodes, n.edges, n.seams, n.vertices), (4, 7, 12, 0, 0));
+//! assert_eq!(n.edge_work, 6); // one block: at most 12 / 2 shared edges
 //! // Fixed-size storage, as firmware would hold it.
 //! let mut patches = [Patch::<f32>::default(); 4];
 //! let (mut ids, mut order, mut tris) = ([0u32; 4], [0u32; 4], [[0u32; 3]; 4]);
 //! let mut nodes = [BvhNode::default(); 7];
 //! let mut edges = [SharedEdge::default(); 12];
+//! let mut work = [EdgeWork::default(); 6];
 //! let storage = SceneStorage {
 //!     patches: &mut patches, triangle_ids: &mut ids, nodes: &mut nodes, order: &mut order,
-//!     seams: &mut [], triangles: &mut tris, edges: &mut edges,
+//!     seams: &mut [], triangles: &mut tris, edges: &mut edges, edge_work: &mut work,
 //!     vertex_positions: &mut [], vertex_normals: &mut [], clamped_normals: &mut [],
 //!     vertex_clamps: &mut [],
 //! };
@@ -124,8 +128,8 @@ pub use kernel::{DEFAULT_SAMPLES, KernelStats, max_lane_calls};
 #[cfg(feature = "alloc")]
 pub use mesh::OwnedScene;
 pub use mesh::{
-    BuildError, BuildObserver, BuildOptions, BuildReport, BuildStage, Rejections, Scene, SceneHit,
-    SceneSizes, SceneStorage, Vertices,
+    BuildError, BuildObserver, BuildOptions, BuildReport, BuildStage, EdgeWork, Executor,
+    Rejections, Scene, SceneHit, SceneSizes, SceneStorage, Vertices,
 };
 #[cfg(feature = "micromath")]
 pub use num::fast::FastF32;

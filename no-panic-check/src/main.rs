@@ -20,7 +20,8 @@ use smoothtri::mesh::{
     MeshError, Seam, SharedEdge, VertexClamp, clamp_vertex_normals, close_cracks, fit_seams,
 };
 use smoothtri::{
-    Aabb, BuildError, BuildOptions, Bvh, BvhError, BvhNode, DEFAULT_SAMPLES, FastF32, Float, Hit,
+    Aabb, BuildError, BuildOptions, Bvh, BvhError, BvhNode, DEFAULT_SAMPLES, EdgeWork, FastF32,
+    Float, Hit,
     KernelStats, LineField, Patch, PatchError, Ray, Scene, SceneSizes, SceneStorage, Vertices,
     flat_hit, max_lane_calls, moller_trumbore,
 };
@@ -391,6 +392,7 @@ fn builder<F: Float>() -> u32 {
             let mut seam_store = [Seam::<F>::default(); T];
             let mut triangles = [[0u32; 3]; T];
             let mut edges = [SharedEdge::default(); 3 * T];
+            let mut work = [EdgeWork::<F>::default(); 3 * T / 2];
             let zero = v::<F>(0.0, 0.0, 0.0);
             let (mut vp, mut vn, mut vc) = ([zero; V], [zero; V], [zero; V]);
             let mut clamps = [VertexClamp::<F>::default(); V];
@@ -402,6 +404,7 @@ fn builder<F: Float>() -> u32 {
                 seams: &mut seam_store,
                 triangles: &mut triangles,
                 edges: &mut edges,
+                edge_work: &mut work,
                 vertex_positions: &mut vp,
                 vertex_normals: &mut vn,
                 clamped_normals: &mut vc,
@@ -451,6 +454,7 @@ fn builder<F: Float>() -> u32 {
     let mut order = [0u32; T];
     let mut triangles = [[0u32; 3]; T];
     let mut edges = [SharedEdge::default(); 3 * T];
+    let mut work = [EdgeWork::<F>::default(); 3 * T / 2];
     let bad: [&[[u32; 3]]; 4] = black_box([&[[0, 1, 9]], &[[4, 5, 4]], &[], &tris]);
     for tris in bad {
         let storage = SceneStorage {
@@ -461,6 +465,7 @@ fn builder<F: Float>() -> u32 {
             seams: &mut [],
             triangles: &mut triangles,
             edges: &mut edges,
+            edge_work: &mut work,
             vertex_positions: &mut [],
             vertex_normals: &mut [],
             clamped_normals: &mut [],

@@ -9,8 +9,8 @@ use smoothtri::mesh::{
     Seam, SharedEdge, VertexClamp, clamp_vertex_normals, close_cracks, fit_seams,
 };
 use smoothtri::{
-    BuildError, BuildOptions, Bvh, BvhNode, Float, LineField, OwnedScene, Patch, PatchError, Ray,
-    Scene, SceneSizes, SceneStorage, Vertices,
+    BuildError, BuildOptions, Bvh, BvhNode, EdgeWork, Executor, Float, LineField, OwnedScene,
+    Patch, PatchError, Ray, Scene, SceneSizes, SceneStorage, Vertices,
 };
 use smoothtri_demo::scenes::{self, Mesh};
 
@@ -159,6 +159,7 @@ struct Store<F: Float> {
     edges: Vec<SharedEdge>,
     vertex: [Vec<F::Vec3>; 3],
     clamps: Vec<VertexClamp<F>>,
+    work: Vec<EdgeWork<F>>,
 }
 
 impl<F: P> Store<F> {
@@ -175,6 +176,7 @@ impl<F: P> Store<F> {
             edges: vec![SharedEdge::default(); len(6, n.edges)],
             vertex: [7, 8, 9].map(|k| vec![z; len(k, n.vertices)]),
             clamps: vec![VertexClamp::default(); len(10, n.vertices)],
+            work: vec![EdgeWork::default(); len(11, n.edge_work)],
         }
     }
 
@@ -188,6 +190,7 @@ impl<F: P> Store<F> {
             seams: &mut self.seams,
             triangles: &mut self.tris,
             edges: &mut self.edges,
+            edge_work: &mut self.work,
             vertex_positions: vp,
             vertex_normals: vn,
             clamped_normals: vc,
@@ -366,7 +369,7 @@ fn bad_input_and_storage_are_typed_errors() {
         seams: true,
     };
     let n = SceneSizes::new(m.positions.len(), m.triangles.len(), &options).unwrap();
-    for short in 0..11 {
+    for short in 0..12 {
         let mut store = Store::<f64>::new(&n, Some(short));
         match Scene::<f64>::build(pv, nv, &m.triangles, &options, store.storage()) {
             Err(BuildError::StorageTooSmall {
@@ -454,5 +457,63 @@ fn the_observer_sees_every_step_in_order() {
         assert_eq!(log.0, want);
         assert_eq!(log.1, vec![m.triangles.len() as u32 - 1]);
         assert!(want.iter().all(|s| !s.name().is_empty()));
+    }
+}
+
+/// An executor that runs chunks of one element, last first: the most different order from a
+/// single call a thread pool could produce.
+struct Backwards;
+
+impl Executor for Backwards {
+    fn run_chunks<T: Send>(&self, items: &mut [T], work: &(dyn Fn(usize, &mut [T]) + Sync)) {
+        let n = items.len();
+        for (k, c) in items
+            .chunks_mut(1)
+            .enumerate()
+            .collect::<Vec<_>>()
+            .into_iter()
+            .rev()
+        {
+            assert!(k < n);
+            work(k, c);
+        }
+    }
+}
+
+/// The build is bit for bit the same on one thread, on rayon's pool and in the most shuffled
+/// order, in both line fields and both precisions (teapot: open cracks, remedied patches).
+#[test]
+fn parallel_builds_are_bit_identical() {
+    fn check<F: P>(m: &Mesh, field: LineField) {
+        let (p, n) = (flat(&m.positions), flat(&m.normals));
+        let (pv, nv) = (Vertices::packed(&p), Vertices::packed(&n));
+        let options = BuildOptions { field, seams: true };
+        let serial = OwnedScene::<F>::build(pv, nv, &m.triangles, &options).unwrap();
+        let pool = OwnedScene::<F>::build_parallel(
+            pv,
+            nv,
+            &m.triangles,
+            &options,
+            &mut (),
+            &smoothtri_demo::tracer::RayonExecutor,
+        )
+        .unwrap();
+        let back =
+            OwnedScene::<F>::build_parallel(pv, nv, &m.triangles, &options, &mut (), &Backwards)
+                .unwrap();
+        for other in [&pool, &back] {
+            let (a, b) = (serial.scene(), other.scene());
+            assert_eq!(a.patches(), b.patches());
+            assert_eq!(a.seams(), b.seams());
+            assert_eq!(a.report(), b.report());
+            assert_eq!(a.bvh().memory_bytes(), b.bvh().memory_bytes());
+        }
+        let r = *serial.scene().report();
+        assert!(r.cracks.shared_edges > 1000 && r.seam_edges.unwrap() > 1000);
+    }
+    let m = scenes::teapot(4);
+    for field in [LineField::Face, LineField::Vertex] {
+        check::<f32>(&m, field);
+        check::<f64>(&m, field);
     }
 }

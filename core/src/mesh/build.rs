@@ -3,9 +3,10 @@
 
 use core::fmt;
 
-use super::cracks::{CrackReport, close_cracks};
-use super::seams::{Seam, fit_seams};
-use super::topology::{MeshError, SharedEdge};
+use super::cracks::{CrackReport, apply_gap, clear_reaches, pair_gap};
+use super::parallel::{EDGE_WORK_BLOCK, EdgeWork, Executor};
+use super::seams::{FitMatrix, Seam, apply_fit, fit_pair};
+use super::topology::{MeshError, SharedEdge, edge_pair, pair_shared_edges};
 use super::vertex_normals::{VertexClamp, VertexClampReport, clamp_vertex_normals};
 use crate::bvh::{Bvh, BvhError, BvhNode};
 use crate::error::PatchError;
@@ -130,7 +131,7 @@ pub struct BuildOptions {
     /// curves meet; adds the per-vertex remedy and its storage).
     pub field: LineField,
     /// Fit the seamless shading normals ([`SceneHit::shading_normal`] then differs from the
-    /// geometric normal; costs `2·FIT_SAMPLES` = 98 `f64` normal evaluations per shared edge and
+    /// geometric normal; costs `2·FIT_SAMPLES` = 32 `f64` normal evaluations per shared edge and
     /// [`SceneSizes::seams`] storage). Without it the shading normal is the geometric one.
     pub seams: bool,
 }
@@ -148,6 +149,10 @@ pub struct SceneSizes {
     pub seams: usize,
     /// Slots of [`SceneStorage::edges`]: three per triangle.
     pub edges: usize,
+    /// Slots of [`SceneStorage::edge_work`]: the shared edges computed per block (at most
+    /// [`EDGE_WORK_BLOCK`], and no more than a mesh of this size can share; 0 without
+    /// triangles). The scene does not depend on it.
+    pub edge_work: usize,
     /// Slots of each per-vertex slice of [`SceneStorage`]: one per vertex on
     /// [`LineField::Vertex`], else 0.
     pub vertices: usize,
@@ -179,6 +184,19 @@ impl SceneSizes {
             nodes,
             seams: if options.seams { triangle_count } else { 0 },
             edges,
+            edge_work: {
+                let shared = edges / 2;
+                let block = if shared < EDGE_WORK_BLOCK {
+                    shared
+                } else {
+                    EDGE_WORK_BLOCK
+                };
+                if block == 0 && triangle_count > 0 {
+                    1
+                } else {
+                    block
+                }
+            },
             vertices: match options.field {
                 LineField::Vertex => vertex_count,
                 LineField::Face => 0,
@@ -200,6 +218,7 @@ impl SceneSizes {
             self.nodes.checked_mul(size_of::<BvhNode<F>>())?,
             self.seams.checked_mul(size_of::<Seam<F>>())?,
             self.edges.checked_mul(size_of::<SharedEdge>())?,
+            self.edge_work.checked_mul(size_of::<EdgeWork<F>>())?,
             self.vertices.checked_mul(per_vertex)?,
         ]
         .iter()
@@ -227,6 +246,8 @@ pub struct SceneStorage<'a, F: Float> {
     pub triangles: &'a mut [[u32; 3]],
     /// Scratch: the shared-edge sort ([`SceneSizes::edges`]).
     pub edges: &'a mut [SharedEdge],
+    /// Scratch: one block of per-edge results ([`SceneSizes::edge_work`]).
+    pub edge_work: &'a mut [EdgeWork<F>],
     /// Scratch, [`LineField::Vertex`] only: positions in `F` ([`SceneSizes::vertices`]).
     pub vertex_positions: &'a mut [F::Vec3],
     /// Scratch, [`LineField::Vertex`] only: normals in `F` ([`SceneSizes::vertices`]).
@@ -470,6 +491,12 @@ pub trait BuildObserver {
     fn stage(&mut self, stage: BuildStage) {
         let _ = stage;
     }
+    /// `done` of `total` items of `stage` are finished (shared edges for
+    /// [`BuildStage::Cracks`] and [`BuildStage::Seams`], triangles for
+    /// [`BuildStage::Patches`]); called after each block, for progress bars.
+    fn progress(&mut self, stage: BuildStage, done: usize, total: usize) {
+        let _ = (stage, done, total);
+    }
 }
 
 /// Nothing to observe.
@@ -481,6 +508,30 @@ pub(crate) struct Rejected<R>(pub(crate) R);
 impl<R: FnMut(u32, PatchError)> BuildObserver for Rejected<R> {
     fn rejected(&mut self, triangle: u32, why: PatchError) {
         (self.0)(triangle, why);
+    }
+}
+
+/// Calls `run(start, block)` for consecutive blocks of `work` covering the shared edges
+/// `pairs` (`block` the first `min(work.len(), rest)` entries, for the edges from `start`),
+/// and tells `observer` the progress of `stage` after each.
+fn for_each_block<F: Float>(
+    pairs: &[SharedEdge],
+    work: &mut [EdgeWork<F>],
+    stage: BuildStage,
+    observer: &mut impl BuildObserver,
+    mut run: impl FnMut(usize, &mut [EdgeWork<F>]),
+) {
+    let n = pairs.len();
+    let step = work.len().max(1);
+    let mut start = 0usize;
+    while start < n {
+        let len = step.min(n - start);
+        let Some(block) = work.get_mut(..len) else {
+            return;
+        };
+        run(start, block);
+        start += len;
+        observer.progress(stage, start, n);
     }
 }
 
@@ -537,8 +588,8 @@ impl<'a, F: Float> Scene<'a, F> {
     /// [`BuildError::TooLarge`], and [`BuildError::NoUsableTriangles`] when every triangle is
     /// rejected. A rejected triangle is otherwise only counted.
     ///
-    /// Work: `O(n log n)` in the triangles, dominated by crack closure (66 `f64` surface points
-    /// per shared edge) and, with seams, the fit (98 `f64` normals per shared edge); the patch
+    /// Work: `O(n log n)` in the triangles, dominated by crack closure (80 `f64` surface points
+    /// per shared edge) and, with seams, the fit (32 `f64` normals per shared edge); the patch
     /// constructions (at most 7 per triangle, and the per-vertex remedy's on the shared field)
     /// and the BVH cost less (`smoothtri inspect` prints the time of each step). No allocation.
     /// # Accuracy
@@ -585,6 +636,25 @@ impl<'a, F: Float> Scene<'a, F> {
         storage: SceneStorage<'a, F>,
         observer: &mut impl BuildObserver,
     ) -> Result<Self, BuildError> {
+        Self::build_parallel(positions, normals, indices, options, storage, observer, &())
+    }
+
+    /// [`Scene::build_observed`], with the per-edge work of crack closure and the seam fit
+    /// spread over `executor`'s threads ([`Executor`]; `&()` runs on the calling thread).
+    /// The scene is bit for bit the same whatever the executor (each edge's result is a pure
+    /// function of its two patches, applied in edge order on the calling thread).
+    ///
+    /// # Panics
+    /// Never (unless `observer` or `executor` panics).
+    pub fn build_parallel<T: Float>(
+        positions: Vertices<'_, T>,
+        normals: Vertices<'_, T>,
+        indices: &[[u32; 3]],
+        options: &BuildOptions,
+        storage: SceneStorage<'a, F>,
+        observer: &mut impl BuildObserver,
+        executor: &impl Executor,
+    ) -> Result<Self, BuildError> {
         let vertex_count = positions.len();
         if normals.len() != vertex_count {
             return Err(BuildError::VertexCountMismatch {
@@ -612,6 +682,7 @@ impl<'a, F: Float> Scene<'a, F> {
         let seams = take(storage.seams, sizes.seams, "seams")?;
         let triangles = take(storage.triangles, sizes.patches, "triangles")?;
         let edges = take(storage.edges, sizes.edges, "edges")?;
+        let work = take(storage.edge_work, sizes.edge_work, "edge_work")?;
         let vpos = take(storage.vertex_positions, sizes.vertices, "vertex_positions")?;
         let vnrm = take(storage.vertex_normals, sizes.vertices, "vertex_normals")?;
         let clamped = take(storage.clamped_normals, sizes.vertices, "clamped_normals")?;
@@ -685,6 +756,9 @@ impl<'a, F: Float> Scene<'a, F> {
                     observer.rejected(t as u32, e);
                 }
             }
+            if (t + 1) % EDGE_WORK_BLOCK == 0 || t + 1 == indices.len() {
+                observer.progress(BuildStage::Patches, t + 1, indices.len());
+            }
         }
         if let (0, Some((_, first))) = (count, report.first_rejected) {
             return Err(BuildError::NoUsableTriangles {
@@ -699,12 +773,12 @@ impl<'a, F: Float> Scene<'a, F> {
             order,
             seams,
             triangles,
-            edges,
+            (edges, work),
             count,
             vertex_count,
             options,
             report,
-            observer,
+            (observer, executor),
         )
     }
 
@@ -717,27 +791,62 @@ impl<'a, F: Float> Scene<'a, F> {
         order: &'a mut [u32],
         seams: &'a mut [Seam<F>],
         triangles: &mut [[u32; 3]],
-        edges: &mut [SharedEdge],
+        (edges, work): (&mut [SharedEdge], &mut [EdgeWork<F>]),
         count: usize,
         vertex_count: usize,
         options: &BuildOptions,
         mut report: BuildReport,
-        observer: &mut impl BuildObserver,
+        (observer, executor): (&mut impl BuildObserver, &impl Executor),
     ) -> Result<Self, BuildError> {
         let short = BuildError::TooLarge;
         let patches = patches.get_mut(..count).ok_or(short)?;
         let triangle_ids: &'a [u32] = triangle_ids.get(..count).ok_or(short)?;
         let triangles = triangles.get(..count).ok_or(short)?;
         report.patches = count;
-        // 3. Crack closure.
+        // 3. Crack closure: the shared edges once, then their gaps block by block.
         observer.stage(BuildStage::Cracks);
-        report.cracks = close_cracks(patches, triangles, vertex_count, edges)?;
+        let shared = pair_shared_edges(triangles, vertex_count, edges)?;
+        let pairs: &[SharedEdge] = edges.get(..shared).ok_or(short)?;
+        clear_reaches(patches);
+        let mut cracks = CrackReport::default();
+        for_each_block(pairs, work, BuildStage::Cracks, observer, |start, block| {
+            let view: &[Patch<F>] = patches;
+            executor.run_chunks(block, &|first, chunk| {
+                for (k, w) in chunk.iter_mut().enumerate() {
+                    w.gap = edge_pair(pairs, start + first + k).map_or(0.0, |e| pair_gap(view, e));
+                }
+            });
+            for (k, w) in block.iter().enumerate() {
+                if let Some(e) = edge_pair(pairs, start + k) {
+                    apply_gap(patches, e, w.gap, &mut cracks);
+                }
+            }
+        });
+        report.cracks = cracks;
         let patches: &'a [Patch<F>] = patches;
         // 4. Seams.
         let seams: &'a [Seam<F>] = if options.seams {
             observer.stage(BuildStage::Seams);
             let seams = seams.get_mut(..count).ok_or(short)?;
-            report.seam_edges = Some(fit_seams(patches, triangles, vertex_count, edges, seams)?);
+            for s in seams.iter_mut() {
+                *s = Seam::default();
+            }
+            let fit = FitMatrix::new();
+            let mut fitted = 0usize;
+            for_each_block(pairs, work, BuildStage::Seams, observer, |start, block| {
+                executor.run_chunks(block, &|first, chunk| {
+                    for (k, w) in chunk.iter_mut().enumerate() {
+                        w.fit = edge_pair(pairs, start + first + k)
+                            .and_then(|e| fit_pair(&fit, patches, e));
+                    }
+                });
+                for (k, w) in block.iter().enumerate() {
+                    if let Some(e) = edge_pair(pairs, start + k) {
+                        fitted += usize::from(apply_fit(seams, e, w.fit));
+                    }
+                }
+            });
+            report.seam_edges = Some(fitted);
             seams
         } else {
             &[]

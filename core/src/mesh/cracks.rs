@@ -16,9 +16,13 @@
 //! rounding level) get reaches of the order of the rounding, and their patches' surfaces are
 //! unchanged everywhere. Nothing changes inside a triangle.
 
-use super::topology::{MeshError, SharedEdge, edge_bary, for_each_shared_edge};
+use super::topology::{EdgePair, MeshError, SharedEdge, edge_bary, edge_pair, pair_shared_edges};
+use crate::geometry::Shape;
+use crate::num::lanes::{LANES, Lane};
 use crate::num::real::Float;
+use crate::num::vec::V3;
 use crate::patch::Patch;
+use crate::surface::height::{self, Prepared};
 use crate::surface::scalar;
 
 /// How far each neighbour's domain reaches across a shared edge, in multiples of the widest
@@ -32,7 +36,7 @@ use crate::surface::scalar;
 /// has run about `gap / sin θ`; when they are nearly parallel, at most `gap` apart, a ray
 /// between them must run along both for their overlap `2·reach − gap` while it rises by `gap`,
 /// so it passes only if it is within `atan(gap / (2·reach − gap))` of the surface: 8.1° (82°
-/// off the normal) for four gaps. The gap is the widest of `CRACK_SAMPLES` = 33 points, not of
+/// off the normal) for four gaps. The gap is the widest of `CRACK_SAMPLES` = 40 points, not of
 /// the whole curve, which the factor also covers. Measured (`tests/suite/watertight.rs`, thousands
 /// of rays per mesh aimed between the two curves, up to 80° off both normals): with one gap
 /// 1 to 7 rays per mesh still fall through, with two the teapot's f64 rays still do, with four
@@ -54,8 +58,10 @@ pub const CRACK_REACH: f64 = 4.0;
 pub const MAX_CRACK_REACH: f64 = 0.25;
 
 /// Points per shared edge at which [`close_cracks`] measures the gap (`t = (s + ½) /
-/// CRACK_SAMPLES`); two surface evaluations each.
-pub const CRACK_SAMPLES: usize = 33;
+/// CRACK_SAMPLES`); two surface evaluations each, eight per lane call (a multiple of the
+/// lane count: 33 points took as many calls).
+pub const CRACK_SAMPLES: usize = 40;
+const _: () = assert!(CRACK_SAMPLES % LANES == 0);
 
 /// What [`close_cracks`] measured.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -69,7 +75,7 @@ pub struct CrackReport {
 }
 
 /// Measures, for every edge shared by two patches, the gap between the two neighbours' edge
-/// curves at `CRACK_SAMPLES` = 33 points (in `f64` whatever `F`), and sets each neighbour's
+/// curves at `CRACK_SAMPLES` = 40 points (in `f64` whatever `F`), and sets each neighbour's
 /// reach across that edge to [`CRACK_REACH`] times the widest gap (over the wall's altitude,
 /// in barycentric units, at most [`MAX_CRACK_REACH`]); the patches' bounding boxes grow to
 /// match. Reaches of boundary edges, non-manifold edges and lone triangles are reset to 0, so
@@ -85,7 +91,8 @@ pub struct CrackReport {
 /// too small, or an index is out of range or repeated within a triangle (the patches are
 /// then unchanged).
 ///
-/// Work: `2·CRACK_SAMPLES` surface-point evaluations per shared edge and one heapsort of the
+/// Work: `2·CRACK_SAMPLES` surface-point evaluations per shared edge (eight per lane call)
+/// and one heapsort of the
 /// edges (`O(n log n)`, in place, no allocation). The kernel's work per ray is unchanged.
 ///
 /// # Accuracy
@@ -107,60 +114,100 @@ pub fn close_cracks<F: Float>(
             triangles: triangles.len(),
         });
     }
+    let n = pair_shared_edges(triangles, vertex_count, scratch)?;
+    let pairs = scratch.get(..n).unwrap_or(&[]);
+    clear_reaches(patches);
     let mut report = CrackReport::default();
-    // Stale reaches are cleared at the first shared edge, after the indices were validated
-    // (the patches stay unchanged on error).
-    let mut cleared = false;
-    let clear = |patches: &mut [Patch<F>]| {
-        for p in patches.iter_mut() {
-            p.set_reach([F::ZERO; 3]);
+    for k in 0..n {
+        if let Some(pair) = edge_pair(pairs, k) {
+            let gap = pair_gap(patches, pair);
+            apply_gap(patches, pair, gap, &mut report);
         }
-    };
-    for_each_shared_edge(triangles, vertex_count, scratch, |ta, ja, tb, jb| {
-        if !cleared {
-            clear(patches);
-            cleared = true;
-        }
-        report.shared_edges += 1;
-        let (Some(pa), Some(pb)) = (patches.get(ta), patches.get(tb)) else {
-            return;
-        };
-        let gap = edge_gap(pa, ja, pb, jb);
-        if !(gap > 0.0) {
-            return;
-        }
-        report.open_edges += 1;
-        report.widest_gap = report.widest_gap.max(gap);
-        for (t, j) in [(ta, ja), (tb, jb)] {
-            if let Some(p) = patches.get_mut(t) {
-                widen_wall(p, j, gap);
-            }
-        }
-    })?;
-    if !cleared {
-        clear(patches);
     }
     Ok(report)
+}
+
+/// Resets every reach to 0 (before [`apply_gap`] sets those of the shared edges).
+pub(crate) fn clear_reaches<F: Float>(patches: &mut [Patch<F>]) {
+    for p in patches.iter_mut() {
+        p.set_reach([F::ZERO; 3]);
+    }
+}
+
+/// The gap of shared edge `pair` ([`edge_gap`]); 0 when an index is out of range.
+#[inline]
+pub(crate) fn pair_gap<F: Float>(patches: &[Patch<F>], pair: EdgePair) -> f64 {
+    match (patches.get(pair.ta), patches.get(pair.tb)) {
+        (Some(pa), Some(pb)) => edge_gap(pa, pair.ja, pb, pair.jb),
+        _ => 0.0,
+    }
+}
+
+/// Counts shared edge `pair` in `report` and widens both neighbours' walls over it to its
+/// `gap`.
+pub(crate) fn apply_gap<F: Float>(
+    patches: &mut [Patch<F>],
+    pair: EdgePair,
+    gap: f64,
+    report: &mut CrackReport,
+) {
+    report.shared_edges += 1;
+    if !(gap > 0.0) {
+        return;
+    }
+    report.open_edges += 1;
+    report.widest_gap = report.widest_gap.max(gap);
+    for (t, j) in [(pair.ta, pair.ja), (pair.tb, pair.jb)] {
+        if let Some(p) = patches.get_mut(t) {
+            widen_wall(p, j, gap);
+        }
+    }
 }
 
 /// The widest distance between the edge curve of `pa`'s edge `ja` (from its vertex `ja` to
 /// `ja + 1`) and of `pb`'s edge `jb` (the same edge, traversed the other way) at
 /// [`CRACK_SAMPLES`] points, world length; `+∞` when a sample is not finite.
-fn edge_gap<F: Float>(pa: &Patch<F>, ja: usize, pb: &Patch<F>, jb: usize) -> f64 {
+///
+/// The surface points come from the kernel's eight-lane height (`surface::height`, equal to the
+/// generic evaluation within `KERNEL_HEIGHT_VS_SURFACE`), [`LANES`] samples per call.
+pub(crate) fn edge_gap<F: Float>(pa: &Patch<F>, ja: usize, pb: &Patch<F>, jb: usize) -> f64 {
     let (fa, sa) = pa.widened();
     let (fb, sb) = pb.widened();
+    let (pra, prb) = (Prepared::new(&sa), Prepared::new(&sb));
     let mut widest = 0.0f64;
-    for s in 0..CRACK_SAMPLES {
-        let t = (s as f64 + 0.5) / CRACK_SAMPLES as f64;
-        let xa = fa.local_to_world(scalar::point_local(&sa, edge_bary(ja, t)));
-        let xb = fb.local_to_world(scalar::point_local(&sb, edge_bary(jb, 1.0 - t)));
-        let d = (xa - xb).length();
-        if !d.is_finite() {
-            return f64::INFINITY;
+    for block in 0..CRACK_SAMPLES / LANES {
+        let ts: [f64; LANES] =
+            core::array::from_fn(|l| ((block * LANES + l) as f64 + 0.5) / CRACK_SAMPLES as f64);
+        let xa = edge_points(&sa, &pra, ja, ts);
+        let xb = edge_points(&sb, &prb, jb, ts.map(|t| 1.0 - t));
+        for (a, b) in xa.iter().zip(xb.iter()) {
+            let d = (fa.local_to_world(*a) - fb.local_to_world(*b)).length();
+            if !d.is_finite() {
+                return f64::INFINITY;
+            }
+            widest = widest.max(d);
         }
-        widest = widest.max(d);
     }
     widest
+}
+
+/// The local-frame surface points of `shape` at the parameters `ts` of its edge `j`.
+#[inline(always)]
+fn edge_points(
+    shape: &Shape<f64>,
+    pr: &Prepared<f64>,
+    j: usize,
+    ts: [f64; LANES],
+) -> [V3<f64>; LANES] {
+    let xs = ts.map(|t| edge_bary(j, t));
+    let lane =
+        |k: usize| <f64 as Float>::L8::from_array(xs.map(|x| x.get(k).copied().unwrap_or(0.0)));
+    let h = height::height_at(pr, [lane(0), lane(1), lane(2)]).to_array();
+    let mut out = [V3::zero(); LANES];
+    for ((o, x), h) in out.iter_mut().zip(xs).zip(h) {
+        *o = scalar::point_from_height(shape, x, h);
+    }
+    out
 }
 
 /// Sets the reach of `patch`'s wall over edge `j` (from `Pj` to `Pj+1`, the wall opposite

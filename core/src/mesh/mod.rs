@@ -61,6 +61,7 @@
 
 pub(crate) mod build;
 pub(crate) mod cracks;
+pub(crate) mod parallel;
 pub(crate) mod seams;
 pub(crate) mod topology;
 pub(crate) mod vertex_normals;
@@ -75,6 +76,7 @@ pub(crate) mod owned;
 pub use cracks::{CrackReport, close_cracks};
 #[cfg(feature = "alloc")]
 pub use owned::OwnedScene;
+pub use parallel::{EDGE_WORK_BLOCK, EdgeWork, Executor};
 pub use seams::{Seam, fit_seams};
 pub use topology::{MeshError, SharedEdge};
 pub use vertex_normals::{VertexClamp, VertexClampReport, clamp_vertex_normals};

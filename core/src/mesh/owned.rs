@@ -7,6 +7,7 @@ use super::build::{
     BuildError, BuildObserver, BuildOptions, BuildReport, Rejected, Scene, SceneSizes,
     SceneStorage, Vertices,
 };
+use super::parallel::{EdgeWork, Executor};
 use super::seams::Seam;
 use super::topology::SharedEdge;
 use super::vertex_normals::VertexClamp;
@@ -68,6 +69,21 @@ impl<F: Float> OwnedScene<F> {
         options: &BuildOptions,
         observer: &mut impl BuildObserver,
     ) -> Result<Self, BuildError> {
+        Self::build_parallel(positions, normals, indices, options, observer, &())
+    }
+
+    /// [`Scene::build_parallel`] into storage of its own.
+    ///
+    /// # Panics
+    /// Never (unless `observer` or `executor` panics).
+    pub fn build_parallel<T: Float>(
+        positions: Vertices<'_, T>,
+        normals: Vertices<'_, T>,
+        indices: &[[u32; 3]],
+        options: &BuildOptions,
+        observer: &mut impl BuildObserver,
+        executor: &impl Executor,
+    ) -> Result<Self, BuildError> {
         let sizes =
             SceneSizes::new(positions.len(), indices.len(), options).ok_or(BuildError::TooLarge)?;
         // Storage the allocator could not describe (more than `isize::MAX` bytes) is refused
@@ -85,6 +101,7 @@ impl<F: Float> OwnedScene<F> {
         let mut seams = vec![Seam::<F>::default(); sizes.seams];
         let mut triangles = vec![[0u32; 3]; sizes.patches];
         let mut edges = vec![SharedEdge::default(); sizes.edges];
+        let mut edge_work = vec![EdgeWork::<F>::default(); sizes.edge_work];
         let zero = F::to_glam(crate::num::vec::V3::zero());
         let mut vpos = vec![zero; sizes.vertices];
         let mut vnrm = vec![zero; sizes.vertices];
@@ -98,14 +115,16 @@ impl<F: Float> OwnedScene<F> {
             seams: &mut seams,
             triangles: &mut triangles,
             edges: &mut edges,
+            edge_work: &mut edge_work,
             vertex_positions: &mut vpos,
             vertex_normals: &mut vnrm,
             clamped_normals: &mut clamped,
             vertex_clamps: &mut clamps,
         };
-        let report =
-            *Scene::build_observed(positions, normals, indices, options, storage, observer)?
-                .report();
+        let report = *Scene::build_parallel(
+            positions, normals, indices, options, storage, observer, executor,
+        )?
+        .report();
         patches.truncate(report.patches);
         triangle_ids.truncate(report.patches);
         order.truncate(report.patches);

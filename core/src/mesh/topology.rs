@@ -79,19 +79,29 @@ impl fmt::Display for MeshError {
 
 impl core::error::Error for MeshError {}
 
-/// Calls `visit(ta, ja, tb, jb)` for every edge shared by exactly two triangles that traverse
-/// it in opposite directions: edge `ja` of triangle `ta` (from its vertex `ja` to `ja + 1`) and
-/// edge `jb` of triangle `tb`, in the order of the edges' sorted vertex keys. `scratch` holds at
-/// least `3 × triangles.len()` entries (contents on return unspecified).
+/// One edge shared by two triangles that traverse it in opposite directions: edge `ja` of
+/// triangle `ta` (from its vertex `ja` to `ja + 1`) and edge `jb` of triangle `tb`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct EdgePair {
+    pub(crate) ta: usize,
+    pub(crate) ja: usize,
+    pub(crate) tb: usize,
+    pub(crate) jb: usize,
+}
+
+/// Finds every edge shared by exactly two triangles that traverse it in opposite directions
+/// and stores them, in the order of their sorted vertex keys, in the first entries of
+/// `scratch` ([`edge_pair`] reads them back); returns their number. `scratch` holds at least
+/// `3 × triangles.len()` entries (contents on entry ignored; past the pairs unspecified on
+/// return).
 ///
 /// Errors: [`MeshError::TooManyTriangles`], [`MeshError::ScratchTooSmall`] and
 /// [`MeshError::BadIndex`] (an index at or above `vertex_count`, or repeated in a triangle).
-pub(crate) fn for_each_shared_edge(
+pub(crate) fn pair_shared_edges(
     triangles: &[[u32; 3]],
     vertex_count: usize,
     scratch: &mut [SharedEdge],
-    mut visit: impl FnMut(usize, usize, usize, usize),
-) -> Result<(), MeshError> {
+) -> Result<usize, MeshError> {
     let Some(needed) = triangles.len().checked_mul(3) else {
         return Err(MeshError::TooManyTriangles);
     };
@@ -124,14 +134,17 @@ pub(crate) fn for_each_shared_edge(
         }
     }
     heap_sort(edges);
-    let mut rest: &[SharedEdge] = edges;
-    while let Some(first) = rest.first() {
-        let run = rest.iter().take_while(|e| e.key == first.key).count();
-        let (group, tail) = rest.split_at(run.min(rest.len()));
-        rest = tail;
-        let [ea, eb] = match group {
-            [ea, eb] => [*ea, *eb],
-            _ => continue,
+    // Compact the pairs to the front: pair `w` is written once its group (of at least two
+    // entries, starting at or after entry `2w`) has been read.
+    let (mut read, mut written) = (0usize, 0usize);
+    while let Some(first) = edges.get(read).copied() {
+        let run = edges.get(read..).map_or(1, |rest| {
+            rest.iter().take_while(|e| e.key == first.key).count()
+        });
+        let group = (edges.get(read).copied(), edges.get(read + 1).copied());
+        read += run.max(1);
+        let (2, (Some(ea), Some(eb))) = (run, group) else {
+            continue;
         };
         let (ta, ja) = (ea.slot as usize / 3, ea.slot as usize % 3);
         let (tb, jb) = (eb.slot as usize / 3, eb.slot as usize % 3);
@@ -142,9 +155,28 @@ pub(crate) fn for_each_shared_edge(
         if edge_ends(tri_a, ja).0 == edge_ends(tri_b, jb).0 {
             continue;
         }
-        visit(ta, ja, tb, jb);
+        if let Some(slot) = edges.get_mut(written) {
+            *slot = SharedEdge {
+                key: u64::from(eb.slot),
+                slot: ea.slot,
+            };
+            written += 1;
+        }
     }
-    Ok(())
+    Ok(written)
+}
+
+/// The pair stored at `scratch[k]` by [`pair_shared_edges`] (`k` below its count).
+#[inline(always)]
+pub(crate) fn edge_pair(pairs: &[SharedEdge], k: usize) -> Option<EdgePair> {
+    let e = pairs.get(k)?;
+    let (a, b) = (e.slot as usize, e.key as usize);
+    Some(EdgePair {
+        ta: a / 3,
+        ja: a % 3,
+        tb: b / 3,
+        jb: b % 3,
+    })
 }
 
 /// `true` when entry `a` sorts before entry `b` (by key, then slot); `false` out of range.

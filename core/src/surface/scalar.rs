@@ -100,6 +100,14 @@ pub(crate) fn height<F: Float>(shape: &Shape<F>, x: [F; 3]) -> F {
     height_line(shape, x).0
 }
 
+/// Local-frame surface point `pS = P + σS·D` of barycentrics `x` from its height `h` (e.g.
+/// from the eight-lane evaluation of `crate::surface::height`).
+#[inline(always)]
+pub(crate) fn point_from_height<F: Float>(shape: &Shape<F>, x: [F; 3], h: F) -> V3<F> {
+    let (base, dir) = base_line(shape, x);
+    base + dir * h
+}
+
 /// Local-frame surface point `pS = P + σS·D`.
 #[inline(always)]
 pub(crate) fn point_local<S: Real>(shape: &Shape<S::F>, x: [S; 3]) -> V3<S> {

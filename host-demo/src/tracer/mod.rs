@@ -10,7 +10,7 @@ mod precision;
 mod scene;
 
 pub use precision::{Prec, Precision};
-pub use scene::Scene;
+pub use scene::{RayonExecutor, Scene};
 
 /// How primary and shadow rays meet the surface.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
