@@ -5,7 +5,7 @@
 pub use crate::bvh::MAX_LEAF;
 pub use crate::kernel::refine::{EARLY_STOP, INNER, RHO_GROWTH, RHO_MAX, RHO_START, WORST_SHRINK};
 pub use crate::kernel::{ROUNDING_ULPS, WALL_MARGIN_ULPS};
-pub use crate::mesh::cracks::{CRACK_REACH, MAX_CRACK_REACH};
+pub use crate::mesh::cracks::{CRACK_REACH, CRACK_SAMPLES, MAX_CRACK_REACH};
 pub use crate::mesh::seams::{FIT_SAMPLES, TWIST_TERMS};
 pub use crate::num::real::LANES;
 pub use crate::surface::field::SECTION_NEWTON_STEPS;

@@ -429,7 +429,7 @@ fn the_observer_sees_every_step_in_order() {
         (
             LineField::Face,
             false,
-            vec![BuildStage::Patches, BuildStage::Cracks, BuildStage::Bvh],
+            vec![BuildStage::Patches, BuildStage::Edges, BuildStage::Bvh],
         ),
         (
             LineField::Vertex,
@@ -437,8 +437,7 @@ fn the_observer_sees_every_step_in_order() {
             vec![
                 BuildStage::VertexNormals,
                 BuildStage::Patches,
-                BuildStage::Cracks,
-                BuildStage::Seams,
+                BuildStage::Edges,
                 BuildStage::Bvh,
             ],
         ),

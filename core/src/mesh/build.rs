@@ -5,7 +5,7 @@ use core::fmt;
 
 use super::cracks::{CrackReport, apply_gap, clear_reaches, pair_gap};
 use super::parallel::{EDGE_WORK_BLOCK, EdgeWork, Executor};
-use super::seams::{FitMatrix, Seam, apply_fit, fit_pair};
+use super::seams::{FitMatrix, Seam, apply_fit, gap_and_fit};
 use super::topology::{MeshError, SharedEdge, edge_pair, pair_shared_edges};
 use super::vertex_normals::{VertexClamp, VertexClampReport, clamp_vertex_normals};
 use crate::bvh::{Bvh, BvhError, BvhNode};
@@ -453,10 +453,11 @@ pub enum BuildStage {
     VertexNormals,
     /// One patch per triangle.
     Patches,
-    /// Crack closure ([`close_cracks`]).
-    Cracks,
-    /// The seamless shading normals ([`fit_seams`]).
-    Seams,
+    /// The shared edges: crack closure ([`close_cracks`]) and, with [`BuildOptions::seams`],
+    /// the seamless shading normals ([`fit_seams`]), both from one evaluation of the two
+    /// neighbours' surfaces per edge (the heights for the gap, with seams their jets for the
+    /// normals too).
+    Edges,
     /// The BVH.
     Bvh,
     /// The scene is built.
@@ -472,8 +473,7 @@ impl BuildStage {
         match self {
             BuildStage::VertexNormals => "vertex normals",
             BuildStage::Patches => "patches",
-            BuildStage::Cracks => "cracks",
-            BuildStage::Seams => "seams",
+            BuildStage::Edges => "edges",
             BuildStage::Bvh => "BVH",
             BuildStage::Done => "done",
         }
@@ -492,8 +492,8 @@ pub trait BuildObserver {
         let _ = stage;
     }
     /// `done` of `total` items of `stage` are finished (shared edges for
-    /// [`BuildStage::Cracks`] and [`BuildStage::Seams`], triangles for
-    /// [`BuildStage::Patches`]); called after each block, for progress bars.
+    /// [`BuildStage::Edges`], triangles for [`BuildStage::Patches`]); called after each block,
+    /// for progress bars.
     fn progress(&mut self, stage: BuildStage, done: usize, total: usize) {
         let _ = (stage, done, total);
     }
@@ -513,11 +513,10 @@ impl<R: FnMut(u32, PatchError)> BuildObserver for Rejected<R> {
 
 /// Calls `run(start, block)` for consecutive blocks of `work` covering the shared edges
 /// `pairs` (`block` the first `min(work.len(), rest)` entries, for the edges from `start`),
-/// and tells `observer` the progress of `stage` after each.
+/// and tells `observer` the progress of [`BuildStage::Edges`] after each.
 fn for_each_block<F: Float>(
     pairs: &[SharedEdge],
     work: &mut [EdgeWork<F>],
-    stage: BuildStage,
     observer: &mut impl BuildObserver,
     mut run: impl FnMut(usize, &mut [EdgeWork<F>]),
 ) {
@@ -531,7 +530,7 @@ fn for_each_block<F: Float>(
         };
         run(start, block);
         start += len;
-        observer.progress(stage, start, n);
+        observer.progress(BuildStage::Edges, start, n);
     }
 }
 
@@ -803,53 +802,56 @@ impl<'a, F: Float> Scene<'a, F> {
         let triangle_ids: &'a [u32] = triangle_ids.get(..count).ok_or(short)?;
         let triangles = triangles.get(..count).ok_or(short)?;
         report.patches = count;
-        // 3. Crack closure: the shared edges once, then their gaps block by block.
-        observer.stage(BuildStage::Cracks);
+        // 3 and 4. The shared edges once, then block by block each edge's gap (crack closure)
+        // and, with seams, its fits, from one evaluation of both neighbours' surfaces.
+        observer.stage(BuildStage::Edges);
         let shared = pair_shared_edges(triangles, vertex_count, edges)?;
         let pairs: &[SharedEdge] = edges.get(..shared).ok_or(short)?;
         clear_reaches(patches);
         let mut cracks = CrackReport::default();
-        for_each_block(pairs, work, BuildStage::Cracks, observer, |start, block| {
+        let fit = FitMatrix::new();
+        let mut seams = if options.seams {
+            let seams = seams.get_mut(..count).ok_or(short)?;
+            for s in seams.iter_mut() {
+                *s = Seam::default();
+            }
+            Some(seams)
+        } else {
+            None
+        };
+        let with_seams = seams.is_some();
+        let mut fitted = 0usize;
+        for_each_block(pairs, work, observer, |start, block| {
             let view: &[Patch<F>] = patches;
             executor.run_chunks(block, &|first, chunk| {
                 for (k, w) in chunk.iter_mut().enumerate() {
-                    w.gap = edge_pair(pairs, start + first + k).map_or(0.0, |e| pair_gap(view, e));
+                    let Some(e) = edge_pair(pairs, start + first + k) else {
+                        continue;
+                    };
+                    (w.gap, w.fit) = if with_seams {
+                        gap_and_fit(&fit, view, e)
+                    } else {
+                        (pair_gap(&fit.nodes, view, e), None)
+                    };
                 }
             });
             for (k, w) in block.iter().enumerate() {
                 if let Some(e) = edge_pair(pairs, start + k) {
                     apply_gap(patches, e, w.gap, &mut cracks);
+                    if let Some(seams) = seams.as_deref_mut() {
+                        fitted += usize::from(apply_fit(seams, e, w.fit));
+                    }
                 }
             }
         });
         report.cracks = cracks;
         let patches: &'a [Patch<F>] = patches;
-        // 4. Seams.
-        let seams: &'a [Seam<F>] = if options.seams {
-            observer.stage(BuildStage::Seams);
-            let seams = seams.get_mut(..count).ok_or(short)?;
-            for s in seams.iter_mut() {
-                *s = Seam::default();
+        let seams: &'a [Seam<F>] = match seams {
+            Some(seams) => {
+                report.seam_edges = Some(fitted);
+                seams
             }
-            let fit = FitMatrix::new();
-            let mut fitted = 0usize;
-            for_each_block(pairs, work, BuildStage::Seams, observer, |start, block| {
-                executor.run_chunks(block, &|first, chunk| {
-                    for (k, w) in chunk.iter_mut().enumerate() {
-                        w.fit = edge_pair(pairs, start + first + k)
-                            .and_then(|e| fit_pair(&fit, patches, e));
-                    }
-                });
-                for (k, w) in block.iter().enumerate() {
-                    if let Some(e) = edge_pair(pairs, start + k) {
-                        fitted += usize::from(apply_fit(seams, e, w.fit));
-                    }
-                }
-            });
-            report.seam_edges = Some(fitted);
-            seams
-        } else {
-            &[]
+            None => &[],
         };
         // 5. The BVH.
         observer.stage(BuildStage::Bvh);

@@ -16,14 +16,10 @@
 //! rounding level) get reaches of the order of the rounding, and their patches' surfaces are
 //! unchanged everywhere. Nothing changes inside a triangle.
 
-use super::topology::{EdgePair, MeshError, SharedEdge, edge_bary, edge_pair, pair_shared_edges};
-use crate::geometry::Shape;
-use crate::num::lanes::{LANES, Lane};
+use super::sampling::{EDGE_SAMPLES, Nodes, Side, widest_gap};
+use super::topology::{EdgePair, MeshError, SharedEdge, edge_pair, pair_shared_edges};
 use crate::num::real::Float;
-use crate::num::vec::V3;
 use crate::patch::Patch;
-use crate::surface::height::{self, Prepared};
-use crate::surface::scalar;
 
 /// How far each neighbour's domain reaches across a shared edge, in multiples of the widest
 /// gap measured between the two edge curves (world length `CRACK_REACH · gap`, at most
@@ -36,7 +32,7 @@ use crate::surface::scalar;
 /// has run about `gap / sin θ`; when they are nearly parallel, at most `gap` apart, a ray
 /// between them must run along both for their overlap `2·reach − gap` while it rises by `gap`,
 /// so it passes only if it is within `atan(gap / (2·reach − gap))` of the surface: 8.1° (82°
-/// off the normal) for four gaps. The gap is the widest of `CRACK_SAMPLES` = 40 points, not of
+/// off the normal) for four gaps. The gap is the widest of `CRACK_SAMPLES` = 16 points, not of
 /// the whole curve, which the factor also covers. Measured (`tests/suite/watertight.rs`, thousands
 /// of rays per mesh aimed between the two curves, up to 80° off both normals): with one gap
 /// 1 to 7 rays per mesh still fall through, with two the teapot's f64 rays still do, with four
@@ -57,11 +53,12 @@ pub const CRACK_REACH: f64 = 4.0;
 /// ray aimed at a curve of that cube.
 pub const MAX_CRACK_REACH: f64 = 0.25;
 
-/// Points per shared edge at which [`close_cracks`] measures the gap (`t = (s + ½) /
-/// CRACK_SAMPLES`); two surface evaluations each, eight per lane call (a multiple of the
-/// lane count: 33 points took as many calls).
-pub const CRACK_SAMPLES: usize = 40;
-const _: () = assert!(CRACK_SAMPLES % LANES == 0);
+/// Points per shared edge at which [`close_cracks`] measures the gap: the 16 Chebyshev nodes
+/// `t_s = (1 − cos((2s + 1)π / 32)) / 2` that the seam fit samples too
+/// ([`FIT_SAMPLES`](crate::mesh::seams::FIT_SAMPLES)), so that the builder evaluates each
+/// neighbour's surface there once for both; two surface evaluations each.
+/// (Until 2026-12 33 evenly spaced points; the watertight tests pass with either.)
+pub const CRACK_SAMPLES: usize = EDGE_SAMPLES;
 
 /// What [`close_cracks`] measured.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -75,7 +72,7 @@ pub struct CrackReport {
 }
 
 /// Measures, for every edge shared by two patches, the gap between the two neighbours' edge
-/// curves at `CRACK_SAMPLES` = 40 points (in `f64` whatever `F`), and sets each neighbour's
+/// curves at `CRACK_SAMPLES` = 16 points (in `f64` whatever `F`), and sets each neighbour's
 /// reach across that edge to [`CRACK_REACH`] times the widest gap (over the wall's altitude,
 /// in barycentric units, at most [`MAX_CRACK_REACH`]); the patches' bounding boxes grow to
 /// match. Reaches of boundary edges, non-manifold edges and lone triangles are reset to 0, so
@@ -91,7 +88,7 @@ pub struct CrackReport {
 /// too small, or an index is out of range or repeated within a triangle (the patches are
 /// then unchanged).
 ///
-/// Work: `2·CRACK_SAMPLES` surface-point evaluations per shared edge (eight per lane call)
+/// Work: `2·CRACK_SAMPLES` surface-point evaluations per shared edge (the kernel's height)
 /// and one heapsort of the
 /// edges (`O(n log n)`, in place, no allocation). The kernel's work per ray is unchanged.
 ///
@@ -118,9 +115,10 @@ pub fn close_cracks<F: Float>(
     let pairs = scratch.get(..n).unwrap_or(&[]);
     clear_reaches(patches);
     let mut report = CrackReport::default();
+    let nodes = Nodes::new();
     for k in 0..n {
         if let Some(pair) = edge_pair(pairs, k) {
-            let gap = pair_gap(patches, pair);
+            let gap = pair_gap(&nodes, patches, pair);
             apply_gap(patches, pair, gap, &mut report);
         }
     }
@@ -136,9 +134,9 @@ pub(crate) fn clear_reaches<F: Float>(patches: &mut [Patch<F>]) {
 
 /// The gap of shared edge `pair` ([`edge_gap`]); 0 when an index is out of range.
 #[inline]
-pub(crate) fn pair_gap<F: Float>(patches: &[Patch<F>], pair: EdgePair) -> f64 {
+pub(crate) fn pair_gap<F: Float>(nodes: &Nodes, patches: &[Patch<F>], pair: EdgePair) -> f64 {
     match (patches.get(pair.ta), patches.get(pair.tb)) {
-        (Some(pa), Some(pb)) => edge_gap(pa, pair.ja, pb, pair.jb),
+        (Some(pa), Some(pb)) => edge_gap(nodes, pa, pair.ja, pb, pair.jb),
         _ => 0.0,
     }
 }
@@ -164,50 +162,19 @@ pub(crate) fn apply_gap<F: Float>(
     }
 }
 
-/// The widest distance between the edge curve of `pa`'s edge `ja` (from its vertex `ja` to
-/// `ja + 1`) and of `pb`'s edge `jb` (the same edge, traversed the other way) at
-/// [`CRACK_SAMPLES`] points, world length; `+∞` when a sample is not finite.
-///
-/// The surface points come from the kernel's eight-lane height (`surface::height`, equal to the
-/// generic evaluation within `KERNEL_HEIGHT_VS_SURFACE`), [`LANES`] samples per call.
-pub(crate) fn edge_gap<F: Float>(pa: &Patch<F>, ja: usize, pb: &Patch<F>, jb: usize) -> f64 {
-    let (fa, sa) = pa.widened();
-    let (fb, sb) = pb.widened();
-    let (pra, prb) = (Prepared::new(&sa), Prepared::new(&sb));
-    let mut widest = 0.0f64;
-    for block in 0..CRACK_SAMPLES / LANES {
-        let ts: [f64; LANES] =
-            core::array::from_fn(|l| ((block * LANES + l) as f64 + 0.5) / CRACK_SAMPLES as f64);
-        let xa = edge_points(&sa, &pra, ja, ts);
-        let xb = edge_points(&sb, &prb, jb, ts.map(|t| 1.0 - t));
-        for (a, b) in xa.iter().zip(xb.iter()) {
-            let d = (fa.local_to_world(*a) - fb.local_to_world(*b)).length();
-            if !d.is_finite() {
-                return f64::INFINITY;
-            }
-            widest = widest.max(d);
-        }
-    }
-    widest
-}
-
-/// The local-frame surface points of `shape` at the parameters `ts` of its edge `j`.
-#[inline(always)]
-fn edge_points(
-    shape: &Shape<f64>,
-    pr: &Prepared<f64>,
-    j: usize,
-    ts: [f64; LANES],
-) -> [V3<f64>; LANES] {
-    let xs = ts.map(|t| edge_bary(j, t));
-    let lane =
-        |k: usize| <f64 as Float>::L8::from_array(xs.map(|x| x.get(k).copied().unwrap_or(0.0)));
-    let h = height::height_at(pr, [lane(0), lane(1), lane(2)]).to_array();
-    let mut out = [V3::zero(); LANES];
-    for ((o, x), h) in out.iter_mut().zip(xs).zip(h) {
-        *o = scalar::point_from_height(shape, x, h);
-    }
-    out
+/// The widest distance between the surfaces of `pa` along its edge `ja` (from its vertex `ja`
+/// to `ja + 1`) and of `pb` along its edge `jb` (the same edge, traversed the other way) at
+/// the [`CRACK_SAMPLES`] nodes, world length; `+∞` when a sample is not finite.
+pub(crate) fn edge_gap<F: Float>(
+    nodes: &Nodes,
+    pa: &Patch<F>,
+    ja: usize,
+    pb: &Patch<F>,
+    jb: usize,
+) -> f64 {
+    let a = Side::new(pa, ja, false).points(nodes);
+    let b = Side::new(pb, jb, true).points(nodes);
+    widest_gap(&a, &b)
 }
 
 /// Sets the reach of `patch`'s wall over edge `j` (from `Pj` to `Pj+1`, the wall opposite

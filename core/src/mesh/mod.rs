@@ -62,6 +62,7 @@
 pub(crate) mod build;
 pub(crate) mod cracks;
 pub(crate) mod parallel;
+pub(crate) mod sampling;
 pub(crate) mod seams;
 pub(crate) mod topology;
 pub(crate) mod vertex_normals;

@@ -1,14 +1,14 @@
 //! Seamless shading normals: the fit ([`fit_seams`]) and the correction ([`Seam`]); the
 //! formula is in the [mesh module](crate::mesh) documentation.
 
-use super::topology::{EdgePair, MeshError, SharedEdge, edge_bary, edge_pair, pair_shared_edges};
+use super::sampling::{EDGE_SAMPLES, Nodes, Side, widest_gap};
+use super::topology::{EdgePair, MeshError, SharedEdge, edge_pair, pair_shared_edges};
 use crate::geometry::{EdgeView, Shape};
 use crate::num::dual::{Dual, split};
 use crate::num::real::Float;
 use crate::num::vec::V3;
 use crate::patch::Patch;
 use crate::surface::edge::edge_point;
-use crate::surface::height::{self, Prepared};
 use crate::surface::scalar::{self, project_bary};
 
 #[cfg(doc)]
@@ -33,7 +33,7 @@ pub const TWIST_TERMS: usize = 12;
 /// Chebyshev nodes crowd toward the vertices, where the twist polynomials would otherwise
 /// oscillate: 16 of them fit the teapot's edges better (0.019°) than 49 evenly spaced samples
 /// did (0.025°), at a third of the normal evaluations.
-pub const FIT_SAMPLES: usize = 16;
+pub const FIT_SAMPLES: usize = EDGE_SAMPLES;
 
 /// The seam correction of one patch: twist coefficients of its three edges (edge `j` from `Pj`
 /// to `Pj+1`, parameter `t` from 0 at `Pj`; see [`crate::mesh`] for the formula). All zeros
@@ -71,8 +71,9 @@ pub struct Seam<F: Float> {
 /// Returns the number of shared edges fitted, or a [`MeshError`] when the lengths differ, the
 /// scratch is too small, or an index is out of range or repeated within a triangle.
 ///
-/// Work: `2·FIT_SAMPLES` normal evaluations per shared edge (each one height evaluation over
-/// value-and-derivative jets, as the kernel's hit normal) and one heapsort of the edges
+/// Work: `2·FIT_SAMPLES` normal evaluations per shared edge (height evaluations over
+/// value-and-derivative jets, as the kernel's hit normal) and one
+/// heapsort of the edges
 /// (`O(n log n)`, in place, no allocation).
 ///
 /// # Accuracy
@@ -104,22 +105,30 @@ pub fn fit_seams<F: Float>(
     let mut fitted = 0usize;
     for k in 0..m {
         if let Some(pair) = edge_pair(pairs, k) {
-            let sides = fit_pair(&fit, patches, pair);
+            let (_, sides) = gap_and_fit(&fit, patches, pair);
             fitted += usize::from(apply_fit(seams, pair, sides));
         }
     }
     Ok(fitted)
 }
 
-/// The fits of shared edge `pair` ([`fit_edge`]); `None` when an index is out of range.
+/// The gap and the fits of shared edge `pair`, from both neighbours' surfaces at the same
+/// nodes (each side widened and prepared once, one jet evaluation per node): the gap bit for
+/// bit [`edge_gap`](super::cracks::edge_gap)'s, the fits [`fit_sides`]'; `(0, None)` when an
+/// index is out of range.
 #[inline]
-pub(crate) fn fit_pair<F: Float>(
+pub(crate) fn gap_and_fit<F: Float>(
     fit: &FitMatrix,
     patches: &[Patch<F>],
     pair: EdgePair,
-) -> Option<(EdgeFit<F>, EdgeFit<F>)> {
-    let (pa, pb) = (patches.get(pair.ta)?, patches.get(pair.tb)?);
-    fit_edge(fit, pa, pair.ja, pb, pair.jb)
+) -> (f64, Option<(EdgeFit<F>, EdgeFit<F>)>) {
+    let (Some(pa), Some(pb)) = (patches.get(pair.ta), patches.get(pair.tb)) else {
+        return (0.0, None);
+    };
+    let (a, b) = (Side::new(pa, pair.ja, false), Side::new(pb, pair.jb, true));
+    let (pa, na) = a.points_normals(&fit.nodes);
+    let (pb, nb) = b.points_normals(&fit.nodes);
+    (widest_gap(&pa, &pb), fit_sides(fit, &a, &na, &b, &nb))
 }
 
 /// Stores the fits of shared edge `pair` in both neighbours' seams; `true` when there were
@@ -170,13 +179,8 @@ pub(crate) fn twist<F: Float>(c: &[F; TWIST_TERMS], t: F) -> F {
 /// (better conditioned than the normal equations; no indexing).
 pub(crate) struct FitMatrix {
     p: [[f64; FIT_SAMPLES]; TWIST_TERMS],
-}
-
-/// Sample parameter `t_s = (1 − cos((2s + 1)π / (2·FIT_SAMPLES))) / 2` (Chebyshev nodes).
-#[inline(always)]
-fn sample_t(s: usize) -> f64 {
-    let a = (2 * s + 1) as f64 * core::f64::consts::PI / (2 * FIT_SAMPLES) as f64;
-    0.5 * (1.0 - libm::cos(a))
+    /// The sample parameters.
+    pub(crate) nodes: Nodes,
 }
 
 fn dot_s(a: &[f64; FIT_SAMPLES], b: &[f64; FIT_SAMPLES]) -> f64 {
@@ -185,6 +189,8 @@ fn dot_s(a: &[f64; FIT_SAMPLES], b: &[f64; FIT_SAMPLES]) -> f64 {
 
 impl FitMatrix {
     pub(crate) fn new() -> Self {
+        let nodes = Nodes::new();
+        let sample_t = |s: usize| nodes.t(s);
         let mut q = [[0.0f64; FIT_SAMPLES]; TWIST_TERMS];
         let mut g = [[0.0f64; TWIST_TERMS]; TWIST_TERMS];
         for k in 0..TWIST_TERMS {
@@ -219,7 +225,7 @@ impl FitMatrix {
                 row.iter_mut().zip(qk).for_each(|(x, y)| *x += gkl * y);
             }
         }
-        FitMatrix { p }
+        FitMatrix { p, nodes }
     }
 
     /// The coefficients of the samples `y`.
@@ -243,19 +249,18 @@ fn twist_of(v: V3<f64>, n: V3<f64>, b: V3<f64>) -> Option<f64> {
     if r.is_finite() { Some(r) } else { None }
 }
 
-/// Fits the shared edge `ja` of `pa` (from its vertex `ja` to `ja + 1`) and `jb` of `pb` (the
-/// same edge, traversed the other way): `None` when the endpoints do not coincide, or a
-/// sample or the result is not finite.
-fn fit_edge<F: Float>(
+/// Fits a shared edge from its two [`Side`]s (the first runs the edge forwards, the second
+/// backwards) and their local geometric normals `na`, `nb` at the nodes: `None` when the
+/// endpoints do not coincide, or a sample or the result is not finite.
+pub(crate) fn fit_sides<F: Float>(
     fit: &FitMatrix,
-    pa: &Patch<F>,
-    ja: usize,
-    pb: &Patch<F>,
-    jb: usize,
+    a: &Side,
+    na: &[V3<f64>; FIT_SAMPLES],
+    b: &Side,
+    nb: &[V3<f64>; FIT_SAMPLES],
 ) -> Option<(EdgeFit<F>, EdgeFit<F>)> {
-    let (fa, sa) = pa.widened();
-    let (fb, sb) = pb.widened();
-    let (ea, eb) = (sa.edge(ja), sb.edge(jb));
+    let (fa, fb) = (&a.frame, &b.frame);
+    let (ea, eb) = (a.shape.edge(a.edge), b.shape.edge(b.edge));
     // The endpoints must coincide (A runs a → b, B runs b → a).
     let (a0, a1) = (fa.local_to_world(ea.a), fa.local_to_world(ea.b));
     let (b0, b1) = (fb.local_to_world(eb.a), fb.local_to_world(eb.b));
@@ -264,13 +269,10 @@ fn fit_edge<F: Float>(
     if !((a0 - b1).length() <= tol && (a1 - b0).length() <= tol) {
         return None;
     }
-    let (pra, prb) = (Prepared::new(&sa), Prepared::new(&sb));
     let mut ys = [[0.0f64; FIT_SAMPLES]; 6];
-    for s in 0..FIT_SAMPLES {
-        let t = sample_t(s);
-        let tb = 1.0 - t;
-        let na = normal_at(&sa, &pra, edge_bary(ja, t));
-        let nb = normal_at(&sb, &prb, edge_bary(jb, tb));
+    for (s, (&na, &nb)) in na.iter().zip(nb.iter()).enumerate() {
+        let t = fit.nodes.t(s);
+        let tb = b.own_t(t);
         let (wa, wb) = (fa.local_dir_to_world(na), fb.local_dir_to_world(nb));
         let m = (wa + wb).try_normalize()?;
         let (ma, mb) = (fa.world_dir_to_local(m), fb.world_dir_to_local(m));
@@ -303,15 +305,6 @@ fn fit_edge<F: Float>(
     }
     let [ca, aa, oa, cb, ab, ob] = c;
     Some(([ca, aa, oa], [cb, ab, ob]))
-}
-
-/// The exact local-frame unit normal of `shape` at barycentrics `x` (one height evaluation
-/// over jets, as the kernel's hit normal; equal to `scalar::point_normal_local`'s within
-/// rounding).
-#[inline(always)]
-fn normal_at(shape: &Shape<f64>, pr: &Prepared<f64>, x: [f64; 3]) -> V3<f64> {
-    let [du1, du2] = height::derivatives(shape, pr, x);
-    scalar::normal_local(shape, x, du1, du2)
 }
 
 /// The frame of edge `e` at `t` that both neighbours share up to their frames' rounding, built

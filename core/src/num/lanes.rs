@@ -13,7 +13,7 @@
 //! e.g. `RUSTFLAGS="-C target-cpu=native"` or `-C target-feature=+avx2,+fma` on x86-64 (NEON is
 //! on by default on aarch64). Without them the code is still correct, using SSE2 halves.
 
-pub(crate) use crate::num::real::{LANES, Lane, LaneOps};
+pub(crate) use crate::num::real::{Float, LANES, Lane, LaneOps};
 
 macro_rules! impl_wide {
     ($l:ty, $f:ty) => {
@@ -93,3 +93,98 @@ macro_rules! impl_wide {
 
 impl_wide!(wide::f32x8, f32);
 impl_wide!(wide::f64x8, f64);
+
+/// One scalar as a lane type (`Mask = bool`): the one-point evaluations over the lane code
+/// (the hit normal's jets, `crate::surface::height::derivatives`), the same arithmetic as the
+/// scalar with branches for selects.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct One<F>(pub(crate) F);
+
+impl<F: Float> core::ops::Add for One<F> {
+    type Output = Self;
+    #[inline(always)]
+    fn add(self, o: Self) -> Self {
+        One(self.0 + o.0)
+    }
+}
+impl<F: Float> core::ops::Sub for One<F> {
+    type Output = Self;
+    #[inline(always)]
+    fn sub(self, o: Self) -> Self {
+        One(self.0 - o.0)
+    }
+}
+impl<F: Float> core::ops::Mul for One<F> {
+    type Output = Self;
+    #[inline(always)]
+    fn mul(self, o: Self) -> Self {
+        One(self.0 * o.0)
+    }
+}
+impl<F: Float> core::ops::Div for One<F> {
+    type Output = Self;
+    #[inline(always)]
+    fn div(self, o: Self) -> Self {
+        One(self.0 / o.0)
+    }
+}
+impl<F: Float> core::ops::Neg for One<F> {
+    type Output = Self;
+    #[inline(always)]
+    fn neg(self) -> Self {
+        One(-self.0)
+    }
+}
+
+impl<F: Float> LaneOps for One<F> {
+    type F = F;
+    type Mask = bool;
+    #[inline(always)]
+    fn splat(x: F) -> Self {
+        One(x)
+    }
+    #[inline(always)]
+    fn sqrt(self) -> Self {
+        One(Float::sqrt(self.0))
+    }
+    #[inline(always)]
+    fn abs(self) -> Self {
+        if self.0 < F::ZERO { -self } else { self }
+    }
+    #[inline(always)]
+    fn lt(self, o: Self) -> bool {
+        self.0 < o.0
+    }
+    #[inline(always)]
+    fn le(self, o: Self) -> bool {
+        self.0 <= o.0
+    }
+    #[inline(always)]
+    fn gt(self, o: Self) -> bool {
+        self.0 > o.0
+    }
+    #[inline(always)]
+    fn eq(self, o: Self) -> bool {
+        self.0 == o.0
+    }
+    #[inline(always)]
+    fn finite(self) -> bool {
+        self.0.is_fin()
+    }
+    #[inline(always)]
+    fn select(m: bool, a: Self, b: Self) -> Self {
+        if m { a } else { b }
+    }
+    #[inline(always)]
+    fn and(a: bool, b: bool) -> bool {
+        a && b
+    }
+    #[inline(always)]
+    fn or(a: bool, b: bool) -> bool {
+        a || b
+    }
+    #[inline(always)]
+    fn not(a: bool) -> bool {
+        !a
+    }
+}

@@ -26,7 +26,7 @@
 //! size on random patches (the unit test below).
 
 use crate::geometry::Shape;
-use crate::num::lanes::LaneOps;
+use crate::num::lanes::{LaneOps, One};
 use crate::num::real::Float;
 use crate::num::vec::V3;
 use crate::surface::field::{SECTION_NEWTON_STEPS, Section};
@@ -519,165 +519,177 @@ pub(crate) fn height_at<L: LaneOps>(pr: &Prepared<L::F>, [x0, x1, x2]: [L; 3]) -
         + vertex_term(e0, p2, n2, x2, x0, x1, base, dir, dd)
 }
 
-/// A scalar with its two partial derivatives (forward mode): the height evaluation over it
-/// gives `σS` and `∂σS/∂X1`, `∂σS/∂X2` for the exact normal of a hit, in one pass (no nested
-/// dual numbers: the edge tangents inside are already derivatives written out).
+/// A value with its two partial derivatives (forward mode), over a [`LaneOps`] type `L` (one
+/// point: [`One`]; eight-lane jets compile to functions too large to keep builds fast). The height evaluation over it gives `σS` and
+/// `∂σS/∂X1`, `∂σS/∂X2` for the exact normal, in one pass (no nested dual numbers: the edge
+/// tangents inside are already derivatives written out).
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct Jet<F> {
+pub(crate) struct Jet<L> {
     /// Value.
-    pub v: F,
+    pub v: L,
     /// Partial derivatives.
-    pub d: [F; 2],
+    pub d: [L; 2],
 }
 
-impl<F: Float> core::ops::Add for Jet<F> {
+impl<L: LaneOps> core::ops::Add for Jet<L> {
     type Output = Self;
     #[inline(always)]
     fn add(self, o: Self) -> Self {
+        let [a0, a1] = self.d;
+        let [b0, b1] = o.d;
         Jet {
             v: self.v + o.v,
-            d: [self.d[0] + o.d[0], self.d[1] + o.d[1]],
+            d: [a0 + b0, a1 + b1],
         }
     }
 }
-impl<F: Float> core::ops::Sub for Jet<F> {
+impl<L: LaneOps> core::ops::Sub for Jet<L> {
     type Output = Self;
     #[inline(always)]
     fn sub(self, o: Self) -> Self {
+        let [a0, a1] = self.d;
+        let [b0, b1] = o.d;
         Jet {
             v: self.v - o.v,
-            d: [self.d[0] - o.d[0], self.d[1] - o.d[1]],
+            d: [a0 - b0, a1 - b1],
         }
     }
 }
-impl<F: Float> core::ops::Mul for Jet<F> {
+impl<L: LaneOps> core::ops::Mul for Jet<L> {
     type Output = Self;
     #[inline(always)]
     fn mul(self, o: Self) -> Self {
+        let [a0, a1] = self.d;
+        let [b0, b1] = o.d;
         Jet {
             v: self.v * o.v,
-            d: [
-                self.d[0] * o.v + self.v * o.d[0],
-                self.d[1] * o.v + self.v * o.d[1],
-            ],
+            d: [a0 * o.v + self.v * b0, a1 * o.v + self.v * b1],
         }
     }
 }
-impl<F: Float> core::ops::Div for Jet<F> {
+impl<L: LaneOps> core::ops::Div for Jet<L> {
     type Output = Self;
     #[inline(always)]
     fn div(self, o: Self) -> Self {
         let v = self.v / o.v;
+        let [a0, a1] = self.d;
+        let [b0, b1] = o.d;
         Jet {
             v,
-            d: [
-                (self.d[0] - v * o.d[0]) / o.v,
-                (self.d[1] - v * o.d[1]) / o.v,
-            ],
+            d: [(a0 - v * b0) / o.v, (a1 - v * b1) / o.v],
         }
     }
 }
-impl<F: Float> core::ops::Neg for Jet<F> {
+impl<L: LaneOps> core::ops::Neg for Jet<L> {
     type Output = Self;
     #[inline(always)]
     fn neg(self) -> Self {
+        let [a0, a1] = self.d;
         Jet {
             v: -self.v,
-            d: [-self.d[0], -self.d[1]],
+            d: [-a0, -a1],
         }
     }
 }
 
-impl<F: Float> LaneOps for Jet<F> {
-    type F = F;
-    type Mask = bool;
+impl<L: LaneOps> Jet<L> {
+    /// Each part `a` where `m`, else `b`'s.
     #[inline(always)]
-    fn splat(x: F) -> Self {
+    fn pick(m: L::Mask, a: Self, b: Self) -> Self {
+        let ([a0, a1], [b0, b1]) = (a.d, b.d);
         Jet {
-            v: x,
-            d: [F::ZERO; 2],
+            v: L::select(m, a.v, b.v),
+            d: [L::select(m, a0, b0), L::select(m, a1, b1)],
+        }
+    }
+}
+
+impl<L: LaneOps> LaneOps for Jet<L> {
+    type F = L::F;
+    type Mask = L::Mask;
+    #[inline(always)]
+    fn splat(x: L::F) -> Self {
+        let z = L::splat(L::F::ZERO);
+        Jet {
+            v: L::splat(x),
+            d: [z, z],
         }
     }
     /// The square root; its derivative is 0 where the value is not positive (as the dual
     /// numbers' `sqrt0`: the kernel only takes roots of clamped discriminants).
     #[inline(always)]
     fn sqrt(self) -> Self {
-        if self.v > F::ZERO {
-            let r = self.v.sqrt();
-            let k = F::ONE / (r + r);
-            Jet {
-                v: r,
-                d: [self.d[0] * k, self.d[1] * k],
-            }
-        } else {
-            Jet {
-                v: F::ZERO,
-                d: [F::ZERO; 2],
-            }
-        }
+        let z = L::splat(L::F::ZERO);
+        let pos = self.v.gt(z);
+        let r = L::select(pos, self.v, L::splat(L::F::ONE)).sqrt();
+        let k = L::splat(L::F::ONE) / (r + r);
+        let [a0, a1] = self.d;
+        let root = Jet {
+            v: r,
+            d: [a0 * k, a1 * k],
+        };
+        Self::pick(pos, root, Jet { v: z, d: [z, z] })
     }
     #[inline(always)]
     fn abs(self) -> Self {
-        if self.v < F::ZERO { -self } else { self }
+        Self::pick(self.v.lt(L::splat(L::F::ZERO)), -self, self)
     }
     #[inline(always)]
-    fn lt(self, o: Self) -> bool {
-        self.v < o.v
+    fn lt(self, o: Self) -> L::Mask {
+        self.v.lt(o.v)
     }
     #[inline(always)]
-    fn le(self, o: Self) -> bool {
-        self.v <= o.v
+    fn le(self, o: Self) -> L::Mask {
+        self.v.le(o.v)
     }
     #[inline(always)]
-    fn gt(self, o: Self) -> bool {
-        self.v > o.v
+    fn gt(self, o: Self) -> L::Mask {
+        self.v.gt(o.v)
     }
     #[inline(always)]
-    fn eq(self, o: Self) -> bool {
-        self.v == o.v
+    fn eq(self, o: Self) -> L::Mask {
+        self.v.eq(o.v)
     }
     #[inline(always)]
-    fn finite(self) -> bool {
-        self.v.is_fin() && self.d[0].is_fin() && self.d[1].is_fin()
+    fn finite(self) -> L::Mask {
+        let [a0, a1] = self.d;
+        L::and(self.v.finite(), L::and(a0.finite(), a1.finite()))
     }
     #[inline(always)]
-    fn select(m: bool, a: Self, b: Self) -> Self {
-        if m { a } else { b }
+    fn select(m: L::Mask, a: Self, b: Self) -> Self {
+        Self::pick(m, a, b)
     }
     #[inline(always)]
-    fn and(a: bool, b: bool) -> bool {
-        a && b
+    fn and(a: L::Mask, b: L::Mask) -> L::Mask {
+        L::and(a, b)
     }
     #[inline(always)]
-    fn or(a: bool, b: bool) -> bool {
-        a || b
+    fn or(a: L::Mask, b: L::Mask) -> L::Mask {
+        L::or(a, b)
     }
     #[inline(always)]
-    fn not(a: bool) -> bool {
-        !a
+    fn not(a: L::Mask) -> L::Mask {
+        L::not(a)
     }
 }
 
-/// Local-frame surface derivatives `∂pS/∂X1`, `∂pS/∂X2` at barycentrics `x` (with
-/// `X0 = 1 − X1 − X2`), from one evaluation of the height over [`Jet`]s:
-/// `∂pS/∂Xk = (Pk − P0) + σ·(dk − d0) + (∂σ/∂Xk)·D`.
+/// `∂pS/∂Xk = (Pk − P0) + σ·(dk − d0) + (∂σ/∂Xk)·D` from the height `s` and its partials `ds`
+/// at barycentrics `x`.
 #[inline(always)]
-pub(crate) fn derivatives<F: Float>(
+fn assemble<F: Float>(
     shape: &Shape<F>,
-    pr: &Prepared<F>,
+    parallel: bool,
     [x0, x1, x2]: [F; 3],
+    s: F,
+    [s1, s2]: [F; 2],
 ) -> [V3<F>; 2] {
-    let (one, zero) = (F::ONE, F::ZERO);
-    let j = |v: F, a: F, b: F| Jet { v, d: [a, b] };
-    let s = height_at(pr, [j(x0, -one, -one), j(x1, one, zero), j(x2, zero, one)]);
     let [p0, p1, p2] = shape.p;
     let [d0, d1, d2] = shape.d;
     let dir = d0 * x0 + d1 * x1 + d2 * x2;
-    let [s1, s2] = s.d;
-    if pr.section.parallel {
+    if parallel {
         return [
-            p1 - p0 + (d1 - d0) * s.v + dir * s1,
-            p2 - p0 + (d2 - d0) * s.v + dir * s2,
+            p1 - p0 + (d1 - d0) * s + dir * s1,
+            p2 - p0 + (d2 - d0) * s + dir * s2,
         ];
     }
     // D = V / Vz: ∂D/∂Xk = ((dk − d0) − D·(dk.z − d0.z)) / Vz.
@@ -685,9 +697,38 @@ pub(crate) fn derivatives<F: Float>(
     let dir = dir * inv;
     let dd = |dk: V3<F>| (dk - d0 - dir * (dk.z - d0.z)) * inv;
     [
-        p1 - p0 + dd(d1) * s.v + dir * s1,
-        p2 - p0 + dd(d2) * s.v + dir * s2,
+        p1 - p0 + dd(d1) * s + dir * s1,
+        p2 - p0 + dd(d2) * s + dir * s2,
     ]
+}
+
+/// Local-frame surface derivatives `∂pS/∂X1`, `∂pS/∂X2` at barycentrics `x` (with
+/// `X0 = 1 − X1 − X2`), from one evaluation of the height over [`Jet`]s of one point.
+#[inline(always)]
+pub(crate) fn derivatives<F: Float>(shape: &Shape<F>, pr: &Prepared<F>, x: [F; 3]) -> [V3<F>; 2] {
+    height_derivatives(shape, pr, x).1
+}
+
+/// [`derivatives`] with the height `σS` itself: bit for bit the height of [`height_at`] over
+/// [`One`] (the jets' value parts are the same operations; their square root differs only for
+/// negative arguments, which the height never takes).
+#[inline(always)]
+pub(crate) fn height_derivatives<F: Float>(
+    shape: &Shape<F>,
+    pr: &Prepared<F>,
+    [x0, x1, x2]: [F; 3],
+) -> (F, [V3<F>; 2]) {
+    let (one, zero) = (F::ONE, F::ZERO);
+    let j = |v: F, a: F, b: F| Jet {
+        v: One(v),
+        d: [One(a), One(b)],
+    };
+    let s = height_at(pr, [j(x0, -one, -one), j(x1, one, zero), j(x2, zero, one)]);
+    let [One(s1), One(s2)] = s.d;
+    (
+        s.v.0,
+        assemble(shape, pr.section.parallel, [x0, x1, x2], s.v.0, [s1, s2]),
+    )
 }
 
 #[cfg(test)]
