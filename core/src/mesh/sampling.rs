@@ -4,7 +4,6 @@
 
 use super::topology::edge_bary;
 use crate::geometry::{Frame, Shape};
-use crate::num::lanes::One;
 use crate::num::real::Float;
 use crate::num::vec::V3;
 use crate::patch::Patch;
@@ -15,6 +14,7 @@ use crate::surface::scalar;
 /// ([`Nodes`]); both [`CRACK_SAMPLES`](super::cracks::CRACK_SAMPLES) and
 /// [`FIT_SAMPLES`](super::seams::FIT_SAMPLES).
 pub(crate) const EDGE_SAMPLES: usize = 16;
+const _: () = assert!(EDGE_SAMPLES % 2 == 0);
 
 /// The edge parameters of the samples ([`EDGE_SAMPLES`] Chebyshev nodes, crowded toward the
 /// vertices; symmetric: `1 − t_s = t_{15−s}` to rounding).
@@ -74,9 +74,11 @@ impl Side {
     /// World surface points at the nodes.
     pub(crate) fn points(&self, nodes: &Nodes) -> [V3<f64>; EDGE_SAMPLES] {
         let mut out = [V3::zero(); EDGE_SAMPLES];
-        for (s, o) in out.iter_mut().enumerate() {
-            let x = self.bary(nodes.t(s));
-            *o = self.world(x, height_of(&self.prepared, x));
+        for (k, o) in out.chunks_exact_mut(2).enumerate() {
+            let xs = [self.bary(nodes.t(2 * k)), self.bary(nodes.t(2 * k + 1))];
+            for ((o, x), h) in o.iter_mut().zip(xs).zip(heights(&self.prepared, xs)) {
+                *o = self.world(x, h);
+            }
         }
         out
     }
@@ -89,11 +91,17 @@ impl Side {
     ) -> ([V3<f64>; EDGE_SAMPLES], [V3<f64>; EDGE_SAMPLES]) {
         let mut pts = [V3::zero(); EDGE_SAMPLES];
         let mut nrm = [V3::zero(); EDGE_SAMPLES];
-        for (s, (p, n)) in pts.iter_mut().zip(nrm.iter_mut()).enumerate() {
-            let x = self.bary(nodes.t(s));
-            let (h, normal) = height_normal(&self.shape, &self.prepared, x);
-            *p = self.world(x, h);
-            *n = normal;
+        for (k, (p, n)) in pts
+            .chunks_exact_mut(2)
+            .zip(nrm.chunks_exact_mut(2))
+            .enumerate()
+        {
+            let xs = [self.bary(nodes.t(2 * k)), self.bary(nodes.t(2 * k + 1))];
+            let hn = heights_normals(&self.shape, &self.prepared, xs);
+            for (((p, n), x), (h, normal)) in p.iter_mut().zip(n).zip(xs).zip(hn) {
+                *p = self.world(x, h);
+                *n = normal;
+            }
         }
         (pts, nrm)
     }
@@ -112,20 +120,34 @@ impl Side {
     }
 }
 
-/// The height at barycentrics `x` (the kernel's height, one point). Not inlined and not
-/// generic: one copy in the crate, called in a loop.
+/// The heights at two barycentric triples (the kernel's height over two `f64` lanes: the same
+/// operations as one point's, lane by lane). Not inlined and not generic: one copy in the
+/// crate, called in a loop.
 #[inline(never)]
-fn height_of(pr: &Prepared<f64>, x: [f64; 3]) -> f64 {
-    let [x0, x1, x2] = x;
-    height::height_at(pr, [One(x0), One(x1), One(x2)]).0
+fn heights(pr: &Prepared<f64>, xs: [[f64; 3]; 2]) -> [f64; 2] {
+    let [a, b] = xs;
+    let lane = |k: usize| {
+        wide::f64x2::new([
+            a.get(k).copied().unwrap_or(0.0),
+            b.get(k).copied().unwrap_or(0.0),
+        ])
+    };
+    height::height_at(pr, [lane(0), lane(1), lane(2)]).to_array()
 }
 
-/// The height (bit for bit [`height_of`]'s) and the local-frame unit geometric normal at
-/// barycentrics `x` (height jets). Not inlined and not generic, as [`height_of`].
+/// The heights (bit for bit [`heights`]') and the local-frame unit geometric normals at
+/// two barycentric triples (height jets over two lanes). Not inlined and not generic, as
+/// [`heights`].
 #[inline(never)]
-fn height_normal(shape: &Shape<f64>, pr: &Prepared<f64>, x: [f64; 3]) -> (f64, V3<f64>) {
-    let (h, [d1, d2]) = height::height_derivatives(shape, pr, x);
-    (h, scalar::normal_local(shape, x, d1, d2))
+fn heights_normals(
+    shape: &Shape<f64>,
+    pr: &Prepared<f64>,
+    xs: [[f64; 3]; 2],
+) -> [(f64, V3<f64>); 2] {
+    let [a, b] = height::height_derivatives_x2(shape, pr, xs);
+    let [xa, xb] = xs;
+    let normal = |x: [f64; 3], [d1, d2]: [V3<f64>; 2]| scalar::normal_local(shape, x, d1, d2);
+    [(a.0, normal(xa, a.1)), (b.0, normal(xb, b.1))]
 }
 
 /// The widest distance between corresponding samples, `+∞` when one is not finite.

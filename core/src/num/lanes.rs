@@ -15,27 +15,8 @@
 
 pub(crate) use crate::num::real::{Float, LANES, Lane, LaneOps};
 
-macro_rules! impl_wide {
+macro_rules! impl_wide_ops {
     ($l:ty, $f:ty) => {
-        impl Lane for $l {
-            #[inline(always)]
-            fn from_array(a: [$f; LANES]) -> Self {
-                <$l>::new(a)
-            }
-            #[inline(always)]
-            fn to_array(self) -> [$f; LANES] {
-                <$l>::to_array(self)
-            }
-            #[inline(always)]
-            fn any(m: Self) -> bool {
-                m.any()
-            }
-            #[inline(always)]
-            fn mask_array(m: Self) -> [bool; LANES] {
-                let bits = m.to_bitmask();
-                core::array::from_fn(|i| bits & (1 << i) != 0)
-            }
-        }
         impl LaneOps for $l {
             type F = $f;
             type Mask = $l;
@@ -91,8 +72,36 @@ macro_rules! impl_wide {
     };
 }
 
+macro_rules! impl_wide {
+    ($l:ty, $f:ty) => {
+        impl Lane for $l {
+            #[inline(always)]
+            fn from_array(a: [$f; LANES]) -> Self {
+                <$l>::new(a)
+            }
+            #[inline(always)]
+            fn to_array(self) -> [$f; LANES] {
+                <$l>::to_array(self)
+            }
+            #[inline(always)]
+            fn any(m: Self) -> bool {
+                m.any()
+            }
+            #[inline(always)]
+            fn mask_array(m: Self) -> [bool; LANES] {
+                let bits = m.to_bitmask();
+                core::array::from_fn(|i| bits & (1 << i) != 0)
+            }
+        }
+        impl_wide_ops!($l, $f);
+    };
+}
+
 impl_wide!(wide::f32x8, f32);
 impl_wide!(wide::f64x8, f64);
+// Two `f64` lanes (one SSE2 or NEON register): the builder's height jets, small enough to
+// compile quickly where eight-lane jets are not.
+impl_wide_ops!(wide::f64x2, f64);
 
 /// One scalar as a lane type (`Mask = bool`): the one-point evaluations over the lane code
 /// (the hit normal's jets, `crate::surface::height::derivatives`), the same arithmetic as the

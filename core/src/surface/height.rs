@@ -731,6 +731,49 @@ pub(crate) fn height_derivatives<F: Float>(
     )
 }
 
+/// [`height_derivatives`] at two barycentric triples at once, over jets of two `f64` lanes
+/// (one SSE2 or NEON register): the same operations lane by lane, so bit for bit the scalar's
+/// results (IEEE arithmetic and square roots per lane; the selects pick what the branches
+/// would).
+#[inline(always)]
+pub(crate) fn height_derivatives_x2(
+    shape: &Shape<f64>,
+    pr: &Prepared<f64>,
+    xs: [[f64; 3]; 2],
+) -> [(f64, [V3<f64>; 2]); 2] {
+    use wide::f64x2;
+    let [xa, xb] = xs;
+    let lane = |k: usize| {
+        f64x2::new([
+            xa.get(k).copied().unwrap_or(0.0),
+            xb.get(k).copied().unwrap_or(0.0),
+        ])
+    };
+    let sp = f64x2::splat;
+    let j = |v: f64x2, a: f64, b: f64| Jet {
+        v,
+        d: [sp(a), sp(b)],
+    };
+    let s = height_at(
+        pr,
+        [
+            j(lane(0), -1.0, -1.0),
+            j(lane(1), 1.0, 0.0),
+            j(lane(2), 0.0, 1.0),
+        ],
+    );
+    let [s1, s2] = s.d;
+    let (v, s1, s2) = (s.v.to_array(), s1.to_array(), s2.to_array());
+    let [v0, v1] = v;
+    let [a0, a1] = s1;
+    let [b0, b1] = s2;
+    let par = pr.section.parallel;
+    [
+        (v0, assemble(shape, par, xa, v0, [a0, b0])),
+        (v1, assemble(shape, par, xb, v1, [a1, b1])),
+    ]
+}
+
 #[cfg(test)]
 pub(crate) mod tests {
     use super::*;
