@@ -32,6 +32,8 @@ const CASES: &[(&str, &str, usize)] = &[
     ("scene_tilted_sphere_vertex_f32_N4", "camera ray", 160 * 120),
     ("scene_flat_equal_error_f32", "camera ray", 160 * 120),
     ("construct_f32", "patch", 128),
+    ("build_teapot8_f32", "triangle", 3968),
+    ("build_teapot8_seams_f32", "triangle", 3968),
 ];
 
 macro_rules! per_patch {
@@ -133,6 +135,28 @@ fn run_case(name: &str, reps: usize) -> usize {
                 }
             }
             ok
+        }
+        "build_teapot8_f32" | "build_teapot8_seams_f32" => {
+            use smoothtri::{BuildOptions, OwnedScene, Vertices};
+            let m = smoothtri_demo::scenes::teapot(8);
+            let flat =
+                |v: &[glam::DVec3]| -> Vec<f64> { v.iter().flat_map(|p| p.to_array()).collect() };
+            let (p, n) = (flat(&m.positions), flat(&m.normals));
+            let options = BuildOptions {
+                seams: name.contains("seams"),
+                ..BuildOptions::default()
+            };
+            let mut patches = 0;
+            for _ in 0..reps {
+                let s = OwnedScene::<f32>::build(
+                    Vertices::packed(black_box(&p)),
+                    Vertices::packed(&n),
+                    &m.triangles,
+                    &options,
+                );
+                patches += s.map(|s| s.scene().report().patches).unwrap_or(0);
+            }
+            patches
         }
         _ => {
             eprintln!("unknown case {name}");

@@ -1,5 +1,6 @@
 //! Benchmarks of the smooth kernel, patch construction and BVH scenes, each measured side by
-//! side with the flat-triangle baseline in the same run.
+//! side with the flat-triangle baseline in the same run, and of the whole scene build of the
+//! largest mesh at hand (`bench_build`).
 //!
 //! `cargo bench --bench kernel` runs the criterion groups and then prints a summary table of
 //! ratios measured by interleaved timing (A, B, A, B, … so machine noise hits both alike).
@@ -319,10 +320,59 @@ fn summary() {
     );
 }
 
+/// The largest mesh at hand: the 121k-triangle CAD model of Debian's `assimp-testmodels`
+/// when installed, else the generated 8×8 teapot (3 968 triangles).
+fn largest_mesh() -> (String, smoothtri_demo::scenes::Mesh) {
+    let cad = "/usr/share/assimp/models/glTF2/2CylinderEngine-glTF-Binary/2CylinderEngine.glb";
+    match smoothtri_demo::mesh::load(cad) {
+        Ok(l) => ("2CylinderEngine.glb".into(), l.mesh),
+        Err(_) => ("teapot 8x8".into(), smoothtri_demo::scenes::teapot(8)),
+    }
+}
+
+/// The whole scene build (patches, shared edges, BVH) of [`largest_mesh`] in `f32`: with and
+/// without seams, on one thread and on rayon's pool (issue 24: triangles per second per core).
+fn bench_build(c: &mut Criterion) {
+    use smoothtri::{BuildOptions, LineField, OwnedScene, Vertices};
+    let (name, m) = largest_mesh();
+    let flat = |v: &[glam::DVec3]| -> Vec<f64> { v.iter().flat_map(|p| p.to_array()).collect() };
+    let (p, n) = (flat(&m.positions), flat(&m.normals));
+    let mut g = c.benchmark_group(format!("build_{}_triangles", m.triangles.len()));
+    g.sample_size(10);
+    for seams in [false, true] {
+        let options = BuildOptions {
+            field: LineField::Face,
+            seams,
+        };
+        let label = if seams { "seams" } else { "no_seams" };
+        let build = |threads: bool| {
+            let (pv, nv) = (Vertices::packed(&p), Vertices::packed(&n));
+            let s = if threads {
+                OwnedScene::<f32>::build_parallel(
+                    pv,
+                    nv,
+                    &m.triangles,
+                    &options,
+                    &mut (),
+                    &smoothtri_demo::tracer::RayonExecutor,
+                )
+            } else {
+                OwnedScene::<f32>::build(pv, nv, &m.triangles, &options)
+            };
+            s.map(|s| s.scene().report().patches).unwrap_or(0)
+        };
+        g.bench_function(format!("{name}_{label}_one_thread"), |b| {
+            b.iter(|| build(false))
+        });
+        g.bench_function(format!("{name}_{label}_rayon"), |b| b.iter(|| build(true)));
+    }
+    g.finish();
+}
+
 criterion_group! {
     name = benches;
     config = Criterion::default().sample_size(20).warm_up_time(Duration::from_millis(500)).measurement_time(Duration::from_secs(2));
-    targets = bench_kernel, bench_scene
+    targets = bench_kernel, bench_scene, bench_build
 }
 
 fn main() {

@@ -14,6 +14,7 @@ mod kernel;
 mod linefield;
 mod packet;
 mod patch;
+mod real_meshes;
 mod reference;
 mod regressions;
 mod robustness;
