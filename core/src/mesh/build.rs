@@ -453,8 +453,8 @@ pub enum BuildStage {
     VertexNormals,
     /// One patch per triangle.
     Patches,
-    /// The shared edges: crack closure ([`close_cracks`]) and, with [`BuildOptions::seams`],
-    /// the seamless shading normals ([`fit_seams`]), both from one evaluation of the two
+    /// The shared edges: crack closure ([`close_cracks`](super::close_cracks)) and, with [`BuildOptions::seams`],
+    /// the seamless shading normals ([`fit_seams`](super::fit_seams)), both from one evaluation of the two
     /// neighbours' surfaces per edge (the heights for the gap, with seams their jets for the
     /// normals too).
     Edges,

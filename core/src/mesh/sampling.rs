@@ -14,7 +14,7 @@ use crate::surface::scalar;
 /// ([`Nodes`]); both [`CRACK_SAMPLES`](super::cracks::CRACK_SAMPLES) and
 /// [`FIT_SAMPLES`](super::seams::FIT_SAMPLES).
 pub(crate) const EDGE_SAMPLES: usize = 16;
-const _: () = assert!(EDGE_SAMPLES % 2 == 0);
+const _: () = assert!(EDGE_SAMPLES.is_multiple_of(2));
 
 /// The edge parameters of the samples ([`EDGE_SAMPLES`] Chebyshev nodes, crowded toward the
 /// vertices; symmetric: `1 − t_s = t_{15−s}` to rounding).

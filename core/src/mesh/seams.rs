@@ -121,7 +121,7 @@ pub(crate) fn gap_and_fit<F: Float>(
     fit: &FitMatrix,
     patches: &[Patch<F>],
     pair: EdgePair,
-) -> (f64, Option<(EdgeFit<F>, EdgeFit<F>)>) {
+) -> (f64, Option<EdgeFits<F>>) {
     let (Some(pa), Some(pb)) = (patches.get(pair.ta), patches.get(pair.tb)) else {
         return (0.0, None);
     };
@@ -236,6 +236,9 @@ impl FitMatrix {
 
 /// One edge's coefficients for one side: common across, common along, own.
 pub(crate) type EdgeFit<F> = [[F; TWIST_TERMS]; 3];
+
+/// Both sides' fits of one shared edge (the first side's, the second's).
+pub(crate) type EdgeFits<F> = (EdgeFit<F>, EdgeFit<F>);
 
 /// The twist `(v·b̂)/(v·n*)` of a local unit vector `v` in the edge frame `(n*, b̂)`, `None` when
 /// `v` is (nearly) perpendicular to `n*`.
