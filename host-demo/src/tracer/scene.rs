@@ -145,8 +145,7 @@ impl<F: Prec> Scene<F> {
             .collect();
         let threads = rayon::current_num_threads();
         format!(
-            "{}; total {total:.3} s ({:.0} triangles/s on {threads} thread{}: cracks and seams \
-             in parallel)",
+            "{}; total {total:.3} s ({:.0} triangles/s on {threads} thread{})",
             parts.join(", "),
             self.report().triangles as f64 / total.max(1e-9),
             if threads == 1 { "" } else { "s" }
