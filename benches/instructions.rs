@@ -34,6 +34,8 @@ const CASES: &[(&str, &str, usize)] = &[
     ("construct_f32", "patch", 128),
     ("build_teapot8_f32", "triangle", 3968),
     ("build_teapot8_seams_f32", "triangle", 3968),
+    ("normal_teapot4_f32", "normal", 992 * 10),
+    ("seam_shading_teapot4_f32", "normal", 992 * 10),
 ];
 
 macro_rules! per_patch {
@@ -157,6 +159,55 @@ fn run_case(name: &str, reps: usize) -> usize {
                 patches += s.map(|s| s.scene().report().patches).unwrap_or(0);
             }
             patches
+        }
+        "normal_teapot4_f32" | "seam_shading_teapot4_f32" => {
+            // The geometric normal against the seamless shading normal at ten interior points of
+            // each patch of the built-in teapot (f32, seams fitted).
+            use smoothtri::{BuildOptions, OwnedScene, Vertices};
+            let m = smoothtri_demo::scenes::teapot(4);
+            let flat =
+                |v: &[glam::DVec3]| -> Vec<f64> { v.iter().flat_map(|p| p.to_array()).collect() };
+            let (p, n) = (flat(&m.positions), flat(&m.normals));
+            let options = BuildOptions {
+                seams: true,
+                ..BuildOptions::default()
+            };
+            let Ok(owned) = OwnedScene::<f32>::build(
+                Vertices::packed(&p),
+                Vertices::packed(&n),
+                &m.triangles,
+                &options,
+            ) else {
+                return 0;
+            };
+            let scene = owned.scene();
+            let seamless = name.starts_with("seam");
+            let points: [(f32, f32); 10] = [
+                (0.1, 0.1),
+                (0.2, 0.5),
+                (0.6, 0.2),
+                (0.33, 0.33),
+                (0.05, 0.45),
+                (0.45, 0.05),
+                (0.7, 0.1),
+                (0.1, 0.7),
+                (0.25, 0.25),
+                (0.4, 0.4),
+            ];
+            let mut acc = 0.0f32;
+            for _ in 0..reps {
+                for (patch, seam) in scene.patches().iter().zip(scene.seams()) {
+                    for &(w1, w2) in &points {
+                        let v = if seamless {
+                            seam.shading_normal(patch, black_box(w1), w2)
+                        } else {
+                            patch.point_normal(black_box(w1), w2).1
+                        };
+                        acc += v.x;
+                    }
+                }
+            }
+            acc as usize
         }
         _ => {
             eprintln!("unknown case {name}");

@@ -283,7 +283,7 @@ fn seams<F: Float>(patches: &[Patch<F>], ray: &Ray<F>) -> u32 {
     let mut wild = black_box(out[0]);
     wild.common[1][3] = c::<F>(f64::NAN);
     wild.common_along[0][5] = c::<F>(-1e30);
-    wild.own[2][0] = c::<F>(1e30);
+    wild.common[2][0] = c::<F>(1e30);
     let (w1, w2) = (c::<F>(0.25), c::<F>(0.5));
     for (seam, patch) in out.iter().chain([&wild]).zip(ps.iter().cycle()) {
         let n = seam.shading_normal(patch, w1, w2);

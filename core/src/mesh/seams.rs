@@ -4,11 +4,10 @@
 use super::sampling::{EDGE_SAMPLES, Nodes, Side, widest_gap};
 use super::topology::{EdgePair, MeshError, SharedEdge, edge_pair, pair_shared_edges};
 use crate::geometry::{EdgeView, Shape};
-use crate::num::dual::{Dual, split};
 use crate::num::real::Float;
 use crate::num::vec::V3;
 use crate::patch::Patch;
-use crate::surface::edge::edge_point;
+use crate::surface::height::{self, Prepared};
 use crate::surface::scalar::{self, project_bary};
 
 #[cfg(doc)]
@@ -24,7 +23,7 @@ use crate::ray::Hit;
 /// repository's test suite). Measured alternatives on that teapot (evenly spaced samples):
 /// eight terms on 33 samples 0.23°, ten on 41 0.079°, twelve on 49 0.025°. Each term costs 36
 /// bytes per patch in `f32` (three fits of three edges).
-pub const TWIST_TERMS: usize = 12;
+pub const TWIST_TERMS: usize = 6;
 
 /// Samples per shared edge of the least-squares fit, at the Chebyshev nodes
 /// `t_s = (1 − cos((2s + 1)π / (2·FIT_SAMPLES))) / 2`; see [`TWIST_TERMS`] for the choice.
@@ -34,6 +33,11 @@ pub const TWIST_TERMS: usize = 12;
 /// oscillate: 16 of them fit the teapot's edges better (0.019°) than 49 evenly spaced samples
 /// did (0.025°), at a third of the normal evaluations.
 pub const FIT_SAMPLES: usize = EDGE_SAMPLES;
+
+/// World distance between two unit vertex normals beyond which the two sides of an edge do not
+/// share the vertex normal (a per-patch clamp moved one; the same normal differs only by the
+/// frames' rounding, below 1e-6 in `f32`).
+const FREE_END_TOL: f64 = 1e-5;
 
 /// The seam correction of one patch: twist coefficients of its three edges (edge `j` from `Pj`
 /// to `Pj+1`, parameter `t` from 0 at `Pj`; see [`crate::mesh`] for the formula). All zeros
@@ -50,9 +54,10 @@ pub struct Seam<F: Float> {
     pub common: [[F; TWIST_TERMS]; 3],
     /// Per edge, the coefficients of the common edge normal's tilt along the edge, `τ_a`.
     pub common_along: [[F; TWIST_TERMS]; 3],
-    /// Per edge, the coefficients of this patch's own surface normal's twist `τ_{f,e}` along
-    /// the edge.
-    pub own: [[F; TWIST_TERMS]; 3],
+    /// Per edge, whether its tilts are plain polynomials in `2t − 1` (no factor `t(1 − t)`):
+    /// set where the two neighbours' vertex normals differ at an end of the edge (a per-patch
+    /// clamp), so the common normal there is their average rather than either vertex normal.
+    pub free: [bool; 3],
 }
 
 /// Fits the [`Seam`]s of a mesh's patches: for every edge shared by exactly two triangles that
@@ -150,22 +155,6 @@ pub(crate) fn apply_fit<F: Float>(
     true
 }
 
-/// The edge curve's unit normal `n*` (eq. (3), as `Patch::edge_point_normal`) and the unit
-/// binormal `b̂ = T × n* / |T|` at `t`, local frame; `None` where the tangent `T` vanishes.
-#[inline(always)]
-pub(crate) fn edge_frame<F: Float>(e: &EdgeView<F>, t: F) -> Option<(V3<F>, V3<F>)> {
-    let (c, g) = edge_point::<Dual<F>>(e, Dual::var(t));
-    let (_, tan) = split(c);
-    let (g, _) = split(g);
-    let tt = tan.length2();
-    if !(tt > F::ZERO) || !tt.is_fin() {
-        return None;
-    }
-    let n = (g - tan * (tan.dot(g) / tt)).try_normalize()?;
-    let b = tan.cross(n) * (F::ONE / tt.sqrt());
-    if b.all_finite() { Some((n, b)) } else { None }
-}
-
 /// The twist `τ(t) = t(1 − t)·Σ_k c_k (2t − 1)^k`.
 #[inline(always)]
 pub(crate) fn twist<F: Float>(c: &[F; TWIST_TERMS], t: F) -> F {
@@ -190,6 +179,13 @@ fn dot_s(a: &[f64; FIT_SAMPLES], b: &[f64; FIT_SAMPLES]) -> f64 {
 impl FitMatrix {
     pub(crate) fn new() -> Self {
         let nodes = Nodes::new();
+        FitMatrix {
+            p: Self::solve(&nodes),
+            nodes,
+        }
+    }
+
+    fn solve(nodes: &Nodes) -> [[f64; FIT_SAMPLES]; TWIST_TERMS] {
         let sample_t = |s: usize| nodes.t(s);
         let mut q = [[0.0f64; FIT_SAMPLES]; TWIST_TERMS];
         let mut g = [[0.0f64; TWIST_TERMS]; TWIST_TERMS];
@@ -225,7 +221,7 @@ impl FitMatrix {
                 row.iter_mut().zip(qk).for_each(|(x, y)| *x += gkl * y);
             }
         }
-        FitMatrix { p, nodes }
+        p
     }
 
     /// The coefficients of the samples `y`.
@@ -235,7 +231,7 @@ impl FitMatrix {
 }
 
 /// One edge's coefficients for one side: common across, common along, own.
-pub(crate) type EdgeFit<F> = [[F; TWIST_TERMS]; 3];
+pub(crate) type EdgeFit<F> = ([[F; TWIST_TERMS]; 2], bool);
 
 /// Both sides' fits of one shared edge (the first side's, the second's).
 pub(crate) type EdgeFits<F> = (EdgeFit<F>, EdgeFit<F>);
@@ -272,24 +268,38 @@ pub(crate) fn fit_sides<F: Float>(
     if !((a0 - b1).length() <= tol && (a1 - b0).length() <= tol) {
         return None;
     }
-    let mut ys = [[0.0f64; FIT_SAMPLES]; 6];
+    // Where the two sides' vertex normals differ at an end (a per-patch clamp), their frames
+    // differ too: each side stores the other's two vertex normals (in its own local frame)
+    // and takes for the common normal the average of both sides' interpolated vertex normals.
+    let to_a = |v: V3<f64>| fa.world_dir_to_local(fb.local_dir_to_world(v));
+    let to_b = |v: V3<f64>| fb.world_dir_to_local(fa.local_dir_to_world(v));
+    let (sa, sb) = ((to_a(eb.nb), to_a(eb.na)), (to_b(ea.nb), to_b(ea.na)));
+    if (sa.0 - ea.na).length() > FREE_END_TOL || (sa.1 - ea.nb).length() > FREE_END_TOL {
+        let side = |(s0, s1): (V3<f64>, V3<f64>)| {
+            let mut c = [F::ZERO; TWIST_TERMS];
+            for (slot, v) in c.iter_mut().zip([s0.x, s0.y, s0.z, s1.x, s1.y, s1.z]) {
+                *slot = F::from_f64(v);
+            }
+            ([c, [F::ZERO; TWIST_TERMS]], true)
+        };
+        let (ca, cb) = (side(sa), side(sb));
+        let ok = ca.0.iter().chain(cb.0.iter()).flatten().all(|x| x.is_fin());
+        return if ok { Some((ca, cb)) } else { None };
+    }
+    let mut ys = [[0.0f64; FIT_SAMPLES]; 4];
     for (s, (&na, &nb)) in na.iter().zip(nb.iter()).enumerate() {
         let t = fit.nodes.t(s);
         let tb = b.own_t(t);
+        let (ga, ba, aa) = shared_frame(&ea, t)?;
+        let (gb, bb, ab) = shared_frame(&eb, tb)?;
         let (wa, wb) = (fa.local_dir_to_world(na), fb.local_dir_to_world(nb));
         let m = (wa + wb).try_normalize()?;
         let (ma, mb) = (fa.world_dir_to_local(m), fb.world_dir_to_local(m));
-        let (nsa, bsa) = edge_frame(&ea, t)?;
-        let (nsb, bsb) = edge_frame(&eb, tb)?;
-        let (ga, ba, aa) = shared_frame(&ea, t)?;
-        let (gb, bb, ab) = shared_frame(&eb, tb)?;
         let vals = [
             twist_of(ma, ga, ba)?,
             twist_of(ma, ga, aa)?,
-            twist_of(na, nsa, bsa)?,
             twist_of(mb, gb, bb)?,
             twist_of(mb, gb, ab)?,
-            twist_of(nb, nsb, bsb)?,
         ];
         for (y, v) in ys.iter_mut().zip(vals) {
             if let Some(slot) = y.get_mut(s) {
@@ -298,16 +308,15 @@ pub(crate) fn fit_sides<F: Float>(
         }
     }
     // B's samples lie at its own parameters `1 − t_s = t_{FIT_SAMPLES−1−s}`: reverse them.
-    let [ya_c, ya_a, ya_o, mut yb_c, mut yb_a, mut yb_o] = ys;
+    let [ya_c, ya_a, mut yb_c, mut yb_a] = ys;
     yb_c.reverse();
     yb_a.reverse();
-    yb_o.reverse();
-    let c = [ya_c, ya_a, ya_o, yb_c, yb_a, yb_o].map(|y| fit.coefficients(&y).map(F::from_f64));
+    let c = [ya_c, ya_a, yb_c, yb_a].map(|y| fit.coefficients(&y).map(F::from_f64));
     if !c.iter().flatten().all(|x| x.is_fin()) {
         return None;
     }
-    let [ca, aa, oa, cb, ab, ob] = c;
-    Some(([ca, aa, oa], [cb, ab, ob]))
+    let [ca, aa, cb, ab] = c;
+    Some((([ca, aa], false), ([cb, ab], false)))
 }
 
 /// The frame of edge `e` at `t` that both neighbours share up to their frames' rounding, built
@@ -330,17 +339,42 @@ pub(crate) fn shared_frame<F: Float>(e: &EdgeView<F>, t: F) -> Option<(V3<F>, V3
     }
 }
 
+/// The patch's own geometric normal (local frame) at the point of edge `j` seen from
+/// barycentrics `x` (edge `j` from `Pj` to `Pj+1`): the opposite vertex's weight `xc` moved onto
+/// the edge's two in proportion, `y = (xa + xc·xa/s, xb + xc·xb/s, 0)` with `s = xa + xb`, so
+/// that on the edge (`xc = 0`) the point is `x` itself, bit for bit, and the correction there
+/// is exactly the common normal.
+#[inline(always)]
+fn own_edge_normal<F: Float>(shape: &Shape<F>, pr: &Prepared<F>, j: usize, x: [F; 3]) -> V3<F> {
+    let [x0, x1, x2] = x;
+    let (xa, xb, xc) = match j {
+        0 => (x0, x1, x2),
+        1 => (x1, x2, x0),
+        _ => (x2, x0, x1),
+    };
+    let s = xa + xb;
+    let (ya, yb) = (xa + xc * (xa / s), xb + xc * (xb / s));
+    let z = F::ZERO;
+    let y = match j {
+        0 => [ya, yb, z],
+        1 => [z, ya, yb],
+        _ => [yb, z, ya],
+    };
+    let [du1, du2] = height::derivatives(shape, pr, y);
+    scalar::normal_local(shape, y, du1, du2)
+}
+
 impl<F: Float> Seam<F> {
     /// Sets edge `j`'s coefficients.
-    fn set(&mut self, j: usize, [common, along, own]: EdgeFit<F>) {
-        if let (Some(c), Some(a), Some(o)) = (
+    fn set(&mut self, j: usize, ([common, along], free): EdgeFit<F>) {
+        if let (Some(c), Some(a), Some(f)) = (
             self.common.get_mut(j),
             self.common_along.get_mut(j),
-            self.own.get_mut(j),
+            self.free.get_mut(j),
         ) {
             *c = common;
             *a = along;
-            *o = own;
+            *f = free;
         }
     }
 
@@ -352,7 +386,6 @@ impl<F: Float> Seam<F> {
         self.common
             .iter()
             .chain(self.common_along.iter())
-            .chain(self.own.iter())
             .flatten()
             .all(|&c| c == F::ZERO)
     }
@@ -383,9 +416,21 @@ impl<F: Float> Seam<F> {
     /// Never; the result is finite for every accepted patch and any coefficients.
     pub fn shading_normal(&self, patch: &Patch<F>, w1: F, w2: F) -> F::Vec3 {
         let x = project_bary(w1, w2);
-        let [_, du1, du2] = scalar::point_derivs_local(&patch.shape, x);
-        let ng = scalar::normal_local(&patch.shape, x, du1, du2);
-        let n = self.correct_local(&patch.shape, x, ng).unwrap_or(ng);
+        let shape = &patch.shape;
+        if self.is_zero() {
+            let [_, du1, du2] = scalar::point_derivs_local(shape, x);
+            return F::to_glam(
+                patch
+                    .frame
+                    .local_dir_to_world(scalar::normal_local(shape, x, du1, du2)),
+            );
+        }
+        // The kernel's hit normal (one height evaluation over jets), from the same
+        // precomputation as the edges' own normals.
+        let pr = Prepared::new(shape);
+        let [du1, du2] = height::derivatives(shape, &pr, x);
+        let ng = scalar::normal_local(shape, x, du1, du2);
+        let n = self.correct_local(shape, &pr, x, ng).unwrap_or(ng);
         F::to_glam(patch.frame.local_dir_to_world(n))
     }
 
@@ -409,7 +454,10 @@ impl<F: Float> Seam<F> {
         else {
             return normal;
         };
-        match self.correct_local(&patch.shape, x, ng) {
+        if self.is_zero() {
+            return normal;
+        }
+        match self.correct_local(&patch.shape, &Prepared::new(&patch.shape), x, ng) {
             Some(n) => F::to_glam(patch.frame.local_dir_to_world(n)),
             None => normal,
         }
@@ -418,7 +466,13 @@ impl<F: Float> Seam<F> {
     /// The corrected local-frame normal at barycentrics `x` (projected) from the geometric one
     /// `ng`, or `None` where the correction vanishes.
     #[inline(always)]
-    pub(crate) fn correct_local(&self, shape: &Shape<F>, x: [F; 3], ng: V3<F>) -> Option<V3<F>> {
+    pub(crate) fn correct_local(
+        &self,
+        shape: &Shape<F>,
+        pr: &Prepared<F>,
+        x: [F; 3],
+        ng: V3<F>,
+    ) -> Option<V3<F>> {
         let [x0, x1, x2] = x;
         let pairs = [(x0, x1), (x1, x2), (x2, x0)];
         let prods = pairs.map(|(a, b)| a * b);
@@ -434,29 +488,35 @@ impl<F: Float> Seam<F> {
         let mut acc = V3::<F>::zero();
         let mut any = false;
         let zero = [F::ZERO; TWIST_TERMS];
-        for (j, ((((qj, (xa, xb)), common), along), own)) in q
+        for (j, ((((qj, (xa, xb)), common), along), &free)) in q
             .iter()
             .zip(pairs)
             .zip(self.common.iter())
             .zip(self.common_along.iter())
-            .zip(self.own.iter())
+            .zip(self.free.iter())
             .enumerate()
         {
-            if !(*qj > F::ZERO) || (*common == zero && *along == zero && *own == zero) {
+            if !(*qj > F::ZERO) || (*common == zero && *along == zero) {
                 continue;
             }
-            let t = xb / (xa + xb);
+            let s = xa + xb;
+            let t = xb / s;
             let e = shape.edge(j);
-            let (Some((n, b)), Some((g, gb, ga))) = (edge_frame(&e, t), shared_frame(&e, t)) else {
+            let Some((g, gb, ga)) = shared_frame(&e, t) else {
                 continue;
             };
-            let (tc, ta, to) = (twist(common, t), twist(along, t), twist(own, t));
-            let (Some(m), Some(o)) = (
-                (g + gb * tc + ga * ta).try_normalize(),
-                (n + b * to).try_normalize(),
-            ) else {
+            let m = if free {
+                // The neighbour's vertex normals, interpolated, averaged with this side's.
+                let [c0, c1, c2, c3, c4, c5, ..] = *common;
+                let other = V3::new(c0, c1, c2) * (F::ONE - t) + V3::new(c3, c4, c5) * t;
+                other.try_normalize().and_then(|o| (g + o).try_normalize())
+            } else {
+                (g + gb * twist(common, t) + ga * twist(along, t)).try_normalize()
+            };
+            let Some(m) = m else {
                 continue;
             };
+            let o = own_edge_normal(shape, pr, j, x);
             acc = acc + (m - o) * (*qj / sum);
             any = true;
         }

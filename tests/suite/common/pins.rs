@@ -58,13 +58,6 @@ pub const TORUS_F64_BY_ITERATIONS: [IterationBound; 7] = [
     row(24, 4e-15, 2e-15, 1.0e-12),
 ];
 
-/// As [`SEAM_JUMP_DEG`] on the built-in teapot (4×4 per Bézier patch; edges of clamped or
-/// folded patches left out), where the geometric normal swings by up to 27° along some edges,
-/// beyond what the twist polynomials follow to [`SEAM_JUMP_DEG`]. Measured worst: 0.025° (mean
-/// 1.3e-4°; the geometric normal: 60.8°); the bound is issue 12's. Asserted by
-/// `tests/suite/seam.rs`.
-pub const SEAM_JUMP_TEAPOT_DEG: f64 = 0.05;
-
 /// The 8×8 torus (major radius 1, minor 0.4): largest angle between the geometric normal of
 /// [`Patch::point_normal`] and the true torus normal at the
 /// nearest torus point, degrees, over 325 barycentric samples per triangle (41 600). Measured
