@@ -32,32 +32,33 @@
 //! The geometric normals of two neighbouring patches differ along their shared edge (by up to
 //! 5.8° on the 8×8 torus), which shows as creases in shading. [`fit_seams`] fits, once per
 //! mesh, for every edge shared by two patches a *common* edge normal `m(t)` (the average of the
-//! two sides' geometric normals) and each side's *own* normal `o(t)`. The own normal is a twist
-//! of the edge curve's normal `n*(t)` (eq. (3)) about the curve's tangent `T`; the common one
-//! two tilts of the interpolated vertex normal `g(t)`, in a frame built from the edge's shared
-//! data alone (its vertices and their normals: `g = normalize((1 − t)·na + t·nb)`,
-//! `ĝ = normalize(ê × g)` with `ê` the chord, `â = g × ĝ`), so that both neighbours evaluate
-//! the same common normal even where their edge curves part:
+//! two sides' geometric normals) as two tilts of the interpolated vertex normal `g(t)`, in a
+//! frame built from the edge's shared data alone (its vertices and their normals:
+//! `g = normalize((1 − t)·na + t·nb)`, `ĝ = normalize(ê × g)` with `ê` the chord, `â = g × ĝ`),
+//! so that both neighbours fit and evaluate the same common normal even where their edge
+//! curves part:
 //!
 //! ```text
-//! o(t) = normalize(n*(t) + τ_o(t)·b̂(t)),   b̂ = T × n* / |T|,
 //! m(t) = normalize(g(t) + τ_b(t)·ĝ(t) + τ_a(t)·â(t)),   τ(t) = t(1 − t)·Σ_k c_k (2t − 1)^k
 //! ```
 //!
-//! with `TWIST_TERMS` = 12 coefficients `c_k` each, stored per patch in a [`Seam`].
-//! [`Seam::shading_normal`] then returns
+//! with `TWIST_TERMS` = 6 coefficients `c_k` each, stored per patch in a [`Seam`]. Where a
+//! per-patch clamp gave the two sides different vertex normals, `m` is instead the average of
+//! both sides' `g` (each stores the other's two normals). [`Seam::shading_normal`] then returns
 //!
 //! ```text
-//! n_s(X) = normalize(n_g(X) + Σ_j β_j(X)·(m_j(t_j) − o_j(t_j))),
+//! n_s(X) = normalize(n_g(X) + Σ_j β_j(X)·(m_j(t_j) − n_g(Y_j))),
 //! β_j = (X_j X_{j+1})² / Σ_i (X_i X_{i+1})²,   t_j = X_{j+1} / (X_j + X_{j+1})
 //! ```
 //!
-//! (edge `j` runs from `Pj` to `Pj+1`; `β = 0` at the vertices). On edge `j` only `β_j = 1` is
-//! left and `n_s = m_j + (n_g − o_j)`: the common normal up to the fits' residual, the same
-//! from both sides. At the vertices `n_s` is the vertex normal; on a sphere `m = o = n*` and the
-//! correction vanishes (normals stay radial). Points are never changed.
+//! (edge `j` runs from `Pj` to `Pj+1`; `β = 0` at the vertices; `Y_j` is the point of edge `j`
+//! at `t_j`, the opposite vertex's weight moved onto the edge's two, and `n_g(Y_j)` this
+//! patch's exact normal there). On edge `j` only `β_j = 1` is left and `Y_j = X`, so
+//! `n_s = m_j` exactly: the same from both sides to rounding. At the vertices `n_s` is the
+//! vertex normal; on a sphere `m = n_g` and the correction vanishes (normals stay radial).
+//! Points are never changed.
 //!
-//! Memory: `size_of::<Seam<f32>>()` is 432 bytes (`f64`: 864), beside the patch's 228.
+//! Memory: `size_of::<Seam<f32>>()` is 148 bytes (`f64`: 296), beside the patch's 228.
 
 pub(crate) mod build;
 pub(crate) mod cracks;

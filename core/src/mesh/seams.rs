@@ -13,25 +13,23 @@ use crate::surface::scalar::{self, project_bary};
 #[cfg(doc)]
 use crate::ray::Hit;
 
-/// Number of twist coefficients per edge and fit (`τ(t) = t(1 − t)·Σ_{k<TWIST_TERMS} c_k
-/// (2t − 1)^k`).
+/// Number of coefficients of each tilt of the common edge normal (`τ(t) = t(1 − t)·
+/// Σ_{k<TWIST_TERMS} c_k (2t − 1)^k`), per edge and side.
 ///
-/// Twelve terms on [`FIT_SAMPLES`] = 16 Chebyshev nodes: the jump across shared edges is
-/// then 1e-4° on the irregular icosphere and 3e-5° on the 8×8 torus (`f32`;
-/// [`SEAM_JUMP_DEG`](crate::accuracy::SEAM_JUMP_DEG)), and 0.019° on the built-in (coarse)
-/// teapot, where the geometric normal swings by up to 27° along an edge (pinned by the
-/// repository's test suite). Measured alternatives on that teapot (evenly spaced samples):
-/// eight terms on 33 samples 0.23°, ten on 41 0.079°, twelve on 49 0.025°. Each term costs 36
-/// bytes per patch in `f32` (three fits of three edges).
+/// The tilts decide only where the common normal lies, not whether it is continuous: both
+/// neighbours fit the same samples in frames built from the same data, so their polynomials
+/// agree to rounding whatever the number of terms, and the jump across the edge stays at
+/// rounding level ([`SEAM_JUMP_DEG`](crate::accuracy::SEAM_JUMP_DEG)). Six terms on
+/// [`FIT_SAMPLES`] = 16 Chebyshev nodes keep the 8×8 torus's shading normal within 2.897° of the
+/// true normal (p99 2.552°; twelve terms: 2.898°, 2.552°), measured by the repository's test
+/// suite. Each term costs 24 bytes per patch in `f32` (two tilts of three edges).
 pub const TWIST_TERMS: usize = 6;
 
 /// Samples per shared edge of the least-squares fit, at the Chebyshev nodes
 /// `t_s = (1 − cos((2s + 1)π / (2·FIT_SAMPLES))) / 2`; see [`TWIST_TERMS`] for the choice.
-/// [`fit_seams`] evaluates `2·FIT_SAMPLES` geometric normals per shared edge.
-///
-/// Chebyshev nodes crowd toward the vertices, where the twist polynomials would otherwise
-/// oscillate: 16 of them fit the teapot's edges better (0.019°) than 49 evenly spaced samples
-/// did (0.025°), at a third of the normal evaluations.
+/// [`fit_seams`] evaluates `2·FIT_SAMPLES` geometric normals per shared edge (the common normal
+/// is their average). The same nodes serve crack closure's gap, so the builder evaluates each
+/// neighbour there once.
 pub const FIT_SAMPLES: usize = EDGE_SAMPLES;
 
 /// World distance between two unit vertex normals beyond which the two sides of an edge do not
@@ -39,13 +37,14 @@ pub const FIT_SAMPLES: usize = EDGE_SAMPLES;
 /// frames' rounding, below 1e-6 in `f32`).
 const FREE_END_TOL: f64 = 1e-5;
 
-/// The seam correction of one patch: twist coefficients of its three edges (edge `j` from `Pj`
-/// to `Pj+1`, parameter `t` from 0 at `Pj`; see [`crate::mesh`] for the formula). All zeros
-/// (the [`Default`]) means no correction: [`Seam::shading_normal`] is then the geometric
-/// normal. [`fit_seams`] leaves the zeros on boundary and non-manifold edges and on lone
-/// triangles.
+/// The seam correction of one patch: the common normal of each of its three edges (edge `j`
+/// from `Pj` to `Pj+1`, parameter `t` from 0 at `Pj`; see [`crate::mesh`] for the formula). All
+/// zeros (the [`Default`]) means no correction: [`Seam::shading_normal`] is then the geometric
+/// normal. [`fit_seams`] leaves the zeros on boundary and non-manifold edges, on lone
+/// triangles and where it declines a fit.
 ///
-/// Memory: 432 bytes in `f32`, 864 in `f64` (checked by a test).
+/// Memory: 148 bytes in `f32`, 296 in `f64` (checked by a test); with the patch's 228, 376
+/// bytes per triangle in `f32`.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Seam<F: Float> {
     /// Per edge, the coefficients of the common edge normal's tilt across the edge, `τ_b` (the
@@ -54,15 +53,20 @@ pub struct Seam<F: Float> {
     pub common: [[F; TWIST_TERMS]; 3],
     /// Per edge, the coefficients of the common edge normal's tilt along the edge, `τ_a`.
     pub common_along: [[F; TWIST_TERMS]; 3],
-    /// Per edge, whether its tilts are plain polynomials in `2t − 1` (no factor `t(1 − t)`):
-    /// set where the two neighbours' vertex normals differ at an end of the edge (a per-patch
-    /// clamp), so the common normal there is their average rather than either vertex normal.
+    /// Per edge, whether the two neighbours' vertex normals differ at an end of the edge (a
+    /// per-patch clamp moved one). Their frames then differ too, so the edge stores no tilts:
+    /// `common[j][0..3]` and `common[j][3..6]` hold the neighbour's normals at this edge's start
+    /// and end (this patch's local frame), and the common normal is the average of the two
+    /// sides' interpolated vertex normals.
     pub free: [bool; 3],
 }
 
 /// Fits the [`Seam`]s of a mesh's patches: for every edge shared by exactly two triangles that
-/// traverse it in opposite directions, the common and the own normal twists of both sides
-/// (least squares on [`FIT_SAMPLES`] points, [`TWIST_TERMS`] terms, in `f64` whatever `F`).
+/// traverse it in opposite directions, the common normal's two tilts for both sides (least
+/// squares on [`FIT_SAMPLES`] points, [`TWIST_TERMS`] terms, in `f64` whatever `F`), or, where
+/// the two sides' vertex normals differ at an end, each side's copy of the other's
+/// ([`Seam::free`]). Non-manifold edges are not joined: three or more sheets meeting at an
+/// edge (a fin, a T-junction) have no common normal.
 ///
 /// `patches[i]` must be the patch of triangle `triangles[i]` (vertex indices in the patch's
 /// vertex order, `< vertex_count`); `seams` receives one [`Seam`] per patch (overwritten);
@@ -70,8 +74,9 @@ pub struct Seam<F: Float> {
 /// unspecified). Edges are matched by their vertex indices, so vertices that should be smooth
 /// across an edge must share the index (a split vertex makes a boundary). Boundary edges,
 /// edges of more than two triangles, edges traversed twice in the same direction, edges whose
-/// endpoints do not coincide in the two patches (beyond `√ε` of the edge's length) and edges
-/// whose fit is not finite get zeros: no correction.
+/// endpoints do not coincide in the two patches (beyond `√ε` of the edge's length), edges where
+/// the common normal is within about 0.06° of perpendicular to the interpolated vertex normals
+/// and edges whose fit is not finite get zeros: no correction.
 ///
 /// Returns the number of shared edges fitted, or a [`MeshError`] when the lengths differ, the
 /// scratch is too small, or an index is out of range or repeated within a triangle.
@@ -82,8 +87,8 @@ pub struct Seam<F: Float> {
 /// (`O(n log n)`, in place, no allocation).
 ///
 /// # Accuracy
-/// The fit's residual decides the jump of [`Seam::shading_normal`] across the edges: see
-/// [`SEAM_JUMP_DEG`](crate::accuracy::SEAM_JUMP_DEG).
+/// Both sides' fits agree to rounding, so the jump of [`Seam::shading_normal`] across every
+/// fitted edge is at rounding level: see [`SEAM_JUMP_DEG`](crate::accuracy::SEAM_JUMP_DEG).
 /// # Panics
 /// Never.
 pub fn fit_seams<F: Float>(
@@ -396,17 +401,19 @@ impl<F: Float> Seam<F> {
     /// (see [`crate::mesh`] for the formula). World coordinates, unit length, oriented like
     /// the vertex normals.
     ///
-    /// Equals [`Patch::point_normal`]'s normal bit for bit where the correction vanishes (a
-    /// zero seam, at the vertices), is the vertex normal at the vertices, and on a shared edge
-    /// the common edge normal up to the fit's residual, the same from both sides. Work: the
-    /// geometric normal plus one edge-curve evaluation (with its derivative) per edge near the
-    /// point.
+    /// Equals [`Patch::point_normal`]'s normal bit for bit for a zero seam, is this patch's
+    /// vertex normal at the vertices, and on a fitted edge the common edge normal, the same from
+    /// both sides to rounding. Work: the geometric normal and this patch's exact normal at the
+    /// three edge points `t_j` (four height evaluations over jets and one precomputation, as
+    /// the kernel's hit normal: about 32 500 instructions in `f32` with SSE2, against 13 200 for
+    /// [`Patch::point_normal`]; the repository's callgrind benchmark).
     ///
     /// # Accuracy
-    /// Jump across shared edges of meshes whose neighbours share their edge curves within
-    /// [`SEAM_JUMP_DEG`](crate::accuracy::SEAM_JUMP_DEG) (torus, teapot, sphere-like meshes);
-    /// on irregular meshes the neighbours' curves part and the jump is larger (0.025° on the
-    /// built-in teapot, measured by the repository's test suite). On a sphere's
+    /// Jump across every fitted edge within [`SEAM_JUMP_DEG`](crate::accuracy::SEAM_JUMP_DEG),
+    /// where neighbours' edge curves part, next to clamped and folded patches (measured by the
+    /// repository's test suite on the teapot, stress meshes and real files). Where a per-patch
+    /// clamp moved a vertex normal, the shading normal at that vertex itself is each side's own
+    /// (the correction vanishes there): continuous across the edges, not at that point. On a sphere's
     /// patch radial to [`F64_SPHERE_NORMAL`](crate::accuracy::F64_SPHERE_NORMAL) (`f64`) and
     /// [`F32_SPHERE_NORMAL`](crate::accuracy::F32_SPHERE_NORMAL) (`f32`). On the 8×8 torus
     /// within 2.90° of the true normal (the geometric normal: 5.80°; both pinned by the
@@ -438,8 +445,9 @@ impl<F: Float> Seam<F> {
     /// geometric normal at `(w1, w2)` (world coordinates, e.g. [`Hit::normal`] with
     /// [`Hit::w1`], [`Hit::w2`]). Saves the derivative evaluation.
     ///
-    /// Returns `normal` itself where the correction vanishes, or where `normal` is not a
-    /// finite non-zero vector.
+    /// Returns `normal` itself for a zero seam, where the correction vanishes, or where `normal`
+    /// is not a finite non-zero vector. Work: the three edge points' exact normals (three
+    /// height evaluations over jets and one precomputation).
     ///
     /// # Accuracy
     /// As [`Seam::shading_normal`] (the frame change of `normal` rounds once more).

@@ -60,15 +60,24 @@ pub struct Cracks {
     pub max_surface_jump_deg: f64,
     /// Mean over edges of the per-edge maximum surface-normal angle, degrees.
     pub mean_surface_jump_deg: f64,
-    /// Maximum angle between the two patches' seamless *shading* normals
+    /// Maximum angle, over the edges with a seam, between the two patches' seamless *shading* normals
     /// ([`Seam::shading_normal`](smoothtri::mesh::Seam::shading_normal), seams fitted by [`fit_seams`](smoothtri::mesh::fit_seams) on the mesh's index buffer) at
     /// the same edge samples, degrees: what the smooth render mode shades with by default.
     pub max_shading_jump_deg: f64,
     /// Mean over edges of the per-edge maximum shading-normal angle, degrees.
     pub mean_shading_jump_deg: f64,
-    /// Interior edges left out because a side's normals were clamped per patch (the remedy of
+    /// Measured edges next to a patch whose normals were clamped per patch (the remedy of
     /// `Patch::new_or_tilted`): that side no longer interpolates the mesh's normals there.
     pub remedied: usize,
+    /// Edges whose two sides carry different normals at a shared position (split normals: a
+    /// crease the mesh asks for), left out of the jumps: there is no jump to remove.
+    pub creases: usize,
+    /// Measured edges with no seam fitted: both sides' normals agree, but the index buffer does
+    /// not join them (unwelded vertices), or the fit declined (a common normal near
+    /// perpendicular to the interpolated vertex normals, a non-finite sample).
+    pub unjoined: usize,
+    /// Largest shading jump across the edges of [`Cracks::unjoined`], degrees.
+    pub max_unjoined_jump_deg: f64,
     /// Shared edges [`fit_seams`](smoothtri::mesh::fit_seams) fitted (matched by vertex index, so vertices split in the
     /// index buffer make boundaries there, unlike the position matching above).
     pub seam_edges: usize,
@@ -97,15 +106,11 @@ pub fn cracks(mesh: &Mesh, field: LineField) -> Cracks {
     // rejects has no patch and the zero seam. Edges of patches the per-patch remedy clamped
     // are counted apart (`Cracks::remedied`).
     let scene = Scene::<f64>::build_with(mesh, field, true).ok();
-    let built: Vec<Option<DPatch>> = (0..mesh.triangles.len())
+    let patches: Vec<Option<DPatch>> = (0..mesh.triangles.len())
         .map(|t| {
             let sc = scene.as_ref()?;
             sc.patch_of_tri(t).map(|i| sc.patches()[i])
         })
-        .collect();
-    let patches: Vec<Option<DPatch>> = built
-        .iter()
-        .map(|p| p.filter(|p| p.normal_clamp().is_none()))
         .collect();
     let seams: Vec<Seam<f64>> = (0..mesh.triangles.len())
         .map(|t| {
@@ -146,12 +151,39 @@ pub fn cracks(mesh: &Mesh, field: LineField) -> Cracks {
                 let (ta, ea, fa) = list[0];
                 let (tb, eb, fb) = list[1];
                 let (Some(pa), Some(pb)) = (&patches[ta], &patches[tb]) else {
-                    c.remedied += (built[ta].is_some() && built[tb].is_some()) as usize;
                     continue;
                 };
+                // The mesh's normals at the two shared positions, from each side.
+                let (na, nb) = (mesh.triangle(ta).1, mesh.triangle(tb).1);
+                let ends_a = [na[ea], na[(ea + 1) % 3]];
+                let ends_b = [nb[eb], nb[(eb + 1) % 3]];
+                let ends_b = if fa == fb {
+                    ends_b
+                } else {
+                    [ends_b[1], ends_b[0]]
+                };
+                let same = |u: DVec3, v: DVec3| {
+                    u.normalize_or_zero().dot(v.normalize_or_zero()) > 1.0 - 1e-12
+                };
+                if !(same(ends_a[0], ends_b[0]) && same(ends_a[1], ends_b[1])) {
+                    c.creases += 1;
+                    continue;
+                }
+                let clamped = pa.normal_clamp().is_some() || pb.normal_clamp().is_some();
+                c.remedied += usize::from(clamped);
+                let fitted = |seam: &Seam<f64>, e: usize| {
+                    seam.free[e]
+                        || seam.common[e]
+                            .iter()
+                            .chain(&seam.common_along[e])
+                            .any(|&c| c != 0.0)
+                };
+                let joined = fitted(&seams[ta], ea) && fitted(&seams[tb], eb);
                 let (mut gap, mut jump, mut sjump, mut hjump) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
                 for k in 0..EDGE_SAMPLES {
-                    let t = k as f64 / (EDGE_SAMPLES - 1) as f64;
+                    // Between the vertices: where a per-patch clamp moved a vertex normal, the
+                    // shading normal at the vertex itself is each side's own.
+                    let t = (k as f64 + 0.5) / EDGE_SAMPLES as f64;
                     let tb_ = if fa == fb { t } else { 1.0 - t };
                     let (xa, na) = pa.edge_point_normal(ea, t);
                     let (xb, nb) = pb.edge_point_normal(eb, tb_);
@@ -167,12 +199,18 @@ pub fn cracks(mesh: &Mesh, field: LineField) -> Cracks {
                     hjump = hjump.max(ha.dot(hb).clamp(-1.0, 1.0).acos().to_degrees());
                 }
                 c.edges += 1;
+                if !joined {
+                    c.unjoined += 1;
+                    c.max_unjoined_jump_deg = c.max_unjoined_jump_deg.max(hjump);
+                }
                 sum_gap += gap;
                 sum_jump += jump;
                 sum_sjump += sjump;
-                sum_hjump += hjump;
+                if joined {
+                    sum_hjump += hjump;
+                    c.max_shading_jump_deg = c.max_shading_jump_deg.max(hjump);
+                }
                 c.max_surface_jump_deg = c.max_surface_jump_deg.max(sjump);
-                c.max_shading_jump_deg = c.max_shading_jump_deg.max(hjump);
                 c.max_gap = c.max_gap.max(gap);
                 c.max_jump_deg = c.max_jump_deg.max(jump);
             }
@@ -183,7 +221,7 @@ pub fn cracks(mesh: &Mesh, field: LineField) -> Cracks {
         c.mean_gap = sum_gap / c.edges as f64;
         c.mean_jump_deg = sum_jump / c.edges as f64;
         c.mean_surface_jump_deg = sum_sjump / c.edges as f64;
-        c.mean_shading_jump_deg = sum_hjump / c.edges as f64;
+        c.mean_shading_jump_deg = sum_hjump / (c.edges - c.unjoined).max(1) as f64;
     }
     c
 }
@@ -299,14 +337,12 @@ pub fn inspect<F: Prec>(name: &str, mesh: &Mesh, field: LineField) -> Result<Str
         "shared edges: {} interior, {} boundary, {} non-manifold ({} samples per edge, f64 patches)",
         c.edges, c.boundary, c.non_manifold, EDGE_SAMPLES
     );
-    if c.remedied > 0 {
-        let _ = writeln!(
-            s,
-            "              {} more interior edges next to a patch whose normals were clamped per \
-             patch are left out below (that side leaves the mesh's normals there)",
-            c.remedied
-        );
-    }
+    let _ = writeln!(
+        s,
+        "              {} of them next to a patch whose normals were clamped per patch; {} \
+         creases (split normals: left out, no jump to remove)",
+        c.remedied, c.creases
+    );
     let _ = writeln!(
         s,
         "crack width:  max {:.3e} ({:.3e} of diagonal), mean {:.3e}",
@@ -330,6 +366,14 @@ pub fn inspect<F: Prec>(name: &str, mesh: &Mesh, field: LineField) -> Result<Str
          {} edges fitted)",
         c.max_shading_jump_deg, c.mean_shading_jump_deg, c.seam_edges
     );
+    if c.unjoined > 0 {
+        let _ = writeln!(
+            s,
+            "              {} edges with no seam (their vertices not shared in the index buffer, \
+             or a common normal the fit declined): max {:.4}°",
+            c.unjoined, c.max_unjoined_jump_deg
+        );
+    }
     if let Some(sc) = &scene {
         let pbytes = std::mem::size_of_val(sc.patches());
         let bvh = sc.bvh();

@@ -1,6 +1,9 @@
 //! `smoothtri render`: a mesh (default: the built-in torus) to a PNG, one mode or smooth, flat
 //! and phong side by side; on the CPU, or with `--gpu` on the GPU kernel ([`render_gpu`]).
 
+use std::any::Any;
+use std::cell::RefCell;
+use std::rc::Rc;
 use std::sync::Arc;
 
 use glam::Vec3;
@@ -82,6 +85,7 @@ pub(crate) fn render_panel_in(
     note: bool,
 ) -> Result<Panel> {
     render_panel_with(
+        &SceneCache::default(),
         prec,
         mesh,
         cam,
@@ -99,6 +103,7 @@ pub(crate) fn render_panel_in(
 /// [`render_panel_in`] shading smooth hits with `normals`, the patches on `field`.
 #[allow(clippy::too_many_arguments)]
 fn render_panel_with(
+    cache: &SceneCache,
     prec: Precision,
     mesh: &Mesh,
     cam: &Camera,
@@ -109,8 +114,8 @@ fn render_panel_with(
     field: LineField,
 ) -> Result<Panel> {
     match prec {
-        Precision::F32 => render_panel::<f32>(mesh, cam, mode, n, note, normals, field),
-        Precision::F64 => render_panel::<f64>(mesh, cam, mode, n, note, normals, field),
+        Precision::F32 => render_panel::<f32>(cache, mesh, cam, mode, n, note, normals, field),
+        Precision::F64 => render_panel::<f64>(cache, mesh, cam, mode, n, note, normals, field),
     }
 }
 
@@ -130,10 +135,31 @@ pub(crate) fn side_by_side(panels: &[(&Image, String)]) -> Image {
     img
 }
 
-/// Builds the scene in precision `F` and renders one panel in `mode` with budget `n`; `note`
-/// prints the scene's note about skipped or clamped triangles.
+/// The first scene a `render` call built (any precision) and whether it has seams: the flat and
+/// Phong panels, and the flat silhouettes of the crack check, trace its patches again instead
+/// of building them twice (the patches and their crack closure are the same with or without
+/// seams, and those modes never shade with the seams).
+#[derive(Default)]
+pub(crate) struct SceneCache(RefCell<Option<(Rc<dyn Any>, bool)>>);
+
+impl SceneCache {
+    /// The cached scene if it is in precision `F` and serves a panel in `mode` that needs
+    /// `seams` (or not).
+    fn get<F: Prec>(&self, mode: Mode, seams: bool) -> Option<Rc<Scene<F>>> {
+        let cached = self.0.borrow();
+        let (scene, has) = cached.as_ref()?;
+        if mode == Mode::Smooth && *has != seams {
+            return None;
+        }
+        Rc::clone(scene).downcast::<Scene<F>>().ok()
+    }
+}
+
+/// Builds the scene in precision `F` (or takes it from `cache`) and renders one panel in `mode`
+/// with budget `n`; `note` prints the scene's note about skipped or clamped triangles.
 #[allow(clippy::too_many_arguments)]
 fn render_panel<F: Prec>(
+    cache: &SceneCache,
     mesh: &Mesh,
     cam: &Camera,
     mode: Mode,
@@ -144,7 +170,17 @@ fn render_panel<F: Prec>(
 ) -> Result<Panel> {
     // Only the smooth mode shades with the seams.
     let seams = normals == Normals::Seamless && mode == Mode::Smooth;
-    let scene = build_scene::<F>(mesh, note, field, seams)?;
+    let scene = match cache.get::<F>(mode, seams) {
+        Some(scene) => scene,
+        None => {
+            let scene = Rc::new(build_scene::<F>(mesh, note, field, seams)?);
+            let mut slot = cache.0.borrow_mut();
+            if slot.is_none() {
+                *slot = Some((Rc::clone(&scene) as Rc<dyn Any>, seams));
+            }
+            scene
+        }
+    };
     let t = tracer::<F>(mode, n)?;
     let r = crate::renderer::render(&scene, cam, t, mesh.diagonal(), true);
     Ok(Panel::from(r))
@@ -357,6 +393,7 @@ pub fn run(a: RenderOptions) -> Result<()> {
         vec![a.mode]
     };
     let mut panels = Vec::new();
+    let cache = SceneCache::default();
     let panel = |m: Mode, n: usize, first: bool| {
         let note = Note {
             skipped: first,
@@ -364,7 +401,17 @@ pub fn run(a: RenderOptions) -> Result<()> {
         };
         match &gpu {
             Some(g) => render_panel_gpu(g, &mesh, &cam, m, n, note, a.normals, a.field),
-            None => render_panel_with(a.precision, &mesh, &cam, m, n, note, a.normals, a.field),
+            None => render_panel_with(
+                &cache,
+                a.precision,
+                &mesh,
+                &cam,
+                m,
+                n,
+                note,
+                a.normals,
+                a.field,
+            ),
         }
     };
     for (k, &m) in modes.iter().enumerate() {
