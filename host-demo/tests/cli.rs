@@ -484,15 +484,9 @@ fn ply_headers_with_bare_text_lines_load() {
 /// header line loads, a glTF 1.0 file is refused by name, a truncated binary PLY is one line.
 #[test]
 fn real_exports_load_or_fail_in_one_line() {
-    let root = Path::new("/usr/share/assimp/models");
-    if !root.is_dir() {
-        assert!(
-            std::env::var_os("SMOOTHTRI_REQUIRE_ASSETS").is_none(),
-            "assimp-testmodels is not installed"
-        );
-        eprintln!("skipped: no {}", root.display());
+    let Some(root) = smoothtri_demo::mesh::assimp_models().unwrap() else {
         return;
-    }
+    };
     let d = tmp();
     let wuson = root.join("PLY/Wuson.ply");
     let r = ok(

@@ -8,8 +8,6 @@
 //! (clamped and steep patches included) the shading normal's jump is within `SEAM_JUMP_DEG`,
 //! with the creases (split normals) and the edges left without a seam counted and pinned.
 
-use std::path::Path;
-
 use glam::DVec3;
 use smoothtri::accuracy::SEAM_JUMP_DEG;
 use smoothtri::{BuildOptions, LineField, OwnedScene, Ray, Vertices};
@@ -39,15 +37,9 @@ fn flat(v: &[DVec3]) -> Vec<f64> {
 
 #[test]
 fn real_meshes_build_and_trace() {
-    let root = Path::new("/usr/share/assimp/models");
-    if !root.is_dir() {
-        assert!(
-            std::env::var_os("SMOOTHTRI_REQUIRE_ASSETS").is_none(),
-            "assimp-testmodels is not installed"
-        );
-        eprintln!("skipped: no {}", root.display());
+    let Some(root) = smoothtri_demo::mesh::assimp_models().unwrap() else {
         return;
-    }
+    };
     for &(file, triangles, rejected, remedied) in MODELS {
         let path = root.join(file);
         let loaded = smoothtri_demo::mesh::load(path.to_str().unwrap())
@@ -141,15 +133,9 @@ const JUMPS: &[(&str, usize, usize, usize)] = &[
 /// (the animal's 219 edges next to clamped patches included); what is not joined is counted.
 #[test]
 fn real_meshes_shading_jumps() {
-    let root = Path::new("/usr/share/assimp/models");
-    if !root.is_dir() {
-        assert!(
-            std::env::var_os("SMOOTHTRI_REQUIRE_ASSETS").is_none(),
-            "assimp-testmodels is not installed"
-        );
-        eprintln!("skipped: no {}", root.display());
+    let Some(root) = smoothtri_demo::mesh::assimp_models().unwrap() else {
         return;
-    }
+    };
     for &(file, edges, creases, unjoined) in JUMPS {
         let loaded = smoothtri_demo::mesh::load(root.join(file).to_str().unwrap())
             .unwrap_or_else(|e| panic!("{file}: {e}"));

@@ -68,6 +68,25 @@ pub struct LoadedMesh {
     pub warnings: Vec<String>,
 }
 
+/// Where Debian's `assimp-testmodels` keeps its files (`/usr/share/assimp/models`), for the tests
+/// and benchmarks that run on real exports: `Ok(Some(dir))` when it is installed, `Ok(None)`
+/// when it is not (the caller skips), `Err` when it is not but `SMOOTHTRI_REQUIRE_ASSETS` is set
+/// (CI installs the package, so a missing one there is a failure, not a skip).
+pub fn assimp_models() -> std::result::Result<Option<std::path::PathBuf>, String> {
+    let root = Path::new("/usr/share/assimp/models");
+    if root.is_dir() {
+        Ok(Some(root.to_path_buf()))
+    } else if std::env::var_os("SMOOTHTRI_REQUIRE_ASSETS").is_some() {
+        Err(format!(
+            "{} is missing: install Debian's assimp-testmodels",
+            root.display()
+        ))
+    } else {
+        eprintln!("skipped: no {}", root.display());
+        Ok(None)
+    }
+}
+
 /// The lower-case extension of `path`, if it has one.
 pub fn extension(path: &str) -> Option<String> {
     Path::new(path)
