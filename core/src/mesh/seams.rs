@@ -235,14 +235,15 @@ impl FitMatrix {
     }
 }
 
-/// One edge's coefficients for one side: common across, common along, own.
+/// One edge's coefficients for one side: the common normal's tilts across and along the edge,
+/// and whether the edge is free ([`Seam::free`]: then the first holds the neighbour's normals).
 pub(crate) type EdgeFit<F> = ([[F; TWIST_TERMS]; 2], bool);
 
 /// Both sides' fits of one shared edge (the first side's, the second's).
 pub(crate) type EdgeFits<F> = (EdgeFit<F>, EdgeFit<F>);
 
-/// The twist `(v·b̂)/(v·n*)` of a local unit vector `v` in the edge frame `(n*, b̂)`, `None` when
-/// `v` is (nearly) perpendicular to `n*`.
+/// The tilt `(v·b)/(v·n)` of a local unit vector `v` toward `b` in the frame `(n, b)` (the
+/// shared frame's `g` and `ĝ` or `â`), `None` when `v` is (nearly) perpendicular to `n`.
 #[inline(always)]
 fn twist_of(v: V3<f64>, n: V3<f64>, b: V3<f64>) -> Option<f64> {
     let den = v.dot(n);
