@@ -1,0 +1,822 @@
+//! # smoothtri-capi
+//!
+//! The C API of [`smoothtri`]: C and C++ renderers build a scene of smooth patches from their
+//! own vertex and index buffers into memory they own, and trace it with Embree-shaped rays. The
+//! header `capi/include/smoothtri.h` is generated from this crate by cbindgen (checked in, and
+//! checked against the sources by `tests/header.rs`); `capi/include/smoothtri_embree.h` puts
+//! the patches into an Embree 3 scene as a user geometry.
+//!
+//! Shapes (after meshoptimizer and rustls-ffi):
+//! - every fallible function returns an [`st_status`]; outputs are written only on [`ST_OK`];
+//! - the build allocates nothing: [`st_scene_required_bytes`] says how many bytes
+//!   [`st_scene_build`] needs, the caller provides them (any alignment), and the scene lives in
+//!   them until the caller frees them (there is no destroy function);
+//! - vertex input is strided in bytes, so interleaved vertex buffers need no copy;
+//! - a built scene is immutable: every query takes a `const` scene and is thread-safe; there is
+//!   no global state;
+//! - a NULL pointer or a short buffer is an error status (or, for the `void` queries, a miss),
+//!   never a crash; panics never cross the boundary (the core does not panic; each entry point
+//!   also catches one and returns [`ST_ERROR_INTERNAL`]).
+//!
+//! Every type and function has an `_f64` twin for scenes in double precision.
+//!
+//! This is the one crate of the workspace with `unsafe` code: each block says why it is sound.
+#![allow(non_camel_case_types)]
+#![deny(missing_docs)]
+#![deny(unsafe_op_in_unsafe_fn)]
+
+mod query;
+mod store;
+
+use core::ffi::{c_char, c_void};
+
+use query::{guard, guard_status};
+use store::Stored;
+
+/// A status code: [`ST_OK`] or one of the `ST_ERROR_…` values; [`st_status_str`] names it.
+pub type st_status = u32;
+
+/// Success: the outputs were written.
+pub const ST_OK: st_status = 0;
+/// A pointer argument that must not be NULL was NULL.
+pub const ST_ERROR_NULL_ARGUMENT: st_status = 1;
+/// An argument is out of its documented range: unknown flag bits, `iterations` not one of
+/// 0, 1, 2, 4, 8, 16, a stride below three scalars or not a multiple of the scalar size, a
+/// pointer not aligned to its element type.
+pub const ST_ERROR_INVALID_ARGUMENT: st_status = 2;
+/// The memory given to [`st_scene_build`] is shorter than [`st_scene_required_bytes`] says.
+pub const ST_ERROR_BUFFER_TOO_SMALL: st_status = 3;
+/// No triangle was given, or every triangle was rejected (degenerate, bad normals), so there
+/// is nothing to trace.
+pub const ST_ERROR_NO_USABLE_TRIANGLES: st_status = 4;
+/// An index names a vertex at or beyond `vertex_count`, or a patch index is at or beyond the
+/// scene's `patch_count`.
+pub const ST_ERROR_INDEX_OUT_OF_RANGE: st_status = 5;
+/// Every triangle was rejected and the first because of a NaN or infinite position or normal
+/// (triangles with non-finite values among usable ones are skipped and counted in
+/// [`st_scene_info::rejected_non_finite`]).
+pub const ST_ERROR_NON_FINITE: st_status = 6;
+/// A count is too large for this library (more than `2^32 − 1` vertices or triangles, or
+/// storage beyond the address space).
+pub const ST_ERROR_TOO_LARGE: st_status = 7;
+/// The scene pointer is not a scene of this precision built by [`st_scene_build`] (an `f64`
+/// scene given to an `f32` function, or the reverse).
+pub const ST_ERROR_WRONG_SCENE: st_status = 8;
+/// An internal failure that should not happen (a caught panic, an inconsistent BVH); please
+/// report it.
+pub const ST_ERROR_INTERNAL: st_status = 9;
+
+/// The `prim_id` / `geom_id` of no hit (Embree's `RTC_INVALID_GEOMETRY_ID`).
+pub const ST_INVALID_ID: u32 = 0xFFFF_FFFF;
+
+/// Build flag: fit the seamless shading normals (`ns_x, ns_y, ns_z` of a hit are then
+/// continuous across shared edges; without it they equal the geometric normal). Costs build
+/// time (32 normal evaluations per shared edge) and 148 bytes per triangle in `f32`.
+pub const ST_BUILD_SEAMS: u32 = 1;
+/// Build flag: the shared line field (neighbours' edge curves meet exactly; adds a per-vertex
+/// normal remedy). Without it, the paper's per-face field; the kernel closes the cracks.
+pub const ST_BUILD_SHARED_FIELD: u32 = 2;
+
+/// A ray, laid out as Embree 3's `RTCRay` (same fields, order, sizes and 16-byte alignment, so
+/// a `RTCRay*` can be passed as an `st_ray*`). The ray is `org + t·dir` for `t` in
+/// `[tnear, tfar]`; `dir` need not be unit length (`t` is in units of `dir`). `time`, `mask`,
+/// `id` and `flags` are carried but not used.
+#[repr(C, align(16))]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct st_ray {
+    /// Origin, x.
+    pub org_x: f32,
+    /// Origin, y.
+    pub org_y: f32,
+    /// Origin, z.
+    pub org_z: f32,
+    /// Start of the ray interval.
+    pub tnear: f32,
+    /// Direction, x.
+    pub dir_x: f32,
+    /// Direction, y.
+    pub dir_y: f32,
+    /// Direction, z.
+    pub dir_z: f32,
+    /// Time (unused: scenes are static).
+    pub time: f32,
+    /// End of the ray interval; set to the hit's `t` by a hit, to `-INFINITY` by an occlusion.
+    pub tfar: f32,
+    /// Ray mask (unused).
+    pub mask: u32,
+    /// Ray id (unused, left as is).
+    pub id: u32,
+    /// Ray flags (unused).
+    pub flags: u32,
+}
+
+/// A hit: Embree 3's `RTCHit` fields (without `instID`) followed by the shading normal and the
+/// certified error bound.
+#[repr(C, align(16))]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct st_hit {
+    /// Geometric normal of the smooth surface at the hit, x (unit length, oriented like the
+    /// vertex normals, not toward the ray).
+    pub ng_x: f32,
+    /// Geometric normal, y.
+    pub ng_y: f32,
+    /// Geometric normal, z.
+    pub ng_z: f32,
+    /// Barycentric coordinate of the triangle's vertex 1 at the hit.
+    pub u: f32,
+    /// Barycentric coordinate of the triangle's vertex 2 (vertex 0's is `1 − u − v`).
+    pub v: f32,
+    /// The input triangle hit (its index in the index buffer), [`ST_INVALID_ID`] on a miss.
+    pub prim_id: u32,
+    /// 0 for a hit of this scene ([`ST_INVALID_ID`] on a miss); the Embree plug-in writes its
+    /// geometry's id.
+    pub geom_id: u32,
+    /// Shading normal, x: seamless across shared edges with [`ST_BUILD_SEAMS`], else the
+    /// geometric normal. Unit length, oriented like the vertex normals.
+    pub ns_x: f32,
+    /// Shading normal, y.
+    pub ns_y: f32,
+    /// Shading normal, z.
+    pub ns_z: f32,
+    /// Certified bound on `|t − t_true|`, in units of the ray's `dir` (see the core's
+    /// `Hit::t_error`).
+    pub t_error: f32,
+}
+
+/// A ray and its hit, as Embree's `RTCRayHit` (the hit part longer by the shading normal and
+/// `t_error`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct st_rayhit {
+    /// The ray; `tfar` becomes the hit's `t`.
+    pub ray: st_ray,
+    /// The hit, written on a hit.
+    pub hit: st_hit,
+}
+
+/// Eight rays, structure of arrays (Embree's `RTCRay8` layout), 32-byte aligned.
+#[repr(C, align(32))]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct st_ray8 {
+    /// Origins, x.
+    pub org_x: [f32; 8],
+    /// Origins, y.
+    pub org_y: [f32; 8],
+    /// Origins, z.
+    pub org_z: [f32; 8],
+    /// Starts of the ray intervals.
+    pub tnear: [f32; 8],
+    /// Directions, x.
+    pub dir_x: [f32; 8],
+    /// Directions, y.
+    pub dir_y: [f32; 8],
+    /// Directions, z.
+    pub dir_z: [f32; 8],
+    /// Times (unused).
+    pub time: [f32; 8],
+    /// Ends of the ray intervals; a hit sets its lane's to `t`.
+    pub tfar: [f32; 8],
+    /// Masks (unused).
+    pub mask: [u32; 8],
+    /// Ids (unused).
+    pub id: [u32; 8],
+    /// Flags (unused).
+    pub flags: [u32; 8],
+}
+
+/// Eight hits, structure of arrays (the fields of [`st_hit`], eight of each).
+#[repr(C, align(32))]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct st_hit8 {
+    /// Geometric normals, x.
+    pub ng_x: [f32; 8],
+    /// Geometric normals, y.
+    pub ng_y: [f32; 8],
+    /// Geometric normals, z.
+    pub ng_z: [f32; 8],
+    /// Barycentrics of vertex 1.
+    pub u: [f32; 8],
+    /// Barycentrics of vertex 2.
+    pub v: [f32; 8],
+    /// Input triangles hit, [`ST_INVALID_ID`] on a miss.
+    pub prim_id: [u32; 8],
+    /// 0 on a hit, [`ST_INVALID_ID`] on a miss.
+    pub geom_id: [u32; 8],
+    /// Shading normals, x.
+    pub ns_x: [f32; 8],
+    /// Shading normals, y.
+    pub ns_y: [f32; 8],
+    /// Shading normals, z.
+    pub ns_z: [f32; 8],
+    /// Certified bounds on `|t − t_true|`.
+    pub t_error: [f32; 8],
+}
+
+/// Eight rays and their hits, structure of arrays, 32-byte aligned.
+#[repr(C, align(32))]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct st_rayhit8 {
+    /// The rays.
+    pub ray: st_ray8,
+    /// The hits.
+    pub hit: st_hit8,
+}
+
+/// [`st_ray`] in double precision.
+#[repr(C, align(16))]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct st_ray_f64 {
+    /// Origin, x.
+    pub org_x: f64,
+    /// Origin, y.
+    pub org_y: f64,
+    /// Origin, z.
+    pub org_z: f64,
+    /// Start of the ray interval.
+    pub tnear: f64,
+    /// Direction, x.
+    pub dir_x: f64,
+    /// Direction, y.
+    pub dir_y: f64,
+    /// Direction, z.
+    pub dir_z: f64,
+    /// Time (unused).
+    pub time: f64,
+    /// End of the ray interval; set to the hit's `t` by a hit, to `-INFINITY` by an occlusion.
+    pub tfar: f64,
+    /// Ray mask (unused).
+    pub mask: u32,
+    /// Ray id (unused).
+    pub id: u32,
+    /// Ray flags (unused).
+    pub flags: u32,
+}
+
+/// [`st_hit`] in double precision.
+#[repr(C, align(16))]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct st_hit_f64 {
+    /// Geometric normal, x.
+    pub ng_x: f64,
+    /// Geometric normal, y.
+    pub ng_y: f64,
+    /// Geometric normal, z.
+    pub ng_z: f64,
+    /// Barycentric coordinate of vertex 1.
+    pub u: f64,
+    /// Barycentric coordinate of vertex 2.
+    pub v: f64,
+    /// The input triangle hit, [`ST_INVALID_ID`] on a miss.
+    pub prim_id: u32,
+    /// 0 on a hit, [`ST_INVALID_ID`] on a miss.
+    pub geom_id: u32,
+    /// Shading normal, x.
+    pub ns_x: f64,
+    /// Shading normal, y.
+    pub ns_y: f64,
+    /// Shading normal, z.
+    pub ns_z: f64,
+    /// Certified bound on `|t − t_true|`.
+    pub t_error: f64,
+}
+
+/// [`st_rayhit`] in double precision.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct st_rayhit_f64 {
+    /// The ray.
+    pub ray: st_ray_f64,
+    /// The hit.
+    pub hit: st_hit_f64,
+}
+
+/// [`st_ray8`] in double precision.
+#[repr(C, align(32))]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct st_ray8_f64 {
+    /// Origins, x.
+    pub org_x: [f64; 8],
+    /// Origins, y.
+    pub org_y: [f64; 8],
+    /// Origins, z.
+    pub org_z: [f64; 8],
+    /// Starts of the ray intervals.
+    pub tnear: [f64; 8],
+    /// Directions, x.
+    pub dir_x: [f64; 8],
+    /// Directions, y.
+    pub dir_y: [f64; 8],
+    /// Directions, z.
+    pub dir_z: [f64; 8],
+    /// Times (unused).
+    pub time: [f64; 8],
+    /// Ends of the ray intervals.
+    pub tfar: [f64; 8],
+    /// Masks (unused).
+    pub mask: [u32; 8],
+    /// Ids (unused).
+    pub id: [u32; 8],
+    /// Flags (unused).
+    pub flags: [u32; 8],
+}
+
+/// [`st_hit8`] in double precision.
+#[repr(C, align(32))]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct st_hit8_f64 {
+    /// Geometric normals, x.
+    pub ng_x: [f64; 8],
+    /// Geometric normals, y.
+    pub ng_y: [f64; 8],
+    /// Geometric normals, z.
+    pub ng_z: [f64; 8],
+    /// Barycentrics of vertex 1.
+    pub u: [f64; 8],
+    /// Barycentrics of vertex 2.
+    pub v: [f64; 8],
+    /// Input triangles hit, [`ST_INVALID_ID`] on a miss.
+    pub prim_id: [u32; 8],
+    /// 0 on a hit, [`ST_INVALID_ID`] on a miss.
+    pub geom_id: [u32; 8],
+    /// Shading normals, x.
+    pub ns_x: [f64; 8],
+    /// Shading normals, y.
+    pub ns_y: [f64; 8],
+    /// Shading normals, z.
+    pub ns_z: [f64; 8],
+    /// Certified bounds on `|t − t_true|`.
+    pub t_error: [f64; 8],
+}
+
+/// [`st_rayhit8`] in double precision.
+#[repr(C, align(32))]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct st_rayhit8_f64 {
+    /// The rays.
+    pub ray: st_ray8_f64,
+    /// The hits.
+    pub hit: st_hit8_f64,
+}
+
+/// What a build did, filled by [`st_scene_get_info`].
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct st_scene_info {
+    /// Triangles given.
+    pub triangle_count: usize,
+    /// Patches built (accepted triangles): valid `prim` arguments of [`st_patch_bounds`] and
+    /// [`st_patch_intersect`] are `0 .. patch_count`.
+    pub patch_count: usize,
+    /// Triangles rejected (skipped), all reasons: `triangle_count − patch_count`.
+    pub rejected_count: usize,
+    /// Of them, with a NaN or infinite position or normal.
+    pub rejected_non_finite: usize,
+    /// Of them, degenerate (zero or tiny area, repeated indices).
+    pub rejected_degenerate: usize,
+    /// Of them, with a zero normal or normals facing away from the triangle, or whose curved
+    /// shell could not be bounded.
+    pub rejected_other: usize,
+    /// The first rejected triangle, [`ST_INVALID_ID`] when none was.
+    pub first_rejected: u32,
+    /// The kernel's refinement steps `N` given to the build (0, 1, 2, 4, 8 or 16).
+    pub iterations: u32,
+    /// Patches whose normals the steep-normal remedy clamped (still traced; smooth, slightly
+    /// flatter near the clamped vertex).
+    pub remedied_count: usize,
+    /// Shared edges with a fitted seamless normal (0 without [`ST_BUILD_SEAMS`]).
+    pub seam_edge_count: usize,
+    /// Nodes of the BVH.
+    pub bvh_node_count: usize,
+    /// Bytes at the start of the build's memory that the scene keeps; the rest of it
+    /// (scratch during the build) is free again for the caller.
+    pub bytes_used: usize,
+    /// The flags given to the build.
+    pub flags: u32,
+}
+
+/// A built scene in single precision (opaque; it lives inside the memory given to
+/// [`st_scene_build`]).
+pub struct st_scene {
+    _opaque: [u8; 0],
+}
+
+/// A built scene in double precision (opaque; see [`st_scene`]).
+pub struct st_scene_f64 {
+    _opaque: [u8; 0],
+}
+
+/// The name of a status code as a static, NUL-terminated string (`"ST_OK"`,
+/// `"ST_ERROR_NULL_ARGUMENT"`, …; `"ST_ERROR_UNKNOWN"` for a value that is none of them).
+/// Never NULL.
+#[unsafe(no_mangle)]
+pub extern "C" fn st_status_str(status: st_status) -> *const c_char {
+    let s: &'static core::ffi::CStr = match status {
+        ST_OK => c"ST_OK",
+        ST_ERROR_NULL_ARGUMENT => c"ST_ERROR_NULL_ARGUMENT",
+        ST_ERROR_INVALID_ARGUMENT => c"ST_ERROR_INVALID_ARGUMENT",
+        ST_ERROR_BUFFER_TOO_SMALL => c"ST_ERROR_BUFFER_TOO_SMALL",
+        ST_ERROR_NO_USABLE_TRIANGLES => c"ST_ERROR_NO_USABLE_TRIANGLES",
+        ST_ERROR_INDEX_OUT_OF_RANGE => c"ST_ERROR_INDEX_OUT_OF_RANGE",
+        ST_ERROR_NON_FINITE => c"ST_ERROR_NON_FINITE",
+        ST_ERROR_TOO_LARGE => c"ST_ERROR_TOO_LARGE",
+        ST_ERROR_WRONG_SCENE => c"ST_ERROR_WRONG_SCENE",
+        ST_ERROR_INTERNAL => c"ST_ERROR_INTERNAL",
+        _ => c"ST_ERROR_UNKNOWN",
+    };
+    s.as_ptr()
+}
+
+/// Writes to `*bytes` the size of the memory [`st_scene_build`] needs for a mesh of
+/// `vertex_count` vertices and `triangle_count` triangles built with `flags`, whatever the
+/// data and the memory's alignment (the padding to align inside it is counted).
+///
+/// Errors: [`ST_ERROR_NULL_ARGUMENT`] (`bytes`), [`ST_ERROR_INVALID_ARGUMENT`] (unknown
+/// flags), [`ST_ERROR_TOO_LARGE`].
+///
+/// # Safety
+/// `bytes` is NULL or valid for one write.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn st_scene_required_bytes(
+    vertex_count: usize,
+    triangle_count: usize,
+    flags: u32,
+    bytes: *mut usize,
+) -> st_status {
+    // SAFETY: forwarded contract: `bytes` is NULL or writable.
+    guard_status(|| unsafe {
+        store::required_bytes::<f32>(vertex_count, triangle_count, flags, bytes)
+    })
+}
+
+/// [`st_scene_required_bytes`] for a scene in double precision.
+///
+/// # Safety
+/// As [`st_scene_required_bytes`].
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn st_scene_required_bytes_f64(
+    vertex_count: usize,
+    triangle_count: usize,
+    flags: u32,
+    bytes: *mut usize,
+) -> st_status {
+    // SAFETY: forwarded contract.
+    guard_status(|| unsafe {
+        store::required_bytes::<f64>(vertex_count, triangle_count, flags, bytes)
+    })
+}
+
+/// Builds the scene of a triangle mesh into `memory` and writes its address to `*scene`.
+///
+/// - `memory`, `bytes`: caller memory of at least [`st_scene_required_bytes`] bytes, any
+///   alignment. The scene lives in it: keep it unchanged and in place while the scene is used,
+///   then free it as it was allocated. Bytes from `memory + bytes_used` on
+///   ([`st_scene_info::bytes_used`]) are free again after a successful build. After a failed
+///   build its contents are unspecified.
+/// - `positions`, `normals`: `vertex_count` × (x, y, z) floats, vertex `i`'s at byte
+///   `i · stride` from the pointer (`stride` 0: tightly packed, 12 bytes). Strides are
+///   multiples of 4 and at least 12; the pointers are 4-byte aligned. Normals of any non-zero
+///   length, pointing to the side from which the triangles are counter-clockwise.
+/// - `indices`: `triangle_count` × 3 vertex indices.
+/// - `flags`: [`ST_BUILD_SEAMS`], [`ST_BUILD_SHARED_FIELD`], or 0.
+/// - `iterations`: the kernel's refinement steps `N` (0, 1, 2, 4, 8 or 16): the work per
+///   patch test is bounded by `N` plus a constant, and `t_error` shrinks at least five-fold
+///   per step (8 is a good default in `f32`).
+///
+/// Triangles the core rejects (degenerate, non-finite, bad normals) are skipped and counted
+/// ([`st_scene_get_info`]).
+///
+/// Errors: [`ST_ERROR_NULL_ARGUMENT`], [`ST_ERROR_INVALID_ARGUMENT`],
+/// [`ST_ERROR_BUFFER_TOO_SMALL`], [`ST_ERROR_INDEX_OUT_OF_RANGE`],
+/// [`ST_ERROR_NO_USABLE_TRIANGLES`] (no triangle, or all rejected), [`ST_ERROR_NON_FINITE`]
+/// (all rejected, the first for a non-finite value), [`ST_ERROR_TOO_LARGE`].
+///
+/// Work: `O(n log n)`, single-threaded, no allocation.
+///
+/// # Safety
+/// `memory` is NULL or valid for `bytes` bytes of writes; `positions` and `normals` are NULL
+/// or readable for `vertex_count` vertices at their strides; `indices` is NULL or readable for
+/// `3 · triangle_count` values; `scene` is NULL or writable. None of the input overlaps
+/// `memory`.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn st_scene_build(
+    memory: *mut c_void,
+    bytes: usize,
+    positions: *const f32,
+    position_stride: usize,
+    normals: *const f32,
+    normal_stride: usize,
+    vertex_count: usize,
+    indices: *const u32,
+    triangle_count: usize,
+    flags: u32,
+    iterations: u32,
+    scene: *mut *mut st_scene,
+) -> st_status {
+    let input = store::Input {
+        positions,
+        position_stride,
+        normals,
+        normal_stride,
+        vertex_count,
+        indices,
+        triangle_count,
+        flags,
+        iterations,
+    };
+    // SAFETY: forwarded contract.
+    guard_status(|| unsafe { store::build_into(memory, bytes, &input, scene.cast()) })
+}
+
+/// [`st_scene_build`] in double precision: `double` positions and normals (strides multiples
+/// of 8, at least 24; 0 for packed), a scene for the `_f64` queries.
+///
+/// # Safety
+/// As [`st_scene_build`].
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn st_scene_build_f64(
+    memory: *mut c_void,
+    bytes: usize,
+    positions: *const f64,
+    position_stride: usize,
+    normals: *const f64,
+    normal_stride: usize,
+    vertex_count: usize,
+    indices: *const u32,
+    triangle_count: usize,
+    flags: u32,
+    iterations: u32,
+    scene: *mut *mut st_scene_f64,
+) -> st_status {
+    let input = store::Input {
+        positions,
+        position_stride,
+        normals,
+        normal_stride,
+        vertex_count,
+        indices,
+        triangle_count,
+        flags,
+        iterations,
+    };
+    // SAFETY: forwarded contract.
+    guard_status(|| unsafe { store::build_into(memory, bytes, &input, scene.cast()) })
+}
+
+/// Fills `*info` with what the build of `scene` did.
+///
+/// Errors: [`ST_ERROR_NULL_ARGUMENT`], [`ST_ERROR_WRONG_SCENE`].
+///
+/// # Safety
+/// `scene` is NULL or a scene from [`st_scene_build`] whose memory is still valid; `info` is
+/// NULL or writable.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn st_scene_get_info(
+    scene: *const st_scene,
+    info: *mut st_scene_info,
+) -> st_status {
+    // SAFETY: forwarded contract.
+    guard_status(|| unsafe { store::info::<f32>(scene.cast(), info) })
+}
+
+/// [`st_scene_get_info`] of a scene in double precision.
+///
+/// # Safety
+/// As [`st_scene_get_info`].
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn st_scene_get_info_f64(
+    scene: *const st_scene_f64,
+    info: *mut st_scene_info,
+) -> st_status {
+    // SAFETY: forwarded contract.
+    guard_status(|| unsafe { store::info::<f64>(scene.cast(), info) })
+}
+
+/// The closest hit of `rayhit->ray` with `t` in `[tnear, tfar]`, through the scene's BVH. On a
+/// hit: `ray.tfar` = `t` and every field of `hit` written (`prim_id` the input triangle, `u, v`
+/// its barycentrics of vertices 1 and 2, `geom_id` 0). On a miss: `hit.prim_id` and
+/// `hit.geom_id` = [`ST_INVALID_ID`], nothing else changes. A NULL or wrong scene is a miss; a
+/// NULL `rayhit` does nothing. Rays with a zero or non-finite direction miss.
+///
+/// # Safety
+/// `scene` as in [`st_scene_get_info`]; `rayhit` NULL or valid for reads and writes.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn st_intersect1(scene: *const st_scene, rayhit: *mut st_rayhit) {
+    // SAFETY: forwarded contract.
+    guard(|| unsafe { query::intersect1(Stored::<f32>::from_ptr(scene.cast()), rayhit) })
+}
+
+/// [`st_intersect1`] in double precision.
+///
+/// # Safety
+/// As [`st_intersect1`].
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn st_intersect1_f64(scene: *const st_scene_f64, rayhit: *mut st_rayhit_f64) {
+    // SAFETY: forwarded contract.
+    guard(|| unsafe { query::intersect1(Stored::<f64>::from_ptr(scene.cast()), rayhit) })
+}
+
+/// Whether anything blocks `ray` with `t` in `[tnear, tfar]` (shadow rays): sets
+/// `ray->tfar = -INFINITY` when occluded (Embree's rule), changes nothing otherwise. Stops at
+/// the first crossing found; evaluates no normal. A NULL or wrong scene occludes nothing.
+///
+/// # Safety
+/// `scene` as in [`st_scene_get_info`]; `ray` NULL or valid for reads and writes.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn st_occluded1(scene: *const st_scene, ray: *mut st_ray) {
+    // SAFETY: forwarded contract.
+    guard(|| unsafe { query::occluded1(Stored::<f32>::from_ptr(scene.cast()), ray) })
+}
+
+/// [`st_occluded1`] in double precision.
+///
+/// # Safety
+/// As [`st_occluded1`].
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn st_occluded1_f64(scene: *const st_scene_f64, ray: *mut st_ray_f64) {
+    // SAFETY: forwarded contract.
+    guard(|| unsafe { query::occluded1(Stored::<f64>::from_ptr(scene.cast()), ray) })
+}
+
+/// [`st_intersect1`] for each lane `i` of eight SoA rays with `valid[i]` non-zero (Embree
+/// passes −1 for active lanes and 0 for inactive ones); inactive lanes are not touched. The
+/// lanes are traced one after the other: each lane's result equals [`st_intersect1`]'s for
+/// its ray, bit for bit.
+///
+/// # Safety
+/// `valid` NULL (nothing is traced) or readable for 8 values; `scene` as in
+/// [`st_scene_get_info`]; `rayhit` NULL or valid and 32-byte aligned.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn st_intersect8(
+    valid: *const i32,
+    scene: *const st_scene,
+    rayhit: *mut st_rayhit8,
+) {
+    // SAFETY: forwarded contract.
+    guard(|| unsafe { query::intersect8(valid, Stored::<f32>::from_ptr(scene.cast()), rayhit) })
+}
+
+/// [`st_intersect8`] in double precision.
+///
+/// # Safety
+/// As [`st_intersect8`].
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn st_intersect8_f64(
+    valid: *const i32,
+    scene: *const st_scene_f64,
+    rayhit: *mut st_rayhit8_f64,
+) {
+    // SAFETY: forwarded contract.
+    guard(|| unsafe { query::intersect8(valid, Stored::<f64>::from_ptr(scene.cast()), rayhit) })
+}
+
+/// [`st_intersect1`] over a stream of `count` ray-hits, the `k`-th at byte `k · byte_stride`
+/// from `rayhits` (`byte_stride` 0: `sizeof(st_rayhit)`). Nothing is traced when the stride is
+/// smaller than `sizeof(st_rayhit)` or not a multiple of 16, or `rayhits` is NULL or not
+/// 16-byte aligned.
+///
+/// # Safety
+/// `scene` as in [`st_scene_get_info`]; `rayhits` NULL or valid for `count` ray-hits at the
+/// stride.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn st_intersect1M(
+    scene: *const st_scene,
+    rayhits: *mut st_rayhit,
+    count: usize,
+    byte_stride: usize,
+) {
+    let scene = Stored::<f32>::from_ptr(scene.cast());
+    // SAFETY: forwarded contract.
+    guard(|| unsafe { query::intersect1m(scene, rayhits, count, byte_stride) })
+}
+
+/// [`st_intersect1M`] in double precision.
+///
+/// # Safety
+/// As [`st_intersect1M`].
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn st_intersect1M_f64(
+    scene: *const st_scene_f64,
+    rayhits: *mut st_rayhit_f64,
+    count: usize,
+    byte_stride: usize,
+) {
+    let scene = Stored::<f64>::from_ptr(scene.cast());
+    // SAFETY: forwarded contract.
+    guard(|| unsafe { query::intersect1m(scene, rayhits, count, byte_stride) })
+}
+
+/// Writes to `out` a conservative box of patch `prim` (`0 .. patch_count`, see
+/// [`st_scene_info::patch_count`]): min x, y, z then max x, y, z. Every point of the patch's
+/// curved shell lies inside, so a BVH of the caller's over these boxes finds every hit of
+/// [`st_patch_intersect`].
+///
+/// Errors: [`ST_ERROR_NULL_ARGUMENT`], [`ST_ERROR_WRONG_SCENE`],
+/// [`ST_ERROR_INDEX_OUT_OF_RANGE`] (`prim ≥ patch_count`).
+///
+/// # Safety
+/// `scene` as in [`st_scene_get_info`]; `out` NULL or writable for 6 floats.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn st_patch_bounds(
+    scene: *const st_scene,
+    prim: u32,
+    out: *mut f32,
+) -> st_status {
+    // SAFETY: forwarded contract.
+    guard_status(|| unsafe { query::patch_bounds::<f32>(scene.cast(), prim, out) })
+}
+
+/// [`st_patch_bounds`] in double precision.
+///
+/// # Safety
+/// As [`st_patch_bounds`] (`out` writable for 6 doubles).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn st_patch_bounds_f64(
+    scene: *const st_scene_f64,
+    prim: u32,
+    out: *mut f64,
+) -> st_status {
+    // SAFETY: forwarded contract.
+    guard_status(|| unsafe { query::patch_bounds::<f64>(scene.cast(), prim, out) })
+}
+
+/// The closest hit of `rayhit->ray` on patch `prim` alone (`0 .. patch_count`) with `t` in
+/// `[tnear, tfar]`: returns `true` and writes `ray.tfar` and `hit` as [`st_intersect1`] does
+/// (`prim_id` the patch's input triangle); returns `false` and changes nothing otherwise (so
+/// a caller's traversal keeps its closest hit so far). `false` for a NULL or wrong scene, a
+/// NULL `rayhit` or `prim ≥ patch_count`.
+///
+/// The kernel samples the part of the patch's shell inside `[tnear, tfar]`, so the same ray
+/// tested with another `tfar` (a traversal that found a nearer hit elsewhere first) may give
+/// a hit that differs in its last bits: `t` within `t_error`, `u, v` and the normals to
+/// rounding.
+///
+/// # Safety
+/// `scene` as in [`st_scene_get_info`]; `rayhit` NULL or valid for reads and writes.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn st_patch_intersect(
+    scene: *const st_scene,
+    prim: u32,
+    rayhit: *mut st_rayhit,
+) -> bool {
+    let scene = Stored::<f32>::from_ptr(scene.cast());
+    // SAFETY: forwarded contract.
+    query::guard_bool(|| unsafe { query::patch_intersect(scene, prim, rayhit) })
+}
+
+/// [`st_patch_intersect`] in double precision.
+///
+/// # Safety
+/// As [`st_patch_intersect`].
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn st_patch_intersect_f64(
+    scene: *const st_scene_f64,
+    prim: u32,
+    rayhit: *mut st_rayhit_f64,
+) -> bool {
+    let scene = Stored::<f64>::from_ptr(scene.cast());
+    // SAFETY: forwarded contract.
+    query::guard_bool(|| unsafe { query::patch_intersect(scene, prim, rayhit) })
+}
+
+/// Writes to `*prim` the patch index (`0 .. patch_count`) of input triangle `triangle`, for
+/// [`st_patch_bounds`] and [`st_patch_intersect`] (`O(log n)`).
+///
+/// Errors: [`ST_ERROR_NULL_ARGUMENT`], [`ST_ERROR_WRONG_SCENE`],
+/// [`ST_ERROR_INDEX_OUT_OF_RANGE`] (the triangle was rejected, or is not one of the scene's).
+///
+/// # Safety
+/// `scene` as in [`st_scene_get_info`]; `prim` NULL or writable.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn st_patch_of_triangle(
+    scene: *const st_scene,
+    triangle: u32,
+    prim: *mut u32,
+) -> st_status {
+    // SAFETY: forwarded contract.
+    guard_status(|| unsafe { query::patch_of_triangle::<f32>(scene.cast(), triangle, prim) })
+}
+
+/// [`st_patch_of_triangle`] in double precision.
+///
+/// # Safety
+/// As [`st_patch_of_triangle`].
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn st_patch_of_triangle_f64(
+    scene: *const st_scene_f64,
+    triangle: u32,
+    prim: *mut u32,
+) -> st_status {
+    // SAFETY: forwarded contract.
+    guard_status(|| unsafe { query::patch_of_triangle::<f64>(scene.cast(), triangle, prim) })
+}
+
+// The layouts C compilers give the header's structs (checked again from C in tests/c/).
+const _: () = {
+    use core::mem::{align_of, offset_of, size_of};
+    assert!(size_of::<st_ray>() == 48 && align_of::<st_ray>() == 16);
+    assert!(size_of::<st_hit>() == 48 && align_of::<st_hit>() == 16);
+    assert!(size_of::<st_rayhit>() == 96 && offset_of!(st_rayhit, hit) == 48);
+    assert!(size_of::<st_rayhit8>() == 736 && align_of::<st_rayhit8>() == 32);
+    assert!(offset_of!(st_rayhit8, hit) == 384);
+    assert!(size_of::<st_ray_f64>() == 96 && size_of::<st_rayhit_f64>() == 176);
+};

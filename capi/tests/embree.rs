@@ -1,0 +1,37 @@
+//! The Embree plug-in (`include/smoothtri_embree.h`) from C++: `tests/cpp/embree_test.cpp`,
+//! compiled with `c++ -std=c++17 -Wall -Wextra -Werror -pedantic` against the headers, the
+//! static library and Embree 3 (Debian's `libembree-dev`). Skipped when Embree's headers are
+//! absent, unless `SMOOTHTRI_REQUIRE_EMBREE` is set (CI sets it).
+#![allow(
+    clippy::unwrap_used,
+    clippy::expect_used,
+    clippy::panic,
+    clippy::indexing_slicing
+)]
+
+mod common;
+
+use std::path::{Path, PathBuf};
+
+#[test]
+fn embree_scene_with_smooth_patches_beside_triangles_and_instances() {
+    if !Path::new("/usr/include/embree3/rtcore.h").exists() {
+        assert!(
+            std::env::var_os("SMOOTHTRI_REQUIRE_EMBREE").is_none(),
+            "SMOOTHTRI_REQUIRE_EMBREE is set but Embree 3 is not installed \
+             (apt-get install libembree-dev)"
+        );
+        eprintln!("skipped: Embree 3 is not installed (apt-get install libembree-dev)");
+        return;
+    }
+    let dir = common::scratch("embree");
+    let src = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/cpp/embree_test.cpp");
+    let exe = dir.join("embree_test");
+    let lib = common::static_lib();
+    let mut extra = vec![lib.to_str().unwrap(), "-lembree3"];
+    extra.extend_from_slice(common::NATIVE_LIBS);
+    common::compile_c(&[src], &exe, common::Lang::Cpp17, &extra);
+    let out = common::run(&exe, &[], false);
+    assert!(out.contains("all checks passed"), "{out}");
+    println!("{out}");
+}
