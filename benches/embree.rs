@@ -12,13 +12,25 @@
 //! reports the median of several timed passes after a warm-up pass, the memory, the maximum
 //! and mean distance of the hit points to the true torus, and the hit count. A second Embree
 //! row traces the flat grid of equal maximum error found at run time when it differs from n.
+//!
+//! A second table comes from a C program (`benches/embree/plugin_bench.c`, compiled here
+//! against `capi/include` and the C API's static library): the same mesh and rays traced
+//! by smoothtri's own BVH through the C API (`st_intersect1`), by Embree's BVH over the smooth
+//! patches through the plug-in (`smoothtri_embree.h`), and by Embree over the mesh's own flat
+//! triangles, in one process, interleaved rounds: the 8×8 torus and, when Debian's
+//! `assimp-testmodels` is installed, a real scanned mesh with vertex normals (`WusonOBJ.obj`,
+//! 3.7k triangles), each framed by the camera, N = 8.
 
 use std::hint::black_box;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::process::Command;
 use std::time::Instant;
 
 use glam::{DVec3, Vec3};
 use smoothtri::Ray;
 use smoothtri_demo::camera::Camera;
+use smoothtri_demo::mesh::{assimp_models, load};
 use smoothtri_demo::scenes::{builtin, torus, torus_distance};
 use smoothtri_demo::{Mesh, Scene};
 
@@ -90,7 +102,7 @@ fn smoothtri_row(mesh: &Mesh, rays: &[Ray], reps: usize) -> Row {
     let trace = || {
         let mut hits = 0;
         for r in rays {
-            if let Ok(Some(h)) = bvh.closest_hit::<N_ITER>(r, 0.0, f32::MAX) {
+            if let Some(h) = bvh.closest_hit::<N_ITER>(r, 0.0, f32::MAX) {
                 black_box(h.normal);
                 hits += 1;
             }
@@ -100,14 +112,14 @@ fn smoothtri_row(mesh: &Mesh, rays: &[Ray], reps: usize) -> Row {
     let secs = median_secs(reps, trace);
     let points: Vec<DVec3> = rays
         .iter()
-        .filter_map(|r| bvh.closest_hit::<N_ITER>(r, 0.0, f32::MAX).ok().flatten())
+        .filter_map(|r| bvh.closest_hit::<N_ITER>(r, 0.0, f32::MAX))
         .map(|h| h.point.as_dvec3())
         .collect();
     let (max_dist, mean_dist) = distances(&points);
-    let bytes = size_of_val(scene.patches.as_slice()) + bvh.memory_bytes();
+    let bytes = size_of_val(scene.patches()) + bvh.memory_bytes();
     Row {
         what: format!("smoothtri 8×8 torus patches, f32, N = {N_ITER}"),
-        prims: scene.patches.len(),
+        prims: scene.patches().len(),
         mrays: rays.len() as f64 / secs / 1e6,
         kib: bytes as f64 / 1024.0,
         max_dist,
@@ -115,7 +127,7 @@ fn smoothtri_row(mesh: &Mesh, rays: &[Ray], reps: usize) -> Row {
         hits: points.len(),
         memory_note: format!(
             "smoothtri: the patches ({} B) + the BVH's nodes and order ({} B)",
-            size_of_val(scene.patches.as_slice()),
+            size_of_val(scene.patches()),
             bvh.memory_bytes()
         ),
     }
@@ -215,6 +227,123 @@ fn embree_row(n: usize, equal: bool, rays: &[Ray], reps: usize) -> Row {
     }
 }
 
+/// The C API's static library that cargo built for this bench (`deps/libsmoothtri_capi-*.a`
+/// beside the bench binary; the newest when several builds left one).
+fn capi_static_lib() -> PathBuf {
+    let exe = std::env::current_exe().expect("the bench's path");
+    let deps = exe.parent().expect("the deps folder");
+    std::fs::read_dir(deps)
+        .expect("the deps folder")
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| {
+            let name = p.file_name().and_then(|n| n.to_str()).unwrap_or("");
+            name.starts_with("libsmoothtri_capi") && name.ends_with(".a")
+        })
+        .max_by_key(|p| p.metadata().and_then(|m| m.modified()).ok())
+        .expect("cargo built the C API's static library (dev-dependency smoothtri-capi)")
+}
+
+/// Compiles `benches/embree/plugin_bench.c` (optimised, as a renderer would) against the C API.
+fn plugin_program() -> PathBuf {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let exe = Path::new(env!("CARGO_TARGET_TMPDIR")).join("plugin_bench");
+    let status = Command::new("cc")
+        .args([
+            "-std=c99",
+            "-O2",
+            "-Wall",
+            "-Wextra",
+            "-Werror",
+            "-pedantic",
+            "-I",
+        ])
+        .arg(root.join("capi/include"))
+        .arg(root.join("benches/embree/plugin_bench.c"))
+        .arg("-o")
+        .arg(&exe)
+        .arg(capi_static_lib())
+        .args([
+            "-lembree3",
+            "-lgcc_s",
+            "-lutil",
+            "-lrt",
+            "-lpthread",
+            "-lm",
+            "-ldl",
+            "-lc",
+        ])
+        .status()
+        .expect("cc runs");
+    assert!(status.success(), "plugin_bench.c did not compile");
+    exe
+}
+
+/// The C program's three rows for `mesh` and `rays`: (what, Mrays/s, hits).
+fn plugin_rows(exe: &Path, mesh: &Mesh, rays: &[Ray], rounds: u32) -> Vec<(String, f64, u64)> {
+    let path = Path::new(env!("CARGO_TARGET_TMPDIR")).join("plugin_bench.bin");
+    let mut f = std::io::BufWriter::new(std::fs::File::create(&path).expect("input file"));
+    let head = [
+        mesh.positions.len() as u32,
+        mesh.triangles.len() as u32,
+        rays.len() as u32,
+        rounds,
+        8,
+    ];
+    let mut put = |x: &[u8]| f.write_all(x).expect("write");
+    head.iter().for_each(|x| put(&x.to_le_bytes()));
+    for v in mesh.positions.iter().chain(&mesh.normals) {
+        v.as_vec3()
+            .to_array()
+            .iter()
+            .for_each(|x| put(&x.to_le_bytes()));
+    }
+    mesh.triangles
+        .iter()
+        .flatten()
+        .for_each(|x| put(&x.to_le_bytes()));
+    for r in rays {
+        r.origin
+            .to_array()
+            .iter()
+            .chain(&r.dir.to_array())
+            .for_each(|x| put(&x.to_le_bytes()));
+    }
+    drop(f);
+    let out = Command::new(exe)
+        .arg(&path)
+        .output()
+        .expect("plugin_bench runs");
+    assert!(
+        out.status.success(),
+        "plugin_bench failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8_lossy(&out.stdout)
+        .lines()
+        .filter_map(|l| l.strip_prefix("row "))
+        .map(|l| {
+            let f: Vec<&str> = l.split('|').collect();
+            (
+                f[0].to_string(),
+                f[1].parse().unwrap_or(0.0),
+                f[2].parse().unwrap_or(0),
+            )
+        })
+        .collect()
+}
+
+/// Camera rays framing `mesh` from `render`'s default view.
+fn camera_rays(mesh: &Mesh) -> Vec<Ray> {
+    let cam = Camera::for_mesh(mesh, VIEW.0, VIEW.1, WIDTH, HEIGHT);
+    (0..HEIGHT)
+        .flat_map(|y| (0..WIDTH).map(move |x| (x, y)))
+        .map(|(x, y)| {
+            let (o, d) = cam.pixel_ray(x, y);
+            Ray::new(o.as_vec3(), d.as_vec3())
+        })
+        .collect()
+}
+
 fn main() {
     // `cargo bench` passes `--bench`; `cargo test --benches` does not: skip its debug-build run.
     if !std::env::args().any(|a| a == "--bench") {
@@ -222,14 +351,7 @@ fn main() {
         return;
     }
     let mesh = builtin("torus").expect("the built-in torus");
-    let cam = Camera::for_mesh(&mesh, VIEW.0, VIEW.1, WIDTH, HEIGHT);
-    let rays: Vec<Ray> = (0..HEIGHT)
-        .flat_map(|y| (0..WIDTH).map(move |x| (x, y)))
-        .map(|(x, y)| {
-            let (o, d) = cam.pixel_ray(x, y);
-            Ray::new(o.as_vec3(), d.as_vec3())
-        })
-        .collect();
+    let rays = camera_rays(&mesh);
     let smooth_reps = env_usize("SMOOTHTRI_EMBREE_REPS", 5).max(1);
     let n = env_usize("SMOOTHTRI_EMBREE_N", 35).max(3);
 
@@ -274,5 +396,33 @@ fn main() {
             r.kib / s.kib,
             r.max_dist / s.max_dist
         );
+    }
+
+    // The plug-in table: the same mesh three ways, from C.
+    let exe = plugin_program();
+    let mut meshes = vec![("torus 8×8 (128 triangles)".to_string(), mesh.clone())];
+    if let Ok(Some(dir)) = assimp_models() {
+        let path = dir.join("OBJ/WusonOBJ.obj");
+        if let Ok(loaded) = load(&path.to_string_lossy()) {
+            let t = loaded.mesh.triangles.len();
+            meshes.push((format!("WusonOBJ.obj ({t} triangles)"), loaded.mesh));
+        }
+    }
+    println!(
+        "\n## The C API and the Embree plug-in ({}; one thread, {WIDTH}×{HEIGHT} camera rays \
+         framing each mesh, f32, N = 8, median of {embree_reps} interleaved rounds)\n",
+        cpu_name()
+    );
+    println!("| mesh | what | Mrays/s | hits | ÷ Embree flat |");
+    println!("|---|---|---|---|---|");
+    for (name, m) in &meshes {
+        let rows = plugin_rows(&exe, m, &camera_rays(m), embree_reps as u32);
+        let flat = rows.last().map_or(1.0, |r| r.1);
+        for (what, mrays, hits) in &rows {
+            println!(
+                "| {name} | {what} | {mrays:.3} | {hits} | {:.1}× |",
+                flat / mrays
+            );
+        }
     }
 }

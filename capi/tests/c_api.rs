@@ -28,6 +28,27 @@ fn c_program(name: &str) -> PathBuf {
 }
 
 #[test]
+fn readme_example_is_this_file_and_runs() {
+    let src = std::fs::read_to_string(
+        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/c/readme_example.c"),
+    )
+    .unwrap();
+    let readme =
+        std::fs::read_to_string(PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../README.md"))
+            .unwrap();
+    assert!(
+        readme.contains(&format!("```c\n{src}```")),
+        "README.md's C example differs from capi/tests/c/readme_example.c"
+    );
+    let exe = c_program("readme_example");
+    let out = common::run(&exe, &[], false);
+    // t = 3 − √(1 − 0.3² − 0.2²) on the unit sphere; the normal is radial.
+    let t = 3.0 - (1.0f64 - 0.09 - 0.04).sqrt();
+    assert!(out.starts_with(&format!("t = {t:.6}")), "{out}");
+    assert!(out.contains("triangle 0, shading normal (0.300, 0.200, 0.933)"), "{out}");
+}
+
+#[test]
 fn bad_input_gives_the_documented_status() {
     let exe = c_program("errors_test");
     let out = common::run(&exe, &[], true);
