@@ -45,7 +45,10 @@ fn readme_example_is_this_file_and_runs() {
     // t = 3 − √(1 − 0.3² − 0.2²) on the unit sphere; the normal is radial.
     let t = 3.0 - (1.0f64 - 0.09 - 0.04).sqrt();
     assert!(out.starts_with(&format!("t = {t:.6}")), "{out}");
-    assert!(out.contains("triangle 0, shading normal (0.300, 0.200, 0.933)"), "{out}");
+    assert!(
+        out.contains("triangle 0, shading normal (0.300, 0.200, 0.933)"),
+        "{out}"
+    );
 }
 
 #[test]
