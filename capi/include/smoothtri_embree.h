@@ -117,8 +117,29 @@ static inline void st_embree__bounds(const struct RTCBoundsFunctionArguments *ar
     o->upper_z = b[5];
 }
 
+/* Lane i's ray tested against patch `prim`; on a hit, the candidate's one-lane ray and hit
+ * and the filter arguments over them (valid = accept, -1 until a filter refuses it). */
+static inline bool st_embree__candidate_of(const st_scene *scene, unsigned int prim,
+                                           const void *rays, unsigned int N, unsigned int i,
+                                           void *user, unsigned int geom_id,
+                                           struct RTCIntersectContext *context, st_rayhit *rh,
+                                           struct RTCRay *ray1, struct RTCHit *hit1, int *accept,
+                                           struct RTCFilterFunctionNArguments *filter) {
+    rh->ray = st_embree__ray(rays, N, i);
+    rh->hit.prim_id = ST_INVALID_ID;
+    if (!st_patch_intersect(scene, prim, rh)) return false;
+    st_embree__candidate(rh, geom_id, context, ray1, hit1);
+    *accept = -1;
+    filter->valid = accept;
+    filter->geometryUserPtr = user;
+    filter->context = context;
+    filter->ray = (struct RTCRayN *)ray1;
+    filter->hit = (struct RTCHitN *)hit1;
+    filter->N = 1;
+    return true;
+}
+
 static inline void st_embree__intersect(const struct RTCIntersectFunctionNArguments *args) {
-    const st_scene *scene = (const st_scene *)args->geometryUserPtr;
     unsigned int N = args->N, i, l;
     void *rays = args->rayhit;
     float *hits = (float *)args->rayhit + 12 * N;
@@ -127,18 +148,12 @@ static inline void st_embree__intersect(const struct RTCIntersectFunctionNArgume
         struct RTCRay ray1;
         struct RTCHit hit1;
         struct RTCFilterFunctionNArguments filter;
-        int accept = -1;
+        int accept;
         if (args->valid[i] != -1) continue;
-        rh.ray = st_embree__ray(rays, N, i);
-        rh.hit.prim_id = ST_INVALID_ID;
-        if (!st_patch_intersect(scene, args->primID, &rh)) continue;
-        st_embree__candidate(&rh, args->geomID, args->context, &ray1, &hit1);
-        filter.valid = &accept;
-        filter.geometryUserPtr = args->geometryUserPtr;
-        filter.context = args->context;
-        filter.ray = (struct RTCRayN *)&ray1;
-        filter.hit = (struct RTCHitN *)&hit1;
-        filter.N = 1;
+        if (!st_embree__candidate_of((const st_scene *)args->geometryUserPtr, args->primID, rays,
+                                     N, i, args->geometryUserPtr, args->geomID, args->context,
+                                     &rh, &ray1, &hit1, &accept, &filter))
+            continue;
         rtcFilterIntersection(args, &filter);
         if (accept != -1) continue;
         ST_EMBREE_F(rays, N, 8, i) = rh.ray.tfar;
@@ -155,25 +170,18 @@ static inline void st_embree__intersect(const struct RTCIntersectFunctionNArgume
 }
 
 static inline void st_embree__occluded(const struct RTCOccludedFunctionNArguments *args) {
-    const st_scene *scene = (const st_scene *)args->geometryUserPtr;
     unsigned int N = args->N, i;
     for (i = 0; i < N; i++) {
         st_rayhit rh;
         struct RTCRay ray1;
         struct RTCHit hit1;
         struct RTCFilterFunctionNArguments filter;
-        int accept = -1;
+        int accept;
         if (args->valid[i] != -1) continue;
-        rh.ray = st_embree__ray(args->ray, N, i);
-        rh.hit.prim_id = ST_INVALID_ID;
-        if (!st_patch_intersect(scene, args->primID, &rh)) continue;
-        st_embree__candidate(&rh, args->geomID, args->context, &ray1, &hit1);
-        filter.valid = &accept;
-        filter.geometryUserPtr = args->geometryUserPtr;
-        filter.context = args->context;
-        filter.ray = (struct RTCRayN *)&ray1;
-        filter.hit = (struct RTCHitN *)&hit1;
-        filter.N = 1;
+        if (!st_embree__candidate_of((const st_scene *)args->geometryUserPtr, args->primID,
+                                     args->ray, N, i, args->geometryUserPtr, args->geomID,
+                                     args->context, &rh, &ray1, &hit1, &accept, &filter))
+            continue;
         rtcFilterOcclusion(args, &filter);
         if (accept == -1) ST_EMBREE_F(args->ray, N, 8, i) = -INFINITY;
     }

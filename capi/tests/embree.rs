@@ -32,6 +32,17 @@ fn embree_scene_with_smooth_patches_beside_triangles_and_instances() {
     extra.extend_from_slice(common::NATIVE_LIBS);
     common::compile_c(&[src], &exe, common::Lang::Cpp17, &extra);
     let out = common::run(&exe, &[], false);
+    // The plug-in header is C99 too (a renderer in C includes it the same way).
+    let probe = dir.join("probe.c");
+    std::fs::write(
+        &probe,
+        "#include \"smoothtri_embree.h\"\nint main(void) { return st_embree_new_geometry(NULL, \
+         NULL) == NULL ? 0 : 1; }\n",
+    )
+    .unwrap();
+    let probe_exe = dir.join("probe");
+    common::compile_c(&[probe], &probe_exe, common::Lang::C99, &extra);
+    common::run(&probe_exe, &[], false);
     assert!(out.contains("all checks passed"), "{out}");
     println!("{out}");
 }

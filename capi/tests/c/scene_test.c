@@ -18,15 +18,7 @@
 
 #define PI 3.14159265358979323846
 
-static int failures = 0;
-
-#define CHECK(cond)                                                                        \
-    do {                                                                                   \
-        if (!(cond)) {                                                                     \
-            fprintf(stderr, "%s:%d: check failed: %s\n", __FILE__, __LINE__, #cond);        \
-            failures++;                                                                    \
-        }                                                                                  \
-    } while (0)
+#include "check.h"
 
 /* An interleaved vertex: position, normal, texture coordinates (32 bytes in float). */
 typedef struct { float p[3], n[3], uv[2]; } vertex_f;
