@@ -121,6 +121,13 @@ impl Camera {
     /// that centre through the farthest vertex, enlarged by 10% (the smooth surface may bulge
     /// past the vertices), fits the image. This is the camera of `render` and `precision`.
     pub fn for_mesh(mesh: &Mesh, az: f64, el: f64, width: u32, height: u32) -> Camera {
+        let (c, r) = Camera::mesh_sphere(mesh);
+        Camera::look_at_sphere(c, r, az, el, width, height)
+    }
+
+    /// The sphere [`Camera::for_mesh`] frames: the bounding box's centre and the distance to
+    /// the farthest vertex, enlarged by 10%.
+    pub fn mesh_sphere(mesh: &Mesh) -> (DVec3, f64) {
         let (lo, hi) = mesh.bounds();
         let c = (lo + hi) * 0.5;
         let r = mesh
@@ -128,7 +135,7 @@ impl Camera {
             .iter()
             .map(|p| (*p - c).length())
             .fold(0.0, f64::max);
-        Camera::look_at_sphere(c, r * 1.1, az, el, width, height)
+        (c, r * 1.1)
     }
 
     /// Looks at `c` from azimuth `az` and elevation `el` (degrees) so that the sphere of radius

@@ -1,5 +1,5 @@
 //! Command-line interface: parses the arguments (clap derive) of `render`, `precision`, `trace`,
-//! `eval`, `inspect` and `tessellate` into each command's options struct and runs it ([`crate::commands`]).
+//! `eval`, `inspect`, `tessellate` and `view` into each command's options struct and runs it ([`crate::commands`]).
 
 use std::process::ExitCode;
 
@@ -12,6 +12,7 @@ use crate::commands::precision::PrecisionOptions;
 use crate::commands::render::RenderOptions;
 use crate::commands::tessellate::TessellateOptions;
 use crate::commands::trace::TraceOptions;
+use crate::commands::view::ViewOptions;
 use crate::commands::{self, MeshSource};
 use crate::error::Result;
 use crate::scenes::SCENE_NAMES;
@@ -40,6 +41,58 @@ enum Cmd {
     Inspect(InspectArgs),
     /// Sample the smooth surface into welded triangles and write them as OBJ, PLY or GLB.
     Tessellate(TessellateArgs),
+    /// Show the kernel in real time in a window: orbit with the mouse, zoom with the wheel;
+    /// keys M (mode), S (seamless/geometric), Up/Down (N), P (f32/f64), H (error heat map),
+    /// R (reset), Esc/Q (quit).
+    View(ViewArgs),
+}
+
+#[derive(Args, Debug)]
+struct ViewArgs {
+    #[command(flatten)]
+    src: Source,
+    /// Intersection mode at start (M switches).
+    #[arg(long, value_enum, default_value = "smooth")]
+    mode: Mode,
+    /// Refinement steps of the smooth kernel at start, 0..=16 (Up/Down change it).
+    #[arg(long, default_value_t = 4)]
+    iterations: usize,
+    /// Kernel precision at start (P switches; the GPU traces in f32).
+    #[arg(long, value_enum, default_value = "f32")]
+    precision: Precision,
+    /// Window width (the frame's, headless).
+    #[arg(long, default_value_t = 640)]
+    width: u32,
+    /// Window height (the frame's, headless).
+    #[arg(long, default_value_t = 480)]
+    height: u32,
+    /// Camera azimuth and elevation in degrees at start, relative to the up axis.
+    #[arg(long, value_parser = parse_view, default_value = "30,35", allow_hyphen_values = true)]
+    view: (f64, f64),
+    /// The mesh's up axis [default: y for mesh files (glTF: always y), z for the built-in scenes].
+    #[arg(long, value_enum)]
+    up: Option<Up>,
+    /// Render each frame with the GPU kernel (WGSL; Vulkan or Mesa's lavapipe).
+    #[arg(long)]
+    gpu: bool,
+    /// The normal the smooth mode shades with at start (S switches).
+    #[arg(long, value_enum, default_value = "seamless")]
+    normals: Normals,
+    /// The line field of the patches.
+    #[arg(long, value_enum, default_value = "face")]
+    field: Field,
+    /// Start with the heat map of each pixel's certified t_error (H switches).
+    #[arg(long)]
+    heat: bool,
+    /// Headless: render K frames at the fixed camera, then exit.
+    #[arg(long, value_name = "K")]
+    frames: Option<u32>,
+    /// Headless: write the last frame as PNG (the same pixels as `render` with this camera).
+    #[arg(long, value_name = "FILE.png")]
+    screenshot: Option<String>,
+    /// Headless: write the last frame's primary-hit mask as a plain PBM.
+    #[arg(long, value_name = "FILE.pbm")]
+    mask: Option<String>,
 }
 
 #[derive(Args, Debug, Clone)]
@@ -257,6 +310,23 @@ pub fn run(cli: Cli) -> Result<()> {
             normals: a.normals,
             field: a.field.into(),
             verbose: a.verbose,
+        }),
+        Cmd::View(a) => commands::view::run(ViewOptions {
+            source: a.src.into(),
+            mode: a.mode,
+            iterations: a.iterations,
+            precision: a.precision,
+            width: a.width,
+            height: a.height,
+            view: a.view,
+            up: a.up,
+            gpu: a.gpu,
+            normals: a.normals,
+            field: a.field.into(),
+            heat: a.heat,
+            frames: a.frames,
+            screenshot: a.screenshot,
+            mask: a.mask,
         }),
         Cmd::Precision(a) => commands::precision::run(PrecisionOptions {
             source: a.src.into(),

@@ -36,6 +36,18 @@ impl Image {
         self.data[i..i + 3].copy_from_slice(&rgb);
     }
 
+    /// The pixel at `(x, y)`; black outside the image.
+    pub fn get(&self, x: u32, y: u32) -> [u8; 3] {
+        if x >= self.width || y >= self.height {
+            return [0, 0, 0];
+        }
+        let i = (y as usize * self.width as usize + x as usize) * 3;
+        match self.data.get(i..i + 3) {
+            Some(&[r, g, b]) => [r, g, b],
+            _ => [0, 0, 0],
+        }
+    }
+
     /// Copies `src` with its top-left corner at `(x, y)`.
     pub fn blit(&mut self, src: &Image, x: i64, y: i64) {
         for sy in 0..src.height as i64 {

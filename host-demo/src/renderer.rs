@@ -22,6 +22,9 @@ pub struct PixelHit {
     pub point: DVec3,
     /// Mesh triangle id.
     pub triangle: u32,
+    /// The hit's certified bound on its `t` error (`Hit::t_error`), in units of the ray's
+    /// direction (unit length here); 0 on a miss.
+    pub t_error: f64,
 }
 
 /// The result of [`render`].
@@ -132,6 +135,7 @@ pub fn render<F: Prec>(
                 hits.push(PixelHit {
                     hit: true,
                     point: p,
+                    t_error: hit.t_error.to_f64(),
                     triangle: scene
                         .tri_ids()
                         .get(hit.patch as usize)

@@ -13,6 +13,7 @@ pub mod precision;
 pub mod render;
 pub mod tessellate;
 pub mod trace;
+pub mod view;
 
 /// Where a command's mesh comes from: `--mesh PATH` or `--scene NAME` (at most one is set).
 #[derive(Clone, Debug, Default, PartialEq, Eq)]

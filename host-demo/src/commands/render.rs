@@ -188,7 +188,7 @@ fn render_panel<F: Prec>(
 
 /// The scene of `mesh` in precision `F` on `field`; `note` prints its note about skipped or
 /// clamped triangles.
-fn build_scene<F: Prec>(
+pub(crate) fn build_scene<F: Prec>(
     mesh: &Mesh,
     note: Note,
     field: LineField,
@@ -238,7 +238,10 @@ fn render_panel_gpu(
     normals: Normals,
     field: LineField,
 ) -> Result<Panel> {
-    let mut scene = build_scene::<f32>(mesh, note, field, false)?;
+    // As on the CPU: the smooth mode with seamless normals shades with the seams (before, the
+    // GPU panel was built without them and shaded with the geometric normal).
+    let seams = normals == Normals::Seamless && mode == Mode::Smooth;
+    let mut scene = build_scene::<f32>(mesh, note, field, seams)?;
     scene.normals = normals;
     let r = render_gpu(gpu, &scene, cam, mode, n, mesh.diagonal())?;
     Ok(Panel::from(r))
@@ -337,6 +340,7 @@ pub fn render_gpu(
             *m = PixelHit {
                 hit: true,
                 point: hit.point.as_dvec3(),
+                t_error: f64::from(hit.t_error),
                 triangle: scene
                     .tri_ids()
                     .get(hit.patch as usize)

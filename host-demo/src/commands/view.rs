@@ -1,0 +1,601 @@
+//! `smoothtri view`: the kernel in real time, in a window (winit; softbuffer presents the
+//! frames). The CPU kernel renders on rayon's threads; `--gpu` renders each frame with the
+//! WGSL kernel. Orbit with the left mouse button, zoom with the wheel; keys switch the mode,
+//! the normals, `N`, the precision and the error heat map (see [`KEYS`]). While the camera
+//! moves, frames render at a third of the resolution; once it rests, one full frame follows.
+//!
+//! Headless (`--frames K --screenshot FILE.png`): K full frames at the fixed camera, then the
+//! last one is written (equal, pixel for pixel, to `render` with the same camera, mode and
+//! size) and the viewer exits. Under `xvfb-run` this runs without a screen.
+
+use std::any::Any;
+use std::collections::HashMap;
+use std::num::NonZeroU32;
+use std::rc::Rc;
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use glam::DVec3;
+use smoothtri::LineField;
+use smoothtri_gpu::Gpu;
+use winit::application::ApplicationHandler;
+use winit::dpi::PhysicalSize;
+use winit::event::{ElementState, MouseButton, MouseScrollDelta, WindowEvent};
+use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
+use winit::keyboard::{Key, NamedKey};
+use winit::window::{Window, WindowId};
+
+use super::MeshSource;
+use super::render::{Note, build_scene, open_gpu, render_gpu};
+use crate::camera::{Camera, Up};
+use crate::error::{DemoError, Result};
+use crate::image::{Image, heat};
+use crate::mesh::Mesh;
+use crate::renderer::{PixelHit, Rendered};
+use crate::tracer::{Mode, Normals, Prec, Precision, Scene, tracer};
+
+/// The keys of the viewer, as its help line and the README list them.
+pub const KEYS: &[(&str, &str)] = &[
+    ("M", "mode: smooth → flat → phong"),
+    ("S", "shading normal: seamless ↔ geometric"),
+    ("↑ / ↓", "N (refinement steps) up / down, 0..=16"),
+    ("P", "precision: f32 ↔ f64 (CPU)"),
+    ("H", "heat map of each pixel's certified t_error"),
+    ("R", "reset the camera"),
+    ("Esc / Q", "quit"),
+];
+
+/// Largest `N` the keys reach (the demo's kernels are compiled for every `N` up to it).
+const MAX_N: usize = 16;
+/// Frames render at `1 / MOVING_SCALE` of the resolution while the camera moves.
+const MOVING_SCALE: u32 = 3;
+/// How long after the last input the camera counts as resting.
+const REST: Duration = Duration::from_millis(150);
+/// Degrees of orbit per pixel of mouse motion.
+const ORBIT_DEG_PER_PX: f64 = 0.4;
+
+/// Options of `view`.
+#[derive(Clone, Debug)]
+pub struct ViewOptions {
+    /// The mesh (the torus scene when unset).
+    pub source: MeshSource,
+    /// Intersection mode at start.
+    pub mode: Mode,
+    /// Refinement steps at start.
+    pub iterations: usize,
+    /// Precision at start.
+    pub precision: Precision,
+    /// Window (and frame) width at start, 1..=16384.
+    pub width: u32,
+    /// Window (and frame) height at start, 1..=16384.
+    pub height: u32,
+    /// Camera azimuth and elevation in degrees at start.
+    pub view: (f64, f64),
+    /// The mesh's up axis (`None`: the source's default).
+    pub up: Option<Up>,
+    /// Render with the GPU kernel (f32).
+    pub gpu: bool,
+    /// The normal the smooth mode shades with at start.
+    pub normals: Normals,
+    /// The line field of the patches.
+    pub field: LineField,
+    /// Start with the error heat map.
+    pub heat: bool,
+    /// Headless: render this many frames at the fixed camera, then exit.
+    pub frames: Option<u32>,
+    /// Headless: write the last frame here (PNG).
+    pub screenshot: Option<String>,
+    /// Headless: write the last frame's primary-hit mask here (PBM).
+    pub mask: Option<String>,
+}
+
+/// What the keys and the mouse change.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Settings {
+    mode: Mode,
+    n: usize,
+    precision: Precision,
+    normals: Normals,
+    heat: bool,
+    az: f64,
+    el: f64,
+    zoom: f64,
+}
+
+/// The scenes built so far, by precision and seams (built on first use).
+#[derive(Default)]
+struct Scenes(HashMap<(Precision, bool), Rc<dyn Any>>);
+
+impl Scenes {
+    fn get<F: Prec>(&mut self, mesh: &Mesh, field: LineField, seams: bool) -> Result<Rc<Scene<F>>> {
+        let key = (F::PRECISION, seams);
+        if let Some(s) = self
+            .0
+            .get(&key)
+            .and_then(|s| Rc::clone(s).downcast::<Scene<F>>().ok())
+        {
+            return Ok(s);
+        }
+        let note = Note {
+            skipped: self.0.is_empty(),
+            timing: false,
+        };
+        let scene = Rc::new(build_scene::<F>(mesh, note, field, seams)?);
+        self.0.insert(key, Rc::clone(&scene) as Rc<dyn Any>);
+        Ok(scene)
+    }
+}
+
+/// One rendered frame and what the title shows of it.
+struct Frame {
+    image: Image,
+    hits: Vec<PixelHit>,
+    rays: u64,
+    seconds: f64,
+    max_t_error: f64,
+}
+
+/// The viewer: the mesh, its scenes, the settings and the window.
+struct Viewer {
+    options: ViewOptions,
+    mesh: Mesh,
+    /// The sphere the camera frames (centre and radius), as `render`'s camera.
+    sphere: (DVec3, f64),
+    diag: f64,
+    gpu: Option<Arc<Gpu>>,
+    scenes: Scenes,
+    settings: Settings,
+    window: Option<Rc<Window>>,
+    surface: Option<softbuffer::Surface<Rc<Window>, Rc<Window>>>,
+    drag: Option<(f64, f64)>,
+    cursor: (f64, f64),
+    last_input: Instant,
+    /// The settings and size of the last full-resolution frame (nothing to refine when equal).
+    shown: Option<(Settings, u32, u32)>,
+    frames_done: u32,
+    /// Render seconds and rays of the frames so far (headless summary).
+    totals: (f64, u64),
+    last: Option<Frame>,
+    error: Option<DemoError>,
+}
+
+impl Viewer {
+    fn initial_settings(o: &ViewOptions) -> Settings {
+        Settings {
+            mode: o.mode,
+            n: o.iterations,
+            precision: o.precision,
+            normals: o.normals,
+            heat: o.heat,
+            az: o.view.0,
+            el: o.view.1,
+            zoom: 1.0,
+        }
+    }
+
+    /// The camera of the current settings for a `w`×`h` frame: `render`'s camera at zoom 1.
+    fn camera(&self, w: u32, h: u32) -> Camera {
+        let s = &self.settings;
+        if s.zoom == 1.0 {
+            return Camera::for_mesh(&self.mesh, s.az, s.el, w, h);
+        }
+        let (c, r) = self.sphere;
+        Camera::look_at_sphere(c, r * s.zoom, s.az, s.el, w, h)
+    }
+
+    /// Renders one `w`×`h` frame with the current settings.
+    fn render(&mut self, w: u32, h: u32) -> Result<Frame> {
+        let cam = self.camera(w, h);
+        let s = self.settings;
+        let seams = s.normals == Normals::Seamless && s.mode == Mode::Smooth;
+        let r: Rendered = match (&self.gpu, s.precision) {
+            (Some(gpu), _) => {
+                let gpu = Arc::clone(gpu);
+                let scene = self
+                    .scenes
+                    .get::<f32>(&self.mesh, self.options.field, seams)?;
+                render_gpu(&gpu, &scene, &cam, s.mode, s.n, self.diag)?
+            }
+            (None, Precision::F32) => self.render_cpu::<f32>(&cam, seams)?,
+            (None, Precision::F64) => self.render_cpu::<f64>(&cam, seams)?,
+        };
+        let max_t_error = r.hits.iter().map(|p| p.t_error).fold(0.0, f64::max);
+        let image = if s.heat {
+            heat_map(&r, self.diag)
+        } else {
+            r.image
+        };
+        Ok(Frame {
+            image,
+            hits: r.hits,
+            rays: r.rays,
+            seconds: r.seconds,
+            max_t_error,
+        })
+    }
+
+    fn render_cpu<F: Prec>(&mut self, cam: &Camera, seams: bool) -> Result<Rendered> {
+        let scene = self
+            .scenes
+            .get::<F>(&self.mesh, self.options.field, seams)?;
+        let t = tracer::<F>(self.settings.mode, self.settings.n)?;
+        Ok(crate::renderer::render(&scene, cam, t, self.diag, false))
+    }
+
+    /// The window's title for `frame`.
+    fn title(&self, frame: &Frame, reduced: bool) -> String {
+        let s = &self.settings;
+        let n = if s.mode == Mode::Smooth {
+            format!(" N={}", s.n)
+        } else {
+            String::new()
+        };
+        let normals = if s.mode == Mode::Smooth {
+            format!(" {}", s.normals.name())
+        } else {
+            String::new()
+        };
+        let device = if self.gpu.is_some() { "GPU" } else { "CPU" };
+        format!(
+            "smoothtri view — {}{n} {}{normals}{} ({device}) — {:.1} ms, {:.2} Mrays/s, max t_error {:.1e}{}",
+            s.mode.name(),
+            if self.gpu.is_some() {
+                Precision::F32
+            } else {
+                s.precision
+            },
+            if s.heat { " heat" } else { "" },
+            frame.seconds * 1e3,
+            frame.rays as f64 / frame.seconds.max(1e-9) / 1e6,
+            frame.max_t_error,
+            if reduced {
+                " (moving: 1/3 resolution)"
+            } else {
+                ""
+            }
+        )
+    }
+
+    /// Renders and presents a frame for the window's current size (headless: the requested
+    /// size); a reduced one while the camera moves.
+    fn redraw(&mut self) -> Result<()> {
+        let Some(window) = self.window.clone() else {
+            return Ok(());
+        };
+        let size = window.inner_size();
+        let headless = self.options.frames.is_some();
+        let (fw, fh) = if headless {
+            (self.options.width, self.options.height)
+        } else {
+            (size.width, size.height)
+        };
+        if fw == 0 || fh == 0 || size.width == 0 || size.height == 0 {
+            return Ok(()); // minimised
+        }
+        let moving = !headless && self.last_input.elapsed() < REST;
+        let (rw, rh) = if moving {
+            ((fw / MOVING_SCALE).max(1), (fh / MOVING_SCALE).max(1))
+        } else {
+            (fw, fh)
+        };
+        let frame = self.render(rw, rh)?;
+        window.set_title(&self.title(&frame, moving));
+        if let Some(surface) = self.surface.as_mut() {
+            present(surface, &frame.image, size)?;
+        }
+        if !moving {
+            self.shown = Some((self.settings, fw, fh));
+        }
+        self.totals.0 += frame.seconds;
+        self.totals.1 += frame.rays;
+        self.last = Some(frame);
+        Ok(())
+    }
+
+    /// Notes an input that changes the view.
+    fn changed(&mut self) {
+        self.last_input = Instant::now();
+        if let Some(w) = &self.window {
+            w.request_redraw();
+        }
+    }
+
+    fn key(&mut self, key: &Key, event_loop: &ActiveEventLoop) {
+        let s = &mut self.settings;
+        match key {
+            Key::Named(NamedKey::Escape) => event_loop.exit(),
+            Key::Named(NamedKey::ArrowUp) => s.n = (s.n + 1).min(MAX_N),
+            Key::Named(NamedKey::ArrowDown) => s.n = s.n.saturating_sub(1),
+            Key::Character(c) => match c.to_ascii_lowercase().as_str() {
+                "q" => event_loop.exit(),
+                "m" => {
+                    s.mode = match s.mode {
+                        Mode::Smooth => Mode::Flat,
+                        Mode::Flat => Mode::Phong,
+                        Mode::Phong => Mode::Smooth,
+                    }
+                }
+                "s" => {
+                    s.normals = match s.normals {
+                        Normals::Seamless => Normals::Geometric,
+                        Normals::Geometric => Normals::Seamless,
+                    }
+                }
+                "p" if self.gpu.is_none() => {
+                    s.precision = match s.precision {
+                        Precision::F32 => Precision::F64,
+                        Precision::F64 => Precision::F32,
+                    }
+                }
+                "h" => s.heat = !s.heat,
+                "r" => *s = Self::initial_settings(&self.options),
+                _ => return,
+            },
+            _ => return,
+        }
+        self.changed();
+    }
+
+    /// Headless: writes the last frame and its mask, and prints the frame rate.
+    fn write_outputs(&self) -> Result<()> {
+        let Some(frame) = &self.last else {
+            return Err(DemoError::Usage("view: no frame was rendered".into()));
+        };
+        let (secs, rays) = self.totals;
+        let k = f64::from(self.frames_done.max(1));
+        println!(
+            "view: {} frames of {}x{} ({}): {:.1} ms per frame ({:.1} frames/s), {:.2} Mrays/s",
+            self.frames_done,
+            frame.image.width,
+            frame.image.height,
+            self.title(frame, false)
+                .split(" — ")
+                .nth(1)
+                .unwrap_or_default(),
+            secs / k * 1e3,
+            k / secs.max(1e-9),
+            rays as f64 / secs.max(1e-9) / 1e6
+        );
+        if let Some(path) = &self.options.screenshot {
+            frame.image.write_png(path)?;
+        }
+        if let Some(path) = &self.options.mask {
+            let (w, h) = (frame.image.width, frame.image.height);
+            crate::image::write_bytes(
+                path,
+                crate::renderer::mask_pbm(w, h, &frame.hits).as_bytes(),
+            )?;
+        }
+        Ok(())
+    }
+
+    fn fail(&mut self, e: DemoError, event_loop: &ActiveEventLoop) {
+        self.error.get_or_insert(e);
+        event_loop.exit();
+    }
+}
+
+/// Copies `image` into the window's buffer, scaled (nearest pixel) to the window's size.
+fn present(
+    surface: &mut softbuffer::Surface<Rc<Window>, Rc<Window>>,
+    image: &Image,
+    size: PhysicalSize<u32>,
+) -> Result<()> {
+    let (Some(w), Some(h)) = (NonZeroU32::new(size.width), NonZeroU32::new(size.height)) else {
+        return Ok(());
+    };
+    let display = |e: softbuffer::SoftBufferError| DemoError::Usage(format!("view: {e}"));
+    surface.resize(w, h).map_err(display)?;
+    let mut buffer = surface.buffer_mut().map_err(display)?;
+    let (iw, ih) = (image.width.max(1), image.height.max(1));
+    for (y, row) in buffer.chunks_mut(size.width as usize).enumerate() {
+        let sy = (y as u64 * u64::from(ih) / u64::from(size.height)) as u32;
+        for (x, px) in row.iter_mut().enumerate() {
+            let sx = (x as u64 * u64::from(iw) / u64::from(size.width)) as u32;
+            let [r, g, b] = image.get(sx, sy);
+            *px = (u32::from(r) << 16) | (u32::from(g) << 8) | u32::from(b);
+        }
+    }
+    buffer.present().map_err(display)
+}
+
+/// Each hit pixel coloured by its certified `t_error` relative to the scene's diagonal, on the
+/// heat scale of `precision --strip` from 1e-9 (blue) to 1e-3 (red); misses black.
+fn heat_map(r: &Rendered, diag: f64) -> Image {
+    let (w, h) = (r.image.width, r.image.height);
+    let mut img = Image::new(w, h, [0, 0, 0]);
+    for (i, p) in r.hits.iter().enumerate() {
+        if !p.hit {
+            continue;
+        }
+        let rel = (p.t_error / diag.max(f64::MIN_POSITIVE)).max(1e-12);
+        let l = ((rel.log10() + 9.0) / 6.0).clamp(0.0, 1.0);
+        let (x, y) = (i as u32 % w.max(1), i as u32 / w.max(1));
+        img.put(i64::from(x), i64::from(y), heat(l));
+    }
+    img
+}
+
+impl ApplicationHandler for Viewer {
+    fn resumed(&mut self, event_loop: &ActiveEventLoop) {
+        if self.window.is_some() {
+            return;
+        }
+        let attrs = Window::default_attributes()
+            .with_title("smoothtri view")
+            .with_inner_size(PhysicalSize::new(self.options.width, self.options.height));
+        let window = match event_loop.create_window(attrs) {
+            Ok(w) => Rc::new(w),
+            Err(e) => {
+                return self.fail(
+                    DemoError::Usage(format!("view: cannot open a window: {e}")),
+                    event_loop,
+                );
+            }
+        };
+        let surface = softbuffer::Context::new(Rc::clone(&window))
+            .and_then(|c| softbuffer::Surface::new(&c, Rc::clone(&window)));
+        match surface {
+            Ok(s) => self.surface = Some(s),
+            Err(e) => {
+                return self.fail(
+                    DemoError::Usage(format!("view: cannot draw into the window: {e}")),
+                    event_loop,
+                );
+            }
+        }
+        window.request_redraw();
+        self.window = Some(window);
+    }
+
+    fn window_event(&mut self, event_loop: &ActiveEventLoop, _id: WindowId, event: WindowEvent) {
+        let headless = self.options.frames.is_some();
+        match event {
+            WindowEvent::CloseRequested | WindowEvent::Destroyed => event_loop.exit(),
+            WindowEvent::Resized(_) => {
+                self.shown = None;
+                if let Some(w) = &self.window {
+                    w.request_redraw();
+                }
+            }
+            WindowEvent::RedrawRequested => {
+                if let Err(e) = self.redraw() {
+                    return self.fail(e, event_loop);
+                }
+                if let Some(k) = self.options.frames {
+                    self.frames_done += 1;
+                    if self.frames_done >= k {
+                        if let Err(e) = self.write_outputs() {
+                            return self.fail(e, event_loop);
+                        }
+                        event_loop.exit();
+                    } else if let Some(w) = &self.window {
+                        w.request_redraw();
+                    }
+                }
+            }
+            _ if headless => {}
+            WindowEvent::KeyboardInput { event, .. } if event.state == ElementState::Pressed => {
+                self.key(&event.logical_key, event_loop);
+            }
+            WindowEvent::MouseInput {
+                state,
+                button: MouseButton::Left,
+                ..
+            } => {
+                self.drag = (state == ElementState::Pressed).then_some(self.cursor);
+            }
+            WindowEvent::CursorMoved { position, .. } => {
+                self.cursor = (position.x, position.y);
+                if let Some((x0, y0)) = self.drag {
+                    let s = &mut self.settings;
+                    s.az -= (position.x - x0) * ORBIT_DEG_PER_PX;
+                    s.el = (s.el + (position.y - y0) * ORBIT_DEG_PER_PX).clamp(-89.0, 89.0);
+                    self.drag = Some(self.cursor);
+                    self.changed();
+                }
+            }
+            WindowEvent::MouseWheel { delta, .. } => {
+                let steps = match delta {
+                    MouseScrollDelta::LineDelta(_, y) => f64::from(y),
+                    MouseScrollDelta::PixelDelta(p) => p.y / 40.0,
+                };
+                let s = &mut self.settings;
+                s.zoom = (s.zoom * 0.9f64.powf(steps)).clamp(0.05, 20.0);
+                self.changed();
+            }
+            _ => {}
+        }
+    }
+
+    fn about_to_wait(&mut self, event_loop: &ActiveEventLoop) {
+        if self.options.frames.is_some() {
+            return;
+        }
+        // Once the camera rests, one full-resolution frame of what is shown.
+        let size = self.window.as_ref().map(|w| w.inner_size());
+        let full = size.map(|s| (self.settings, s.width, s.height));
+        if full.is_some() && full != self.shown {
+            let rest_at = self.last_input + REST;
+            if Instant::now() >= rest_at {
+                if let Some(w) = &self.window {
+                    w.request_redraw();
+                }
+                event_loop.set_control_flow(ControlFlow::Wait);
+            } else {
+                event_loop.set_control_flow(ControlFlow::WaitUntil(rest_at));
+            }
+        } else {
+            event_loop.set_control_flow(ControlFlow::Wait);
+        }
+    }
+}
+
+/// The one-line error of a missing display.
+fn no_display(e: impl std::fmt::Display) -> DemoError {
+    DemoError::Usage(format!(
+        "view: no display to open a window on ({e}); set DISPLAY (X11, or XWayland) or run \
+         headless under xvfb-run"
+    ))
+}
+
+/// Opens the viewer; returns when its window closes (or, headless, after the frames).
+pub fn run(o: ViewOptions) -> Result<()> {
+    if o.width == 0 || o.height == 0 || o.width > 16384 || o.height > 16384 {
+        return Err(DemoError::Usage(
+            "--width and --height must be in 1..=16384".into(),
+        ));
+    }
+    if o.frames == Some(0) {
+        return Err(DemoError::Usage("--frames must be at least 1".into()));
+    }
+    if o.frames.is_none() && (o.screenshot.is_some() || o.mask.is_some()) {
+        return Err(DemoError::Usage(
+            "--screenshot and --mask need --frames K (headless)".into(),
+        ));
+    }
+    if o.iterations > MAX_N {
+        return Err(DemoError::Usage(format!(
+            "view: --iterations must be in 0..={MAX_N}"
+        )));
+    }
+    tracer::<f32>(Mode::Smooth, o.iterations)?;
+    if o.gpu && o.precision != Precision::F32 {
+        return Err(DemoError::Usage(
+            "--gpu traces in f32: leave --precision out or set it to f32".into(),
+        ));
+    }
+    // Without X11 there is no window: say so before loading anything.
+    if std::env::var_os("DISPLAY").is_none_or(|d| d.is_empty()) {
+        return Err(no_display("DISPLAY is not set"));
+    }
+    let (_, mesh, _) = o.source.load_upright(true, o.up)?;
+    let gpu = if o.gpu { Some(open_gpu()?) } else { None };
+    let event_loop = EventLoop::new().map_err(no_display)?;
+    let mut viewer = Viewer {
+        sphere: Camera::mesh_sphere(&mesh),
+        diag: mesh.diagonal(),
+        settings: Viewer::initial_settings(&o),
+        options: o,
+        mesh,
+        gpu,
+        scenes: Scenes::default(),
+        window: None,
+        surface: None,
+        drag: None,
+        cursor: (0.0, 0.0),
+        last_input: Instant::now() - REST,
+        shown: None,
+        frames_done: 0,
+        totals: (0.0, 0),
+        last: None,
+        error: None,
+    };
+    event_loop
+        .run_app(&mut viewer)
+        .map_err(|e| DemoError::Usage(format!("view: {e}")))?;
+    match viewer.error {
+        Some(e) => Err(e),
+        None => Ok(()),
+    }
+}
