@@ -51,36 +51,8 @@ enum Cmd {
 struct ViewArgs {
     #[command(flatten)]
     src: Source,
-    /// Intersection mode at start (M switches).
-    #[arg(long, value_enum, default_value = "smooth")]
-    mode: Mode,
-    /// Refinement steps of the smooth kernel at start, 0..=16 (Up/Down change it).
-    #[arg(long, default_value_t = 4)]
-    iterations: usize,
-    /// Kernel precision at start (P switches; the GPU traces in f32).
-    #[arg(long, value_enum, default_value = "f32")]
-    precision: Precision,
-    /// Window width (the frame's, headless).
-    #[arg(long, default_value_t = 640)]
-    width: u32,
-    /// Window height (the frame's, headless).
-    #[arg(long, default_value_t = 480)]
-    height: u32,
-    /// Camera azimuth and elevation in degrees at start, relative to the up axis.
-    #[arg(long, value_parser = parse_view, default_value = "30,35", allow_hyphen_values = true)]
-    view: (f64, f64),
-    /// The mesh's up axis [default: y for mesh files (glTF: always y), z for the built-in scenes].
-    #[arg(long, value_enum)]
-    up: Option<Up>,
-    /// Render each frame with the GPU kernel (WGSL; Vulkan or Mesa's lavapipe).
-    #[arg(long)]
-    gpu: bool,
-    /// The normal the smooth mode shades with at start (S switches).
-    #[arg(long, value_enum, default_value = "seamless")]
-    normals: Normals,
-    /// The line field of the patches.
-    #[arg(long, value_enum, default_value = "face")]
-    field: Field,
+    #[command(flatten)]
+    shot: Shot,
     /// Start with the heat map of each pixel's certified t_error (H switches).
     #[arg(long)]
     heat: bool,
@@ -110,52 +82,60 @@ struct Source {
 struct RenderArgs {
     #[command(flatten)]
     src: Source,
-    /// Intersection mode.
-    #[arg(long, value_enum, default_value = "smooth")]
-    mode: Mode,
+    #[command(flatten)]
+    shot: Shot,
     /// Render smooth, flat and phong side by side, labelled.
     #[arg(long)]
     compare: bool,
-    /// Refinement steps of the smooth kernel, eight evaluations each (0..=40; f32 reaches its
-    /// rounding floor from about 3).
+    /// Output PNG (`-` for stdout).
+    #[arg(long, default_value = "smoothtri.png")]
+    out: String,
+    /// Also write the primary-hit mask as a plain PBM (for tests).
+    #[arg(long, hide = true)]
+    mask: Option<String>,
+    /// Also print the scene build's time per step (vertex normals, patches, cracks, seams, BVH).
+    #[arg(long)]
+    verbose: bool,
+}
+
+/// What `render` and `view` share: the kernel, the frame and the camera (`view` starts from
+/// them; its keys change them).
+#[derive(Args, Debug)]
+struct Shot {
+    /// Intersection mode (`render --compare` ignores it; `view`: M switches).
+    #[arg(long, value_enum, default_value = "smooth")]
+    mode: Mode,
+    /// Refinement steps of the smooth kernel, eight evaluations each (render 0..=40, view
+    /// 0..=16; f32 reaches its rounding floor from about 3).
     #[arg(long, default_value_t = 4)]
     iterations: usize,
-    /// Kernel precision.
+    /// Kernel precision (the GPU traces in f32; `view`: P switches).
     #[arg(long, value_enum, default_value = "f32")]
     precision: Precision,
-    /// Image width (per panel with --compare).
+    /// Image width (per panel with --compare; `view`: the window's).
     #[arg(long, default_value_t = 640)]
     width: u32,
     /// Image height.
     #[arg(long, default_value_t = 480)]
     height: u32,
-    /// Output PNG (`-` for stdout).
-    #[arg(long, default_value = "smoothtri.png")]
-    out: String,
     /// Camera azimuth and elevation in degrees, relative to the up axis.
     #[arg(long, value_parser = parse_view, default_value = "30,35", allow_hyphen_values = true)]
     view: (f64, f64),
     /// The mesh's up axis [default: y for mesh files (glTF: always y), z for the built-in scenes].
     #[arg(long, value_enum)]
     up: Option<Up>,
-    /// Also write the primary-hit mask as a plain PBM (for tests).
-    #[arg(long, hide = true)]
-    mask: Option<String>,
     /// Trace on the GPU (the WGSL port of the kernel, f32; Vulkan, or Mesa's software
     /// lavapipe). Without a Vulkan adapter: one line on stderr and a non-zero exit.
     #[arg(long)]
     gpu: bool,
     /// The normal the smooth mode shades with: seamless (continuous across shared edges) or the
-    /// patches' exact geometric normal.
+    /// patches' exact geometric normal (`view`: S switches).
     #[arg(long, value_enum, default_value = "seamless")]
     normals: Normals,
     /// The line field of the patches: face (the paper's construction) or vertex (shared by
     /// neighbours, so their edge curves meet).
     #[arg(long, value_enum, default_value = "face")]
     field: Field,
-    /// Also print the scene build's time per step (vertex normals, patches, cracks, seams, BVH).
-    #[arg(long)]
-    verbose: bool,
 }
 
 #[derive(Args, Debug)]
@@ -296,33 +276,33 @@ pub fn run(cli: Cli) -> Result<()> {
     match cli.cmd {
         Cmd::Render(a) => commands::render::run(RenderOptions {
             source: a.src.into(),
-            mode: a.mode,
+            mode: a.shot.mode,
             compare: a.compare,
-            iterations: a.iterations,
-            precision: a.precision,
-            width: a.width,
-            height: a.height,
+            iterations: a.shot.iterations,
+            precision: a.shot.precision,
+            width: a.shot.width,
+            height: a.shot.height,
             out: a.out,
-            view: a.view,
-            up: a.up,
+            view: a.shot.view,
+            up: a.shot.up,
             mask: a.mask,
-            gpu: a.gpu,
-            normals: a.normals,
-            field: a.field.into(),
+            gpu: a.shot.gpu,
+            normals: a.shot.normals,
+            field: a.shot.field.into(),
             verbose: a.verbose,
         }),
         Cmd::View(a) => commands::view::run(ViewOptions {
             source: a.src.into(),
-            mode: a.mode,
-            iterations: a.iterations,
-            precision: a.precision,
-            width: a.width,
-            height: a.height,
-            view: a.view,
-            up: a.up,
-            gpu: a.gpu,
-            normals: a.normals,
-            field: a.field.into(),
+            mode: a.shot.mode,
+            iterations: a.shot.iterations,
+            precision: a.shot.precision,
+            width: a.shot.width,
+            height: a.shot.height,
+            view: a.shot.view,
+            up: a.shot.up,
+            gpu: a.shot.gpu,
+            normals: a.shot.normals,
+            field: a.shot.field.into(),
             heat: a.heat,
             frames: a.frames,
             screenshot: a.screenshot,
