@@ -584,7 +584,9 @@ pub fn run(o: ViewOptions) -> Result<()> {
         surface: None,
         drag: None,
         cursor: (0.0, 0.0),
-        last_input: Instant::now() - REST,
+        last_input: Instant::now()
+            .checked_sub(REST)
+            .unwrap_or_else(Instant::now),
         shown: None,
         frames_done: 0,
         totals: (0.0, 0),
