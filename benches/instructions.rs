@@ -27,7 +27,6 @@ const CASES: &[(&str, &str, usize)] = &[
     ("smooth_f64_N8", "patch test", 1024),
     ("scene_smooth_8x8_f32_N4", "camera ray", 160 * 120),
     ("scene_smooth_8x8_f32_N8", "camera ray", 160 * 120),
-    ("scene_packets_8x8_f32_N8", "camera ray", 160 * 120),
     ("scene_tilted_sphere_face_f32_N4", "camera ray", 160 * 120),
     ("scene_tilted_sphere_vertex_f32_N4", "camera ray", 160 * 120),
     ("scene_flat_equal_error_f32", "camera ray", 160 * 120),
@@ -99,19 +98,6 @@ fn run_case(name: &str, reps: usize) -> usize {
             &Scene::new_on(&tilted_normal_sphere(), LineField::Vertex),
             reps,
         ),
-        "scene_packets_8x8_f32_N8" => {
-            let scene = Scene::new(&torus(8, 8, 1.0, 0.4));
-            let bvh = scene.bvh();
-            let tiles = camera_tiles(160, 120);
-            let mut hits = 0;
-            for _ in 0..reps {
-                for t in &tiles {
-                    let h = bvh.closest_hit_packet::<8>(black_box(t), 0.0, f32::INFINITY);
-                    hits += h.iter().flatten().count();
-                }
-            }
-            hits
-        }
         "scene_flat_equal_error_f32" => {
             let (n, _) = flat_torus_matching(7.4e-3);
             let scene = Scene::new(&torus(n, n, 1.0, 0.4));

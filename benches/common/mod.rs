@@ -134,20 +134,6 @@ impl Scene {
     }
 }
 
-/// The rays of [`camera_rays`] grouped into 2×4 pixel tiles (`w` a multiple of 4, `h` of 2).
-pub fn camera_tiles(w: usize, h: usize) -> Vec<[Ray; 8]> {
-    let rays = camera_rays(w, h);
-    let mut tiles = Vec::with_capacity(w * h / 8);
-    for ty in (0..h).step_by(2) {
-        for tx in (0..w).step_by(4) {
-            tiles.push(core::array::from_fn(|i| {
-                rays[(ty + i / 4) * w + tx + i % 4]
-            }));
-        }
-    }
-    tiles
-}
-
 /// The camera rays of the scene benchmarks (a view of the torus from above the side), `w × h`
 /// pixels, row by row.
 pub fn camera_rays(w: usize, h: usize) -> Vec<Ray> {

@@ -188,9 +188,6 @@ fn exercise<F: Float>() -> u32 {
             if let Some(h) = bvh.closest_hit::<8>(&ray, t0, t1) {
                 acc += h.patch;
             }
-            let rays = [ray; 8];
-            let hs = bvh.closest_hit_packet::<4>(black_box(&rays), t0, t1);
-            acc += hs.iter().flatten().count() as u32;
             acc += bvh.any_hit::<4>(&ray, t0, t1) as u32;
             let with = bvh.closest_with(&ray, t0, t1, |p, a, b| {
                 flat_hit(&p.vertices(), Some(&p.normals()), &ray, a, b)

@@ -1,13 +1,12 @@
 //! The shared line field ([`LineField::Vertex`], docs/METHOD.md §2 "Line fields") in the ray
 //! kernel: patches whose sections are tilted (the point-to-section map is a cubic, solved by
 //! Newton) are hit where the generic evaluation puts their surface, within `t_error`, in `f64`
-//! and `f32`, by single rays and packets.
+//! and `f32`.
 
 use crate::common::*;
 use glam::DVec3;
 use smoothtri::accuracy::F32_VS_F64_POINT;
-use smoothtri::internal::LANES;
-use smoothtri::{Bvh, BvhNode, DPatch, DRay, Float, LineField, Patch, Ray};
+use smoothtri::{DPatch, DRay, LineField, Patch, Ray};
 
 /// Random patches (well-shaped, normals within 40° of the face) on the shared field, whose
 /// normals make unequal angles with the face (tilted sections); rays from outside, up to 50°
@@ -76,53 +75,6 @@ fn tilted_sections_are_hit_on_the_surface() {
     eprintln!(
         "{rays} rays: worst |t − target| {worst64:.1e} (f64) of the size, {worst32:.1e} (f32) of the scale"
     );
-}
-
-/// Packets of eight rays agree with single rays on the irregular icosphere built on the shared
-/// field: the same rays hit, within their `t_error`s.
-#[test]
-fn packets_agree_on_tilted_sections() {
-    fn check<F: Float>(conv: fn(DVec3) -> F::Vec3) -> usize {
-        let m = irregular();
-        let ps: Vec<Patch<F>> = (0..m.triangles.len())
-            .map(|t| {
-                let (p, n) = m.triangle(t);
-                Patch::<F>::with_field(p.map(conv), n.map(conv), LineField::Vertex).unwrap()
-            })
-            .collect();
-        let mut nodes = vec![BvhNode::<F>::default(); Bvh::<F>::nodes_needed(ps.len())];
-        let mut order = vec![0u32; ps.len()];
-        let bvh = Bvh::build(&ps, &mut nodes, &mut order).unwrap();
-        let mut rng = Rng(5);
-        let inf = F::from_f64(f64::INFINITY);
-        let mut hits = 0;
-        for _ in 0..200 {
-            let rays: [Ray<F>; LANES] = core::array::from_fn(|_| {
-                let o = rng.unit() * 3.0;
-                let target = rng.unit() * 0.5;
-                Ray::new(conv(o), conv((target - o).normalize()))
-            });
-            let got = bvh.closest_hit_packet::<4>(&rays, F::ZERO, inf);
-            for (ray, g) in rays.iter().zip(got) {
-                let want = bvh.closest_hit::<4>(ray, F::ZERO, inf);
-                match (g, want) {
-                    (Some(g), Some(w)) => {
-                        hits += 1;
-                        let (gt, wt) = (g.t.to_f64(), w.t.to_f64());
-                        let allowed = g.t_error.to_f64()
-                            + w.t_error.to_f64()
-                            + 8.0 * F::EPSILON.to_f64() * wt;
-                        assert!((gt - wt).abs() <= allowed, "|{gt} − {wt}| > {allowed:e}");
-                    }
-                    (None, None) => {}
-                    (g, w) => panic!("packet {g:?} vs single {w:?}"),
-                }
-            }
-        }
-        hits
-    }
-    assert!(check::<f64>(|v| v) > 1000);
-    assert!(check::<f32>(|v| v.as_vec3()) > 1000);
 }
 
 /// The remedy per vertex (`clamp_vertex_normals`): on the 8-sided cylinder with averaged

@@ -12,7 +12,6 @@ mod bvh;
 mod domain;
 mod kernel;
 mod linefield;
-mod packet;
 mod patch;
 mod real_meshes;
 mod reference;

@@ -95,7 +95,6 @@ fn fall_through<F: P>(
     let slack = 1e-2 * diag;
     let mut rng = Rng(seed);
     let (mut exact, mut near, mut between, mut shot) = (0, 0, 0, 0);
-    let mut packet = Vec::new();
     for (ta, ea, tb, eb) in interior_edges(mesh) {
         let pa = &patches[ta];
         for _ in 0..rays_per_edge {
@@ -149,9 +148,6 @@ fn fall_through<F: P>(
                     None => true,
                     Some(h) => h.t.to_f64() > dist + slack,
                 };
-                if kind < 2 {
-                    packet.push((ray, through));
-                }
                 if through {
                     match kind {
                         0 => exact += 1,
@@ -161,16 +157,6 @@ fn fall_through<F: P>(
                 }
             }
             shot += 1;
-        }
-    }
-    // The same rays (at and near the curves) in packets of eight: the packet kernel brackets
-    // value for value like the single-ray kernel, so the same rays hit.
-    for chunk in packet.chunks_exact(8) {
-        let rays: [Ray<F>; 8] = std::array::from_fn(|i| chunk[i].0);
-        let hits = bvh.closest_hit_packet::<4>(&rays, F::ZERO, F::from_f64(f64::INFINITY));
-        for (h, &(_, single_through)) in hits.iter().zip(chunk) {
-            let through = h.is_none_or(|h| h.t.to_f64() > dist + slack);
-            assert_eq!(through, single_through, "packet and single ray disagree");
         }
     }
     [exact, near, between, shot]

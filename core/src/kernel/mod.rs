@@ -22,10 +22,7 @@
 
 pub(crate) mod clip;
 pub mod flat;
-pub(crate) mod packet;
 pub mod refine;
-
-pub(crate) use packet::crossings_packet;
 
 use crate::geometry::Patch;
 use crate::geometry::Shape;

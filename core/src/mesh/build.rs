@@ -959,7 +959,7 @@ impl<'a, F: Float> Scene<'a, F> {
         self.triangle_ids.binary_search(&triangle).ok()
     }
 
-    /// The BVH (for the baselines of [`Bvh::closest_with`], packets, uploads).
+    /// The BVH (for the baselines of [`Bvh::closest_with`] and uploads).
     ///
     /// # Panics
     /// Never.

@@ -452,7 +452,7 @@ impl<L: LaneOps> MaxOf for L {
 }
 
 /// `f(τ) = z − σS(X)` at the local points `o + τ·r` of eight parameters `tau` (one ray: `o`
-/// and `r` splatted; a packet: one ray per lane), with the projected barycentrics `X`.
+/// and `r` splatted), with the projected barycentrics `X`.
 // Not inlined: one lane call is ~2 000 instructions, so the call costs nothing, and a single
 // copy per lane type keeps builds (and the freestanding link proof's LTO) fast.
 #[inline(never)]
