@@ -345,29 +345,37 @@ pub(crate) fn shared_frame<F: Float>(e: &EdgeView<F>, t: F) -> Option<(V3<F>, V3
     }
 }
 
-/// The patch's own geometric normal (local frame) at the point of edge `j` seen from
-/// barycentrics `x` (edge `j` from `Pj` to `Pj+1`): the opposite vertex's weight `xc` moved onto
-/// the edge's two in proportion, `y = (xa + xc·xa/s, xb + xc·xb/s, 0)` with `s = xa + xb`, so
-/// that on the edge (`xc = 0`) the point is `x` itself, bit for bit, and the correction there
-/// is exactly the common normal.
+/// The points of the three edges seen from barycentrics `x` (edge `j` from `Pj` to `Pj+1`),
+/// where the correction takes the patch's own geometric normal: for edge `j` the opposite
+/// vertex's weight `xc` moved onto the edge's two in proportion,
+/// `y = (xa + xc·xa/s, xb + xc·xb/s, 0)` with `s = xa + xb`, so that on the edge (`xc = 0`) the
+/// point is `x` itself, bit for bit, and the correction there is exactly the common normal.
+/// Not finite where `s = 0` (at the opposite vertex, where that edge's weight vanishes).
 #[inline(always)]
-fn own_edge_normal<F: Float>(shape: &Shape<F>, pr: &Prepared<F>, j: usize, x: [F; 3]) -> V3<F> {
-    let [x0, x1, x2] = x;
-    let (xa, xb, xc) = match j {
-        0 => (x0, x1, x2),
-        1 => (x1, x2, x0),
-        _ => (x2, x0, x1),
-    };
-    let s = xa + xb;
-    let (ya, yb) = (xa + xc * (xa / s), xb + xc * (xb / s));
+fn edge_points<F: Float>([x0, x1, x2]: [F; 3]) -> [[F; 3]; 3] {
     let z = F::ZERO;
-    let y = match j {
-        0 => [ya, yb, z],
-        1 => [z, ya, yb],
-        _ => [yb, z, ya],
+    let moved = |xa: F, xb: F, xc: F| {
+        let s = xa + xb;
+        (xa + xc * (xa / s), xb + xc * (xb / s))
     };
-    let [du1, du2] = height::derivatives(shape, pr, y);
-    scalar::normal_local(shape, y, du1, du2)
+    let (a0, b0) = moved(x0, x1, x2);
+    let (a1, b1) = moved(x1, x2, x0);
+    let (a2, b2) = moved(x2, x0, x1);
+    [[a0, b0, z], [z, a1, b1], [b2, z, a2]]
+}
+
+/// The patch's own geometric normals (local frame) at the three [`edge_points`] of `x`, and
+/// its geometric normal at `x` itself: four exact normals from one height evaluation over
+/// jets of four lanes ([`height::derivatives_x4`], bit for bit four one-point evaluations).
+#[inline(always)]
+fn own_normals<F: Float>(shape: &Shape<F>, pr: &Prepared<F>, x: [F; 3]) -> ([V3<F>; 3], V3<F>) {
+    let [y0, y1, y2] = edge_points(x);
+    let [d0, d1, d2, dx] = height::derivatives_x4(shape, pr, [y0, y1, y2, x]);
+    let normal = |y: [F; 3], [du1, du2]: [V3<F>; 2]| scalar::normal_local(shape, y, du1, du2);
+    (
+        [normal(y0, d0), normal(y1, d1), normal(y2, d2)],
+        normal(x, dx),
+    )
 }
 
 impl<F: Float> Seam<F> {
@@ -405,9 +413,10 @@ impl<F: Float> Seam<F> {
     /// Equals [`Patch::point_normal`]'s normal bit for bit for a zero seam, is this patch's
     /// vertex normal at the vertices, and on a fitted edge the common edge normal, the same from
     /// both sides to rounding. Work: the geometric normal and this patch's exact normal at the
-    /// three edge points `t_j` (four height evaluations over jets and one precomputation, as
-    /// the kernel's hit normal: about 32 500 instructions in `f32` with SSE2, against 13 200 for
-    /// [`Patch::point_normal`]; the repository's callgrind benchmark).
+    /// three edge points `t_j`, in one height evaluation over jets of four lanes (bit for bit
+    /// four of the kernel's hit-normal evaluations) and one precomputation: about 10 600
+    /// instructions in `f32` with SSE2 (32 500 with one evaluation per point), against 13 200
+    /// for [`Patch::point_normal`]; the repository's callgrind benchmark.
     ///
     /// # Accuracy
     /// Jump across every fitted edge within [`SEAM_JUMP_DEG`](crate::accuracy::SEAM_JUMP_DEG),
@@ -433,12 +442,10 @@ impl<F: Float> Seam<F> {
                     .local_dir_to_world(scalar::normal_local(shape, x, du1, du2)),
             );
         }
-        // The kernel's hit normal (one height evaluation over jets), from the same
-        // precomputation as the edges' own normals.
-        let pr = Prepared::new(shape);
-        let [du1, du2] = height::derivatives(shape, &pr, x);
-        let ng = scalar::normal_local(shape, x, du1, du2);
-        let n = self.correct_local(shape, &pr, x, ng).unwrap_or(ng);
+        // The kernel's hit normal and the edges' own normals, in one evaluation over four
+        // lanes of jets.
+        let (own, ng) = own_normals(shape, &Prepared::new(shape), x);
+        let n = self.correct_local(shape, x, ng, &own).unwrap_or(ng);
         F::to_glam(patch.frame.local_dir_to_world(n))
     }
 
@@ -447,8 +454,9 @@ impl<F: Float> Seam<F> {
     /// [`Hit::w1`], [`Hit::w2`]). Saves the derivative evaluation.
     ///
     /// Returns `normal` itself for a zero seam, where the correction vanishes, or where `normal`
-    /// is not a finite non-zero vector. Work: the three edge points' exact normals (three
-    /// height evaluations over jets and one precomputation).
+    /// is not a finite non-zero vector. Work: the three edge points' exact normals (one
+    /// height evaluation over jets of four lanes and one precomputation: about 10 500
+    /// instructions in `f32` with SSE2, 24 500 with one evaluation per point).
     ///
     /// # Accuracy
     /// As [`Seam::shading_normal`] (the frame change of `normal` rounds once more).
@@ -466,21 +474,23 @@ impl<F: Float> Seam<F> {
         if self.is_zero() {
             return normal;
         }
-        match self.correct_local(&patch.shape, &Prepared::new(&patch.shape), x, ng) {
+        let (own, _) = own_normals(&patch.shape, &Prepared::new(&patch.shape), x);
+        match self.correct_local(&patch.shape, x, ng, &own) {
             Some(n) => F::to_glam(patch.frame.local_dir_to_world(n)),
             None => normal,
         }
     }
 
     /// The corrected local-frame normal at barycentrics `x` (projected) from the geometric one
-    /// `ng`, or `None` where the correction vanishes.
+    /// `ng` and the patch's own normals at the three edge points ([`own_normals`]), or `None`
+    /// where the correction vanishes.
     #[inline(always)]
-    pub(crate) fn correct_local(
+    fn correct_local(
         &self,
         shape: &Shape<F>,
-        pr: &Prepared<F>,
         x: [F; 3],
         ng: V3<F>,
+        own: &[V3<F>; 3],
     ) -> Option<V3<F>> {
         let [x0, x1, x2] = x;
         let pairs = [(x0, x1), (x1, x2), (x2, x0)];
@@ -497,12 +507,13 @@ impl<F: Float> Seam<F> {
         let mut acc = V3::<F>::zero();
         let mut any = false;
         let zero = [F::ZERO; TWIST_TERMS];
-        for (j, ((((qj, (xa, xb)), common), along), &free)) in q
+        for (j, (((((qj, (xa, xb)), common), along), &free), &o)) in q
             .iter()
             .zip(pairs)
             .zip(self.common.iter())
             .zip(self.common_along.iter())
             .zip(self.free.iter())
+            .zip(own)
             .enumerate()
         {
             if !(*qj > F::ZERO) || (*common == zero && *along == zero) {
@@ -525,7 +536,6 @@ impl<F: Float> Seam<F> {
             let Some(m) = m else {
                 continue;
             };
-            let o = own_edge_normal(shape, pr, j, x);
             acc = acc + (m - o) * (*qj / sum);
             any = true;
         }

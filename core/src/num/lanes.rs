@@ -13,7 +13,7 @@
 //! e.g. `RUSTFLAGS="-C target-cpu=native"` or `-C target-feature=+avx2,+fma` on x86-64 (NEON is
 //! on by default on aarch64). Without them the code is still correct, using SSE2 halves.
 
-pub(crate) use crate::num::real::{Float, LANES, Lane, LaneOps};
+pub(crate) use crate::num::real::{Float, LANES, Lane, Lane4, LaneOps};
 
 macro_rules! impl_wide_ops {
     ($l:ty, $f:ty) => {
@@ -99,6 +99,26 @@ macro_rules! impl_wide {
 
 impl_wide!(wide::f32x8, f32);
 impl_wide!(wide::f64x8, f64);
+macro_rules! impl_wide4 {
+    ($l:ty, $f:ty) => {
+        impl Lane4 for $l {
+            const POINTS: usize = 4;
+            #[inline(always)]
+            fn from_array4(a: [$f; 4]) -> Self {
+                <$l>::new(a)
+            }
+            #[inline(always)]
+            fn to_array4(self) -> [$f; 4] {
+                <$l>::to_array(self)
+            }
+        }
+        impl_wide_ops!($l, $f);
+    };
+}
+
+// Four lanes: the seamless shading normal's jets (one SSE2 or NEON register in `f32`).
+impl_wide4!(wide::f32x4, f32);
+impl_wide4!(wide::f64x4, f64);
 // Two `f64` lanes (one SSE2 or NEON register): the builder's height jets, small enough to
 // compile quickly where eight-lane jets are not.
 impl_wide_ops!(wide::f64x2, f64);
@@ -107,7 +127,7 @@ impl_wide_ops!(wide::f64x2, f64);
 /// (the hit normal's jets, `crate::surface::height::derivatives`), the same arithmetic as the
 /// scalar with branches for selects.
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct One<F>(pub(crate) F);
+pub struct One<F>(pub(crate) F);
 
 impl<F: Float> core::ops::Add for One<F> {
     type Output = Self;
@@ -142,6 +162,18 @@ impl<F: Float> core::ops::Neg for One<F> {
     #[inline(always)]
     fn neg(self) -> Self {
         One(-self.0)
+    }
+}
+
+impl<F: Float> Lane4 for One<F> {
+    const POINTS: usize = 1;
+    #[inline(always)]
+    fn from_array4([a, ..]: [F; 4]) -> Self {
+        One(a)
+    }
+    #[inline(always)]
+    fn to_array4(self) -> [F; 4] {
+        [self.0; 4]
     }
 }
 

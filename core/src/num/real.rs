@@ -83,6 +83,23 @@ pub trait Lane: LaneOps {
     fn mask_array(m: Self::Mask) -> [bool; LANES];
 }
 
+/// Up to four points of the scalar [`LaneOps::F`] at once: the seamless shading normal's four
+/// exact normals (the hit point and the three edge points) in one height evaluation over jets.
+/// `f32` and `f64` carry four points ([`wide::f32x4`], [`wide::f64x4`]); other scalars one
+/// (`One`, whose jets the hit normal already instantiates: four evaluations in turn, no extra
+/// code to compile).
+///
+/// # Panics
+/// No method panics.
+pub trait Lane4: LaneOps {
+    /// How many of the four values one vector carries: 4, or 1 (the first).
+    const POINTS: usize;
+    /// From four values (the first [`Lane4::POINTS`] are kept).
+    fn from_array4(a: [Self::F; 4]) -> Self;
+    /// The four lane values (beyond [`Lane4::POINTS`], copies of the first).
+    fn to_array4(self) -> [Self::F; 4];
+}
+
 pub(crate) mod sealed {
     /// Seals [`Real`](super::Real): each impl stands beside its type.
     pub trait Sealed {}
@@ -170,6 +187,9 @@ pub trait Float: Real<F = Self> + Copy + Default + PartialEq + Send + Sync {
     /// The 8-lane vector of this float that the kernel evaluates over (internal).
     #[doc(hidden)]
     type L8: Lane<F = Self>;
+    /// The 4-lane vector of this float (internal).
+    #[doc(hidden)]
+    type L4: Lane4<F = Self>;
     /// `0.0`.
     const ZERO: Self;
     /// `1.0`.
@@ -226,7 +246,7 @@ pub trait Float: Real<F = Self> + Copy + Default + PartialEq + Send + Sync {
 }
 
 macro_rules! impl_float {
-    ($f:ty, $v:ty, $l:ty, $sqrt:path) => {
+    ($f:ty, $v:ty, $l:ty, $l4:ty, $sqrt:path) => {
         impl Real for $f {
             type F = $f;
             #[inline(always)]
@@ -249,6 +269,7 @@ macro_rules! impl_float {
         impl Float for $f {
             type Vec3 = $v;
             type L8 = $l;
+            type L4 = $l4;
             const ZERO: $f = 0.0;
             const ONE: $f = 1.0;
             const EPSILON: $f = <$f>::EPSILON;
@@ -299,5 +320,17 @@ macro_rules! impl_float {
     };
 }
 
-impl_float!(f32, glam::Vec3, wide::f32x8, crate::num::math::sqrt_f32);
-impl_float!(f64, glam::DVec3, wide::f64x8, crate::num::math::sqrt_f64);
+impl_float!(
+    f32,
+    glam::Vec3,
+    wide::f32x8,
+    wide::f32x4,
+    crate::num::math::sqrt_f32
+);
+impl_float!(
+    f64,
+    glam::DVec3,
+    wide::f64x8,
+    wide::f64x4,
+    crate::num::math::sqrt_f64
+);

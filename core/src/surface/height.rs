@@ -731,6 +731,51 @@ pub(crate) fn height_derivatives<F: Float>(
     )
 }
 
+/// [`derivatives`] at four barycentric triples, over jets of [`Float::L4`]: in `f32` and `f64`
+/// one evaluation over four lanes (one SSE2 or NEON register in `f32`), the same operations
+/// lane by lane, so bit for bit four calls of [`derivatives`] (IEEE arithmetic and square roots
+/// per lane; the selects pick what the branches would); for other scalars four one-point
+/// evaluations in turn. Lanes whose input is not finite return non-finite derivatives and
+/// leave the others alone.
+#[inline(always)]
+pub(crate) fn derivatives_x4<F: Float>(
+    shape: &Shape<F>,
+    pr: &Prepared<F>,
+    xs: [[F; 3]; 4],
+) -> [[V3<F>; 2]; 4] {
+    use crate::num::real::Lane4;
+    if <F::L4 as Lane4>::POINTS < 4 {
+        let mut out = [[V3::zero(); 2]; 4];
+        for (o, x) in out.iter_mut().zip(xs) {
+            *o = derivatives(shape, pr, x);
+        }
+        return out;
+    }
+    let lane = |k: usize| F::L4::from_array4(xs.map(|x| x.get(k).copied().unwrap_or(F::ZERO)));
+    let sp = <F::L4 as LaneOps>::splat;
+    let (one, zero) = (F::ONE, F::ZERO);
+    let j = |v: F::L4, a: F, b: F| Jet {
+        v,
+        d: [sp(a), sp(b)],
+    };
+    let s = height_at(
+        pr,
+        [
+            j(lane(0), -one, -one),
+            j(lane(1), one, zero),
+            j(lane(2), zero, one),
+        ],
+    );
+    let [s1, s2] = s.d;
+    let (v, s1, s2) = (s.v.to_array4(), s1.to_array4(), s2.to_array4());
+    let par = pr.section.parallel;
+    let mut out = [[V3::zero(); 2]; 4];
+    for ((((o, x), v), a), b) in out.iter_mut().zip(xs).zip(v).zip(s1).zip(s2) {
+        *o = assemble(shape, par, x, v, [a, b]);
+    }
+    out
+}
+
 /// [`height_derivatives`] at two barycentric triples at once, over jets of two `f64` lanes
 /// (one SSE2 or NEON register): the same operations lane by lane, so bit for bit the scalar's
 /// results (IEEE arithmetic and square roots per lane; the selects pick what the branches
@@ -888,6 +933,56 @@ pub(crate) mod tests {
         assert!(tested > 400, "{tested}");
         // Same derivatives of the same surface, different rounding (exact either way).
         assert!(worst < 1e-9, "worst {worst:e}");
+    }
+
+    /// The four-lane jets ([`derivatives_x4`], the seamless shading normal's) equal four
+    /// one-point evaluations ([`derivatives`], the kernel's hit normal) bit for bit, in `f64`
+    /// and `f32`, on both line fields, at grid points, on the edges and at the vertices; a lane
+    /// whose input is not finite leaves the other lanes alone.
+    #[test]
+    fn four_lane_jets_equal_one_point_jets_bit_for_bit() {
+        fn check<F: Float>(patch: &Patch<F>) -> usize {
+            let shape = &patch.shape;
+            let pr = Prepared::new(shape);
+            let c = F::from_f64;
+            let mut xs = [[F::ZERO; 3]; 45];
+            let grid = (0..=8).flat_map(|i| (0..=(8 - i)).map(move |j| (i, j)));
+            for (slot, (i, j)) in xs.iter_mut().zip(grid) {
+                let (w1, w2) = (c(i as f64 / 8.0), c(j as f64 / 8.0));
+                *slot = [F::ONE - w1 - w2, w1, w2];
+            }
+            let mut same = 0;
+            for chunk in xs.chunks(3) {
+                // The fourth lane is not finite (as an edge point at the opposite vertex).
+                let nan = c(f64::NAN);
+                let four: [[F; 3]; 4] =
+                    core::array::from_fn(|k| chunk.get(k).copied().unwrap_or([nan; 3]));
+                let lanes = derivatives_x4(shape, &pr, four);
+                for (x, got) in four.iter().zip(lanes).take(chunk.len()) {
+                    let want = derivatives(shape, &pr, *x);
+                    let bits = |d: [V3<F>; 2]| d.map(|v| [v.x, v.y, v.z].map(F::to_f64));
+                    let (g, w) = (bits(got), bits(want));
+                    for (a, b) in g.iter().flatten().zip(w.iter().flatten()) {
+                        assert_eq!(a.to_bits(), b.to_bits(), "{x:?}");
+                    }
+                    same += 1;
+                }
+            }
+            same
+        }
+        let mut tested = 0;
+        for field in [LineField::Face, LineField::Vertex] {
+            for (patch, _) in random_patches_on(13, 200, field) {
+                tested += check(&patch);
+                let (v, n) = (patch.vertices(), patch.normals());
+                if let Ok(p32) =
+                    Patch::<f32>::with_field(v.map(|p| p.as_vec3()), n.map(|p| p.as_vec3()), field)
+                {
+                    tested += check(&p32);
+                }
+            }
+        }
+        assert!(tested > 45 * 500, "{tested}");
     }
 
     /// A point built on the line of barycentrics `X` at parameter `λ` (inside the shell and up
