@@ -27,6 +27,12 @@ const CASES: &[(&str, &str, usize)] = &[
     ("smooth_f64_N8", "patch test", 1024),
     ("scene_smooth_8x8_f32_N4", "camera ray", 160 * 120),
     ("scene_smooth_8x8_f32_N8", "camera ray", 160 * 120),
+    ("scene_seams_two_steps_8x8_f32_N8", "camera ray", 160 * 120),
+    (
+        "scene_seams_closest_hit_8x8_f32_N8",
+        "camera ray",
+        160 * 120,
+    ),
     ("scene_tilted_sphere_face_f32_N4", "camera ray", 160 * 120),
     ("scene_tilted_sphere_vertex_f32_N4", "camera ray", 160 * 120),
     ("scene_flat_equal_error_f32", "camera ray", 160 * 120),
@@ -99,6 +105,34 @@ fn run_case(name: &str, reps: usize) -> usize {
             &Scene::new_on(&tilted_normal_sphere(), LineField::Vertex),
             reps,
         ),
+        "scene_seams_two_steps_8x8_f32_N8" | "scene_seams_closest_hit_8x8_f32_N8" => {
+            // The torus with seams: a closest hit with its seamless shading normal, as
+            // `Bvh::closest_hit` then `Scene::scene_hit` (two steps: the hit's normal, then
+            // `Seam::correct`) or as `Scene::closest_hit` (both normals in one evaluation).
+            let built = smoothtri_demo::Scene::<f32>::build_with(
+                &torus(8, 8, 1.0, 0.4),
+                LineField::Face,
+                true,
+            )
+            .expect("the torus builds");
+            let scene = built.core();
+            let bvh = scene.bvh();
+            let rays = camera_rays(160, 120);
+            let fused = name.contains("closest_hit");
+            let mut acc = 0.0f32;
+            for _ in 0..reps {
+                for r in &rays {
+                    let h = if fused {
+                        scene.closest_hit::<8>(black_box(r), 0.0, f32::INFINITY)
+                    } else {
+                        bvh.closest_hit::<8>(black_box(r), 0.0, f32::INFINITY)
+                            .map(|h| scene.scene_hit(h))
+                    };
+                    acc += h.map_or(0.0, |h| h.shading_normal.x);
+                }
+            }
+            acc as usize
+        }
         "scene_flat_equal_error_f32" => {
             let (n, _) = flat_torus_matching(7.4e-3);
             let scene = Scene::new(&torus(n, n, 1.0, 0.4));

@@ -363,16 +363,25 @@ impl<'a, F: Float> Bvh<'a, F> {
         // Candidates are compared by their crossings; the normal is evaluated once, for the
         // closest (it is finite for every accepted patch, so this equals testing each patch
         // with `Patch::intersect`).
-        let mut stats = KernelStats::default();
-        let best = self
-            .traverse(ray, t_min, t_max, false, &mut |p, a, b| {
-                kernel::crossing::<F, DEFAULT_SAMPLES, N>(p, ray, a, b, &mut stats)
-            })
-            .ok()??;
-        let (id, c) = best;
+        let (id, c) = self.closest_crossing::<N>(ray, t_min, t_max)?;
         let mut h = kernel::finish(self.patches.get(id as usize)?, ray, &c)?;
         h.patch = id;
         Some(h)
+    }
+
+    /// The closest crossing of [`Bvh::closest_hit`] before its normal is evaluated: the
+    /// patch's index and where the ray crosses it.
+    pub(crate) fn closest_crossing<const N: usize>(
+        &self,
+        ray: &Ray<F>,
+        t_min: F,
+        t_max: F,
+    ) -> Option<(u32, Crossing<F>)> {
+        let mut stats = KernelStats::default();
+        self.traverse(ray, t_min, t_max, false, &mut |p, a, b| {
+            kernel::crossing::<F, DEFAULT_SAMPLES, N>(p, ray, a, b, &mut stats)
+        })
+        .ok()?
     }
 
     /// Whether anything is hit in `[t_min, t_max]` (shadow rays): stops at the first hit.

@@ -82,6 +82,8 @@ pub fn render<F: Prec>(
 ) -> Rendered {
     let start = std::time::Instant::now();
     let bvh = scene.bvh();
+    let core = scene.core();
+    let seamless = tracer.smooth() && scene.normals == crate::tracer::Normals::Seamless;
     let light = light_dir(cam);
     let eps = diag
         * match F::PRECISION {
@@ -104,19 +106,20 @@ pub fn render<F: Prec>(
                 let (o, d) = cam.pixel_ray(x, y);
                 let ray = Ray::<F>::new(F::v(o), F::v(d));
                 rays += 1;
-                let hit: Option<Hit<F>> = tracer.closest(&bvh, &ray, F::ZERO, F::MAX);
-                let Some(hit) = hit else {
+                // Smooth hits shade with the scene's choice of normal (seamless by default).
+                let shaded: Option<(Hit<F>, F::Vec3)> = if seamless {
+                    tracer.closest_shaded(&core, &ray, F::ZERO, F::MAX)
+                } else {
+                    tracer
+                        .closest(&bvh, &ray, F::ZERO, F::MAX)
+                        .map(|hit| (hit, hit.normal))
+                };
+                let Some((hit, normal)) = shaded else {
                     px.extend_from_slice(&background(y, h));
                     hits.push(PixelHit::default());
                     continue;
                 };
                 let p = F::d(hit.point);
-                // Smooth hits shade with the scene's choice of normal (seamless by default).
-                let normal = if tracer.smooth() {
-                    scene.shading_normal(&hit)
-                } else {
-                    hit.normal
-                };
                 let mut n = F::d(normal);
                 if n.dot(d) > 0.0 {
                     n = -n;

@@ -335,13 +335,23 @@ pub(crate) fn complete<F: Float>(
 /// point. `None` if the normal is not finite (never for an accepted patch).
 #[inline(always)]
 pub(crate) fn finish<F: Float>(patch: &Patch<F>, ray: &Ray<F>, c: &Crossing<F>) -> Option<Hit<F>> {
-    let o = F::from_glam(ray.origin);
-    let d = F::from_glam(ray.dir);
     let shape = &patch.shape;
     let [du1, du2] = height::derivatives(shape, &Prepared::new(shape), c.bary);
-    let normal = patch
-        .frame
-        .local_dir_to_world(normal_local(shape, c.bary, du1, du2));
+    finish_with(patch, ray, c, normal_local(shape, c.bary, du1, du2))
+}
+
+/// [`finish`] with the local-frame geometric normal at `c.bary` already at hand (the seamless
+/// shading normal computes it with its edge points' normals in one evaluation).
+#[inline(always)]
+pub(crate) fn finish_with<F: Float>(
+    patch: &Patch<F>,
+    ray: &Ray<F>,
+    c: &Crossing<F>,
+    normal_local: V3<F>,
+) -> Option<Hit<F>> {
+    let o = F::from_glam(ray.origin);
+    let d = F::from_glam(ray.dir);
+    let normal = patch.frame.local_dir_to_world(normal_local);
     let [_, w1, w2] = c.bary;
     if !normal.all_finite() {
         return None;

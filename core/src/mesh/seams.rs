@@ -365,16 +365,22 @@ fn edge_points<F: Float>([x0, x1, x2]: [F; 3]) -> [[F; 3]; 3] {
 }
 
 /// The patch's own geometric normals (local frame) at the three [`edge_points`] of `x`, and
-/// its geometric normal at `x` itself: four exact normals from one height evaluation over
-/// jets of four lanes ([`height::derivatives_x4`], bit for bit four one-point evaluations).
+/// its geometric normal at `at` (`x` itself, or the kernel's barycentrics of a hit): four
+/// exact normals from one height evaluation over jets of four lanes
+/// ([`height::derivatives_x4`], bit for bit four one-point evaluations).
 #[inline(always)]
-fn own_normals<F: Float>(shape: &Shape<F>, pr: &Prepared<F>, x: [F; 3]) -> ([V3<F>; 3], V3<F>) {
+fn own_normals<F: Float>(
+    shape: &Shape<F>,
+    pr: &Prepared<F>,
+    x: [F; 3],
+    at: [F; 3],
+) -> ([V3<F>; 3], V3<F>) {
     let [y0, y1, y2] = edge_points(x);
-    let [d0, d1, d2, dx] = height::derivatives_x4(shape, pr, [y0, y1, y2, x]);
+    let [d0, d1, d2, dx] = height::derivatives_x4(shape, pr, [y0, y1, y2, at]);
     let normal = |y: [F; 3], [du1, du2]: [V3<F>; 2]| scalar::normal_local(shape, y, du1, du2);
     (
         [normal(y0, d0), normal(y1, d1), normal(y2, d2)],
-        normal(x, dx),
+        normal(at, dx),
     )
 }
 
@@ -444,7 +450,7 @@ impl<F: Float> Seam<F> {
         }
         // The kernel's hit normal and the edges' own normals, in one evaluation over four
         // lanes of jets.
-        let (own, ng) = own_normals(shape, &Prepared::new(shape), x);
+        let (own, ng) = own_normals(shape, &Prepared::new(shape), x, x);
         let n = self.correct_local(shape, x, ng, &own).unwrap_or(ng);
         F::to_glam(patch.frame.local_dir_to_world(n))
     }
@@ -474,11 +480,34 @@ impl<F: Float> Seam<F> {
         if self.is_zero() {
             return normal;
         }
-        let (own, _) = own_normals(&patch.shape, &Prepared::new(&patch.shape), x);
+        let (own, _) = own_normals(&patch.shape, &Prepared::new(&patch.shape), x, x);
         match self.correct_local(&patch.shape, x, ng, &own) {
             Some(n) => F::to_glam(patch.frame.local_dir_to_world(n)),
             None => normal,
         }
+    }
+
+    /// Both normals of a hit on `patch` at the kernel's barycentrics `bary` (a crossing's):
+    /// the geometric normal in the local frame, bit for bit the kernel's (`kernel::finish`),
+    /// and the shading normal in world coordinates, bit for bit [`Seam::correct`] given the
+    /// hit's normal. One height evaluation over four lanes of jets serves both, where the hit's
+    /// normal and `correct` took one and one of four lanes.
+    #[inline(always)]
+    pub(crate) fn hit_normals(&self, patch: &Patch<F>, bary: [F; 3]) -> (V3<F>, V3<F>) {
+        let shape = &patch.shape;
+        let [_, w1, w2] = bary;
+        // `correct` takes the hit's projected (w1, w2).
+        let x = project_bary(w1, w2);
+        let (own, ng_local) = own_normals(shape, &Prepared::new(shape), x, bary);
+        let world = patch.frame.local_dir_to_world(ng_local);
+        // As `correct` receives it: the hit's world normal, back in the local frame.
+        let shading = match patch.frame.world_dir_to_local(world).try_normalize() {
+            Some(ng) if !self.is_zero() => self
+                .correct_local(shape, x, ng, &own)
+                .map_or(world, |n| patch.frame.local_dir_to_world(n)),
+            _ => world,
+        };
+        (ng_local, shading)
     }
 
     /// The corrected local-frame normal at barycentrics `x` (projected) from the geometric one

@@ -87,6 +87,20 @@ pub trait Tracer<F: Float>: Sync {
     fn closest(&self, bvh: &Bvh<'_, F>, ray: &Ray<F>, t_min: F, t_max: F) -> Option<Hit<F>>;
     /// Whether anything is hit in `[t_min, t_max]`.
     fn occluded(&self, bvh: &Bvh<'_, F>, ray: &Ray<F>, t_min: F, t_max: F) -> bool;
+    /// The closest hit in `[t_min, t_max]` with the scene's shading normal
+    /// ([`smoothtri::Scene::shading_normal`]: seamless where the scene has seams). The smooth
+    /// kernel answers with [`smoothtri::Scene::closest_hit`], which evaluates both normals at
+    /// once; the result is the same bit for bit.
+    fn closest_shaded(
+        &self,
+        scene: &smoothtri::Scene<'_, F>,
+        ray: &Ray<F>,
+        t_min: F,
+        t_max: F,
+    ) -> Option<(Hit<F>, F::Vec3)> {
+        let hit = self.closest(scene.bvh(), ray, t_min, t_max)?;
+        Some((hit, scene.shading_normal(&hit)))
+    }
 }
 
 struct Smooth<const N: usize>;
@@ -99,6 +113,16 @@ impl<F: Float, const N: usize> Tracer<F> for Smooth<N> {
     }
     fn occluded(&self, bvh: &Bvh<'_, F>, ray: &Ray<F>, t_min: F, t_max: F) -> bool {
         bvh.any_hit::<N>(ray, t_min, t_max)
+    }
+    fn closest_shaded(
+        &self,
+        scene: &smoothtri::Scene<'_, F>,
+        ray: &Ray<F>,
+        t_min: F,
+        t_max: F,
+    ) -> Option<(Hit<F>, F::Vec3)> {
+        let h = scene.closest_hit::<N>(ray, t_min, t_max)?;
+        Some((h.hit, h.shading_normal))
     }
 }
 
