@@ -490,8 +490,9 @@ impl<F: Float> Seam<F> {
     /// Both normals of a hit on `patch` at the kernel's barycentrics `bary` (a crossing's):
     /// the geometric normal in the local frame, bit for bit the kernel's (`kernel::finish`),
     /// and the shading normal in world coordinates, bit for bit [`Seam::correct`] given the
-    /// hit's normal. One height evaluation over four lanes of jets serves both, where the hit's
-    /// normal and `correct` took one and one of four lanes.
+    /// hit's normal. One height evaluation over four lanes of jets serves both (lane four is
+    /// the hit's point), where `Bvh::closest_hit` then `correct` take two: a one-point
+    /// evaluation for the hit's normal, then one over four lanes for the edge points.
     #[inline(always)]
     pub(crate) fn hit_normals(&self, patch: &Patch<F>, bary: [F; 3]) -> (V3<F>, V3<F>) {
         let shape = &patch.shape;
