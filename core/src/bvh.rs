@@ -1,26 +1,40 @@
-//! A bounding volume hierarchy over patches, usable without `std` or `alloc`.
+//! A four-wide bounding volume hierarchy over patches, usable without `std` or `alloc`.
 //!
-//! Built by [`Bvh::build`] into caller-provided storage (binned surface area heuristic, 12 bins,
-//! at most [`MAX_LEAF`] patches per leaf, depth at most [`MAX_DEPTH`]); traversed with a
-//! fixed-size stack (`heapless`) of [`MAX_DEPTH`] entries, which the depth bound makes
-//! sufficient. Should it ever not be (corrupted storage handed to [`Bvh::from_parts`]), the
-//! query returns [`BvhError::StackOverflow`], never a panic or a silent miss.
+//! Built by [`Bvh::build`] into caller-provided storage: binned surface area heuristic (12
+//! bins) splits, at most [`MAX_LEAF`] patches per leaf, each node collecting up to
+//! [`BVH_WIDTH`] children by splitting its largest child until it has four (as Embree's and
+//! tinybvh's wide builders do), split depth at most [`MAX_DEPTH`]. A node stores its children's
+//! boxes side by side ([`BvhNode`]), so the traversal tests all four slabs in one four-lane
+//! operation (`wide::f32x4` or `f64x4`), visits the children that the ray enters nearest first,
+//! and keeps pending children on a fixed-size stack (`heapless`) of [`BVH_STACK`] entries, which
+//! the depth bound makes sufficient. Should it ever not be (corrupted storage handed to
+//! [`Bvh::from_parts`]), the query returns [`BvhError::StackOverflow`], never a panic or a
+//! silent miss.
 //!
-//! Memory: one [`BvhNode`] is 32 bytes in `f32` (56 in `f64`); a BVH of `n` patches uses at most
-//! `2n − 1` nodes and `n` `u32` indices: at most 68 bytes per patch in `f32`, besides the
-//! patches themselves (228 bytes each).
+//! Memory: one [`BvhNode`] is 128 bytes in `f32` (224 in `f64`); a BVH of `n ≥ 2` patches uses
+//! at most `n − 1` nodes ([`Bvh::nodes_needed`]; about `n / 8` in practice: leaves of two to four
+//! patches in nodes of four children) and `n` `u32` indices.
 
 use heapless::Vec as HVec;
 
 use crate::aabb::Aabb;
 use crate::kernel::{self, Crossing, DEFAULT_SAMPLES, KernelStats};
-use crate::num::real::Float;
+use crate::num::real::{Float, Lane4, LaneOps};
 use crate::num::vec::V3;
 use crate::patch::Patch;
 use crate::ray::{Hit, Ray};
 
-/// Maximum tree depth guaranteed by the builder (and size of the traversal stack).
+/// Children per node: four boxes tested in one four-lane step.
+pub const BVH_WIDTH: usize = 4;
+/// Maximum depth of the builder's binary splits (a node's children are at least one split
+/// deeper than the node, so the tree has fewer than `MAX_DEPTH` levels of nodes).
 pub const MAX_DEPTH: usize = 64;
+/// Entries of the traversal stack: a node at depth `w` leaves at most `BVH_WIDTH − 1` pending
+/// children per ancestor and pushes at most `BVH_WIDTH`, and nodes lie at depth at most
+/// `MAX_DEPTH − 2` (their ranges split further), so `3 (MAX_DEPTH − 2) + 4 ≤ 3 MAX_DEPTH`.
+pub const BVH_STACK: usize = (BVH_WIDTH - 1) * MAX_DEPTH;
+/// The child index of an unused slot of a [`BvhNode`] (its count is 0 and its box empty).
+pub const BVH_EMPTY_SLOT: u32 = u32::MAX;
 /// Maximum number of patches per leaf, except at [`MAX_DEPTH`] where a leaf takes what is left.
 pub const MAX_LEAF: usize = 4;
 /// Number of SAH bins per axis.
@@ -31,7 +45,8 @@ const BINS: usize = 12;
 pub enum BvhError {
     /// No patches.
     EmptyScene,
-    /// The node storage holds fewer than `2n − 1` nodes or the index storage fewer than `n`.
+    /// The node storage holds fewer than [`Bvh::nodes_needed`] nodes or the index storage
+    /// fewer than `n`.
     StorageTooSmall {
         /// Nodes needed.
         nodes: usize,
@@ -43,8 +58,8 @@ pub enum BvhError {
     /// The traversal stack would overflow (only possible with storage not made by
     /// [`Bvh::build`]).
     StackOverflow,
-    /// The traversal visited more nodes than the tree has, or a node or index points outside
-    /// the storage (storage not made by [`Bvh::build`]).
+    /// The traversal visited more nodes or tested more patches than the tree has, or a node or
+    /// index points outside the storage (storage not made by [`Bvh::build`]).
     CorruptTree,
     /// An invariant of the builder failed. Not expected for any input: it would be a bug in
     /// this crate (reported as an error rather than a panic or a silently wrong tree).
@@ -73,64 +88,113 @@ impl core::fmt::Display for BvhError {
 
 impl core::error::Error for BvhError {}
 
-/// One BVH node: a box and either two children (`count == 0`, children at `first` and
-/// `first + 1`) or a leaf of `count` patches (`order[first..first + count]`).
+/// One BVH node: the boxes of up to [`BVH_WIDTH`] children side by side (structure of arrays,
+/// one four-lane load per coordinate), and for each slot `k` either a child node
+/// (`count(k) == 0`, node index `child(k)`, always after this node), a leaf of `count(k)`
+/// patches (`order[child(k)..child(k) + count(k)]`), or nothing (`child(k) ==`
+/// [`BVH_EMPTY_SLOT`], count 0, empty box).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct BvhNode<F: Float> {
-    bounds: Aabb<F>,
-    first: u32,
-    count: u32,
+    /// `lo[axis][slot]`.
+    lo: [[F; BVH_WIDTH]; 3],
+    /// `hi[axis][slot]`.
+    hi: [[F; BVH_WIDTH]; 3],
+    child: [u32; BVH_WIDTH],
+    count: [u32; BVH_WIDTH],
 }
 
 impl<F: Float> BvhNode<F> {
-    /// A node from its parts, for owners that store trees themselves (serialised, uploaded and
-    /// read back): an interior node (`count == 0`) with children `first` and `first + 1`, or a
-    /// leaf of `order[first..first + count]`. [`Bvh::from_parts`] checks what they make.
+    /// A node from its slots, for owners that store trees themselves (serialised, uploaded and
+    /// read back): slot `k` has the box `bounds[k]`, and `child[k]`, `count[k]` as described on
+    /// [`BvhNode`]. [`Bvh::from_parts`] checks what they make.
     ///
     /// # Panics
     /// Never.
-    pub fn new(bounds: Aabb<F>, first: u32, count: u32) -> Self {
-        BvhNode {
-            bounds,
-            first,
+    pub fn new(
+        bounds: [Aabb<F>; BVH_WIDTH],
+        child: [u32; BVH_WIDTH],
+        count: [u32; BVH_WIDTH],
+    ) -> Self {
+        let mut node = BvhNode {
+            lo: [[F::ZERO; BVH_WIDTH]; 3],
+            hi: [[F::ZERO; BVH_WIDTH]; 3],
+            child,
             count,
+        };
+        for (k, b) in bounds.iter().enumerate() {
+            node.set_box(k, b);
+        }
+        node
+    }
+
+    fn set_box(&mut self, k: usize, b: &Aabb<F>) {
+        for (a, (l, h)) in [(b.lo.x, b.hi.x), (b.lo.y, b.hi.y), (b.lo.z, b.hi.z)]
+            .into_iter()
+            .enumerate()
+        {
+            if let Some(s) = self.lo.get_mut(a).and_then(|r| r.get_mut(k)) {
+                *s = l;
+            }
+            if let Some(s) = self.hi.get_mut(a).and_then(|r| r.get_mut(k)) {
+                *s = h;
+            }
         }
     }
 
-    /// The node's box (the union of its patches' shell boxes).
+    /// The box of slot `k` (the union of its patches' shell boxes; [`Aabb::EMPTY`] for an
+    /// unused slot or `k ≥` [`BVH_WIDTH`]).
     ///
     /// # Panics
     /// Never.
-    pub fn bounds(&self) -> Aabb<F> {
-        self.bounds
+    pub fn bounds(&self, k: usize) -> Aabb<F> {
+        let at = |m: &[[F; BVH_WIDTH]; 3], a: usize, e: F| {
+            m.get(a).and_then(|r| r.get(k)).copied().unwrap_or(e)
+        };
+        if k >= BVH_WIDTH {
+            return Aabb::EMPTY;
+        }
+        Aabb::from_corners(
+            V3::new(
+                at(&self.lo, 0, F::MAX),
+                at(&self.lo, 1, F::MAX),
+                at(&self.lo, 2, F::MAX),
+            ),
+            V3::new(
+                at(&self.hi, 0, F::MIN),
+                at(&self.hi, 1, F::MIN),
+                at(&self.hi, 2, F::MIN),
+            ),
+        )
     }
 
-    /// Interior node: index of the first child (the second is `first + 1`). Leaf: start of
-    /// its range in [`Bvh::order`].
+    /// Slot `k`: the child node's index (count 0), the start of the leaf's range in
+    /// [`Bvh::order`] (count > 0), or [`BVH_EMPTY_SLOT`] (unused, or `k ≥` [`BVH_WIDTH`]).
     ///
     /// # Panics
     /// Never.
-    pub fn first(&self) -> u32 {
-        self.first
+    pub fn child(&self, k: usize) -> u32 {
+        self.child.get(k).copied().unwrap_or(BVH_EMPTY_SLOT)
     }
 
-    /// Number of patches of a leaf (at most [`MAX_LEAF`]); 0 for an interior node.
+    /// Slot `k`: the number of patches of a leaf (at most [`MAX_LEAF`] except at the depth
+    /// limit); 0 for a child node or an unused slot.
     ///
     /// # Panics
     /// Never.
-    pub fn count(&self) -> u32 {
-        self.count
+    pub fn count(&self, k: usize) -> u32 {
+        self.count.get(k).copied().unwrap_or(0)
     }
 }
 
 impl<F: Float> Default for BvhNode<F> {
-    /// A placeholder for storage that [`Bvh::build`] fills (an interior node with an empty box;
-    /// a BVH made of default nodes is reported as [`BvhError::CorruptTree`] by queries).
+    /// A node of unused slots: the placeholder for storage that [`Bvh::build`] fills (a BVH of
+    /// default nodes finds nothing).
     fn default() -> Self {
         BvhNode {
-            bounds: Aabb::EMPTY,
-            first: 0,
-            count: 0,
+            lo: [[F::MAX; BVH_WIDTH]; 3],
+            hi: [[F::MIN; BVH_WIDTH]; 3],
+            child: [BVH_EMPTY_SLOT; BVH_WIDTH],
+            count: [0; BVH_WIDTH],
         }
     }
 }
@@ -143,12 +207,32 @@ pub struct Bvh<'a, F: Float> {
     order: &'a [u32],
 }
 
+/// A range of `order` the builder has examined: its boxes, and where it splits (already
+/// partitioned) or `None` for a leaf.
 #[derive(Clone, Copy)]
-struct Task {
-    node: usize,
+struct Range<F: Float> {
     start: usize,
     end: usize,
+    /// Binary splits above this range.
     depth: usize,
+    bounds: Aabb<F>,
+    split: Option<usize>,
+}
+
+/// A node to fill from a range that splits.
+#[derive(Clone, Copy)]
+struct Task<F: Float> {
+    node: usize,
+    range: Range<F>,
+}
+
+/// A pending entry of the traversal: a node (`count == 0`) or a leaf, and where the ray enters
+/// its box.
+#[derive(Clone, Copy)]
+struct Pending<F> {
+    child: u32,
+    count: u32,
+    t: F,
 }
 
 #[inline(always)]
@@ -170,17 +254,180 @@ fn patch_box<F: Float>(patches: &[Patch<F>], i: u32) -> Result<Aabb<F>, BvhError
         .ok_or(BvhError::Internal)
 }
 
+/// Bounds `order[start..end]` and decides its split (partitioning it in place): SAH, or the
+/// midpoint for ranges too large for a leaf; none for single patches and at the depth limit.
+fn examine<F: Float>(
+    patches: &[Patch<F>],
+    order: &mut [u32],
+    start: usize,
+    end: usize,
+    depth: usize,
+) -> Result<Range<F>, BvhError> {
+    // Ranges cover `start < end ≤ n` by construction (splits are strictly inside).
+    let range = order.get_mut(start..end).ok_or(BvhError::Internal)?;
+    let mut bounds = Aabb::EMPTY;
+    let mut centroids = Aabb::EMPTY;
+    for &i in range.iter() {
+        let b = patch_box(patches, i)?;
+        bounds = bounds.union(&b);
+        centroids = centroids.grow(b.center());
+    }
+    let count = end - start;
+    let split = if count <= 1 || depth + 1 >= MAX_DEPTH {
+        None
+    } else {
+        match sah_split(patches, range, &bounds, &centroids)? {
+            Some(m) => Some(m),
+            None if count > MAX_LEAF => Some(midpoint_split(patches, range, &centroids)?),
+            None => None,
+        }
+    };
+    Ok(Range {
+        start,
+        end,
+        depth,
+        bounds,
+        split: split.filter(|&m| m > 0 && m < count).map(|m| start + m),
+    })
+}
+
+/// The four lanes of `x` (`F::L4` where it carries four values).
+#[inline(always)]
+fn lanes<F: Float>(x: [F; BVH_WIDTH]) -> F::L4 {
+    <F::L4 as Lane4>::from_array4(x)
+}
+
+/// The ray as the slab test uses it: per axis the origin, `1/d`, and how the axis is tested.
+#[derive(Clone, Copy)]
+struct SlabRay<F: Float> {
+    o: [F; 3],
+    inv: [F; 3],
+    /// 0: slabs with `inv`; 1: `d = 0` on this axis, the origin must lie between the planes
+    /// (as the kernel's clip); 2: `1/d` is not finite (a subnormal `d`): the axis is not
+    /// tested, which keeps the test conservative.
+    mode: [u8; 3],
+}
+
+impl<F: Float> SlabRay<F> {
+    fn new(o: V3<F>, d: V3<F>) -> Self {
+        let o = [o.x, o.y, o.z];
+        let d = [d.x, d.y, d.z];
+        let inv = d.map(|c| if c == F::ZERO { F::ZERO } else { F::ONE / c });
+        let mode = core::array::from_fn(|a| {
+            let (c, i) = (d.get(a).copied(), inv.get(a).copied());
+            match (c, i) {
+                (Some(c), _) if c == F::ZERO => 1,
+                (_, Some(i)) if i.is_fin() => 0,
+                _ => 2,
+            }
+        });
+        SlabRay { o, inv, mode }
+    }
+
+    /// Which slots of `node` the ray enters within `[t_min, t_max]` (bit `k` for slot `k`) and
+    /// where it enters each. Conservative with respect to the kernel's clip to a patch's box
+    /// (`Aabb::ray_interval`, the same `(plane − o) · (1/d)` per axis): a node's box contains its
+    /// patches' boxes, these products are monotone in the plane, and no finiteness is required
+    /// here, so every patch whose box the kernel enters lies in a slot reported here.
+    #[inline(always)]
+    fn enter(&self, node: &BvhNode<F>, t_min: F, t_max: F) -> (u32, [F; BVH_WIDTH]) {
+        let used = node
+            .child
+            .iter()
+            .enumerate()
+            .fold(0u32, |m, (k, &c)| m | (((c != BVH_EMPTY_SLOT) as u32) << k));
+        if <F::L4 as Lane4>::POINTS == BVH_WIDTH {
+            let mut a = F::L4::splat(t_min);
+            let mut b = F::L4::splat(t_max);
+            let mut inside = used;
+            for ((((lo, hi), &o), &inv), &mode) in node
+                .lo
+                .iter()
+                .zip(&node.hi)
+                .zip(&self.o)
+                .zip(&self.inv)
+                .zip(&self.mode)
+            {
+                let (lo, hi) = (lanes::<F>(*lo), lanes::<F>(*hi));
+                match mode {
+                    0 => {
+                        let (o, inv) = (F::L4::splat(o), F::L4::splat(inv));
+                        let t1 = (lo - o) * inv;
+                        let t2 = (hi - o) * inv;
+                        // No NaN can occur (finite planes, origin and `1/d`), so min and max
+                        // as selects are exact.
+                        let near = F::L4::select(t1.lt(t2), t1, t2);
+                        let far = F::L4::select(t1.lt(t2), t2, t1);
+                        a = F::L4::select(near.gt(a), near, a);
+                        b = F::L4::select(far.lt(b), far, b);
+                    }
+                    1 => {
+                        let o = F::L4::splat(o);
+                        inside &= <F::L4 as Lane4>::bits4(F::L4::and(lo.le(o), o.le(hi)));
+                    }
+                    _ => {}
+                }
+            }
+            (inside & <F::L4 as Lane4>::bits4(a.le(b)), a.to_array4())
+        } else {
+            let mut hit = 0u32;
+            let mut near = [t_min; BVH_WIDTH];
+            for (k, t) in near.iter_mut().enumerate() {
+                let (mut a, mut b) = (t_min, t_max);
+                let mut ok = used & (1 << k) != 0;
+                for (ax, ((&o, &inv), &mode)) in
+                    self.o.iter().zip(&self.inv).zip(&self.mode).enumerate()
+                {
+                    let lo = node
+                        .lo
+                        .get(ax)
+                        .and_then(|r| r.get(k))
+                        .copied()
+                        .unwrap_or(F::MAX);
+                    let hi = node
+                        .hi
+                        .get(ax)
+                        .and_then(|r| r.get(k))
+                        .copied()
+                        .unwrap_or(F::MIN);
+                    match mode {
+                        0 => {
+                            let t1 = (lo - o) * inv;
+                            let t2 = (hi - o) * inv;
+                            let (n, f) = if t1 < t2 { (t1, t2) } else { (t2, t1) };
+                            a = if n > a { n } else { a };
+                            b = if f < b { f } else { b };
+                        }
+                        1 => ok &= lo <= o && o <= hi,
+                        _ => {}
+                    }
+                }
+                hit |= ((ok && a <= b) as u32) << k;
+                *t = a;
+            }
+            (hit, near)
+        }
+    }
+}
+
 impl<'a, F: Float> Bvh<'a, F> {
-    /// Number of nodes needed to build over `n` patches (`2n − 1`).
+    /// Number of nodes [`Bvh::build`] may need for `n` patches: `n − 1` for `n ≥ 2` (every
+    /// node has at least two children, and there are at most `n` leaves), 1 for `n = 1`, 0
+    /// for none. Trees use far fewer (about `n / 8`); [`Bvh::node_count`] says how many.
     pub const fn nodes_needed(n: usize) -> usize {
-        if n == 0 { 0 } else { 2 * n - 1 }
+        match n {
+            0 => 0,
+            1 => 1,
+            _ => n - 1,
+        }
     }
 
     /// Builds a BVH over `patches` into `nodes` (at least [`Bvh::nodes_needed`]`(n)` long)
     /// and `order` (at least `n` long).
     ///
     /// Returns the BVH, or [`BvhError::EmptyScene`], [`BvhError::StorageTooSmall`],
-    /// [`BvhError::TooManyPatches`]. Work: `O(n log n)`; no allocation.
+    /// [`BvhError::TooManyPatches`]. Work: `O(n log n)`; no allocation. Deterministic: the same
+    /// patches give the same nodes and order.
     /// # Panics
     /// Never.
     pub fn build(
@@ -205,84 +452,80 @@ impl<'a, F: Float> Bvh<'a, F> {
         for (i, o) in order.iter_mut().enumerate().take(n) {
             *o = i as u32;
         }
+        let root = examine(patches, order, 0, n, 0)?;
         let mut used = 1usize;
-        let mut stack: HVec<Task, MAX_DEPTH> = HVec::new();
-        // Depth-first: the stack holds at most one pending sibling per level.
-        stack
-            .push(Task {
-                node: 0,
-                start: 0,
-                end: n,
-                depth: 0,
-            })
-            .map_err(|_| BvhError::Internal)?;
-        while let Some(task) = stack.pop() {
-            let Task {
-                node,
-                start,
-                end,
-                depth,
-            } = task;
-            // Tasks cover `start < end ≤ n` by construction (splits are strictly inside).
-            let range = order.get_mut(start..end).ok_or(BvhError::Internal)?;
-            let mut bounds = Aabb::EMPTY;
-            let mut centroids = Aabb::EMPTY;
-            for &i in range.iter() {
-                let b = patch_box(patches, i)?;
-                bounds = bounds.union(&b);
-                centroids = centroids.grow(b.center());
-            }
-            let count = end - start;
-            let split = if count <= 1 || depth + 1 >= MAX_DEPTH {
-                None
-            } else {
-                match sah_split(patches, range, &bounds, &centroids)? {
-                    Some(m) => Some(m),
-                    None if count > MAX_LEAF => Some(midpoint_split(patches, range, &centroids)?),
-                    None => None,
-                }
-            };
-            let slot = nodes.get_mut(node).ok_or(BvhError::Internal)?;
-            match split {
-                Some(mid) if mid > 0 && mid < count => {
-                    let left = used;
-                    used += 2;
-                    *slot = BvhNode {
-                        bounds,
-                        first: left as u32,
-                        count: 0,
-                    };
-                    // Push the larger child first so the smaller is built next (bounded stack).
-                    let l = Task {
-                        node: left,
-                        start,
-                        end: start + mid,
-                        depth: depth + 1,
-                    };
-                    let r = Task {
-                        node: left + 1,
-                        start: start + mid,
-                        end,
-                        depth: depth + 1,
-                    };
-                    if stack.push(r).is_err() || stack.push(l).is_err() {
-                        return Err(BvhError::StackOverflow);
+        if root.split.is_none() {
+            // A few patches: the root holds one leaf.
+            let slot = nodes.first_mut().ok_or(BvhError::Internal)?;
+            *slot = BvhNode::default();
+            slot.set_box(0, &root.bounds);
+            slot.child = [0, BVH_EMPTY_SLOT, BVH_EMPTY_SLOT, BVH_EMPTY_SLOT];
+            slot.count = [n as u32, 0, 0, 0];
+        }
+        // Depth first; each node leaves at most three pending siblings per level.
+        let mut stack: HVec<Task<F>, { BVH_STACK + BVH_WIDTH }> = HVec::new();
+        if root.split.is_some() {
+            stack
+                .push(Task {
+                    node: 0,
+                    range: root,
+                })
+                .map_err(|_| BvhError::Internal)?;
+        }
+        while let Some(Task { node, range }) = stack.pop() {
+            // The node's children: split the range, then keep splitting the child of largest
+            // area (then most patches) that splits, until there are four.
+            let mut kids: HVec<Range<F>, BVH_WIDTH> = HVec::new();
+            kids.push(range).map_err(|_| BvhError::Internal)?;
+            while kids.len() < BVH_WIDTH {
+                let mut pick: Option<(usize, F, usize)> = None;
+                for (k, c) in kids.iter().enumerate() {
+                    let (area, count) = (c.bounds.half_area(), c.end - c.start);
+                    if c.split.is_some()
+                        && pick.is_none_or(|(_, a, n)| area > a || (area == a && count > n))
+                    {
+                        pick = Some((k, area, count));
                     }
                 }
-                _ => {
-                    *slot = BvhNode {
-                        bounds,
-                        first: start as u32,
-                        count: count as u32,
-                    };
-                }
+                let Some((k, ..)) = pick else { break };
+                let c = *kids.get(k).ok_or(BvhError::Internal)?;
+                let mid = c.split.ok_or(BvhError::Internal)?;
+                let left = examine(patches, order, c.start, mid, c.depth + 1)?;
+                let right = examine(patches, order, mid, c.end, c.depth + 1)?;
+                *kids.get_mut(k).ok_or(BvhError::Internal)? = left;
+                kids.insert(k + 1, right).map_err(|_| BvhError::Internal)?;
+            }
+            let mut out = BvhNode::default();
+            let mut tasks: HVec<Task<F>, BVH_WIDTH> = HVec::new();
+            for (k, c) in kids.iter().enumerate() {
+                out.set_box(k, &c.bounds);
+                let (child, count) = if c.split.is_some() {
+                    let at = used;
+                    used += 1;
+                    tasks
+                        .push(Task {
+                            node: at,
+                            range: *c,
+                        })
+                        .map_err(|_| BvhError::Internal)?;
+                    (at as u32, 0)
+                } else {
+                    (c.start as u32, (c.end - c.start) as u32)
+                };
+                *out.child.get_mut(k).ok_or(BvhError::Internal)? = child;
+                *out.count.get_mut(k).ok_or(BvhError::Internal)? = count;
+            }
+            *nodes.get_mut(node).ok_or(BvhError::Internal)? = out;
+            // Push in reverse so the first child is built next.
+            while let Some(t) = tasks.pop() {
+                stack.push(t).map_err(|_| BvhError::StackOverflow)?;
             }
         }
         let nodes: &'a [BvhNode<F>] = nodes;
         let order: &'a [u32] = order;
         Ok(Bvh {
             patches,
-            // A binary tree over n leaves-worth of patches has at most 2n − 1 nodes ≤ len.
+            // At most `nodes_needed(n)` nodes are used (see there).
             nodes: nodes.get(..used).ok_or(BvhError::Internal)?,
             order: order.get(..n).ok_or(BvhError::Internal)?,
         })
@@ -291,8 +534,8 @@ impl<'a, F: Float> Bvh<'a, F> {
     /// Re-wraps storage filled by an earlier [`Bvh::build`] over the same patches (for owners
     /// that keep the storage in their own structures, or upload and read it back), after
     /// checking it once: every node and leaf range inside the storage, children after their
-    /// parent (so the tree has no cycle), depth below [`MAX_DEPTH`], every index below
-    /// `patches.len()`. Queries on the result then cannot fail.
+    /// parent (so the tree has no cycle), nodes no deeper than `MAX_DEPTH − 2`, every index
+    /// below `patches.len()`. Queries on the result then cannot fail.
     ///
     /// Returns [`BvhError::EmptyScene`] (no node or no patch), [`BvhError::CorruptTree`] or
     /// [`BvhError::StackOverflow`] (too deep). Storage that passes but was not made by `build`
@@ -339,7 +582,7 @@ impl<'a, F: Float> Bvh<'a, F> {
         self.nodes
     }
 
-    /// The patch indices that leaves refer to (`order[first..first + count]`).
+    /// The patch indices that leaves refer to (`order[child..child + count]`).
     ///
     /// # Panics
     /// Never.
@@ -414,7 +657,7 @@ impl<'a, F: Float> Bvh<'a, F> {
         Some(h)
     }
 
-    /// Visits the patches whose boxes the ray enters, nearest box first, testing each with
+    /// Visits the leaves whose boxes the ray enters, nearest box first, testing each patch with
     /// `test` over the caller's range; returns the candidate with the smallest `t` and its
     /// patch index (with `any`, the first candidate found).
     fn traverse<C: Candidate<F>>(
@@ -430,35 +673,34 @@ impl<'a, F: Float> Bvh<'a, F> {
         if !o.all_finite() || !d.all_finite() || t_min.is_nan() || t_max.is_nan() {
             return Ok(None);
         }
+        let slab = SlabRay::new(o, d);
         let mut best: Option<(u32, C)> = None;
         let mut tmax = t_max;
-        let mut stack: HVec<u32, MAX_DEPTH> = HVec::new();
-        // Every node index and leaf range comes from the storage: for storage made by `build`
-        // they are always valid; anything else is `CorruptTree`, never a skipped subtree.
-        let node_at = |i: u32| self.nodes.get(i as usize).ok_or(BvhError::CorruptTree);
-        let enter = |node: &BvhNode<F>, tmax: F| node.bounds.ray_interval(o, d, t_min, tmax);
-        let Some(root) = self.nodes.first() else {
-            return Ok(None);
-        };
-        if enter(root, tmax).is_none() {
-            return Ok(None);
-        }
-        let mut current = 0u32;
-        // A tree visits each node at most once: the budget bounds the work even for corrupted
-        // storage handed to `from_parts`.
-        let mut budget = self.nodes.len();
-        loop {
-            if budget == 0 {
-                return Err(BvhError::CorruptTree);
+        let mut stack: HVec<Pending<F>, BVH_STACK> = HVec::new();
+        stack
+            .push(Pending {
+                child: 0,
+                count: 0,
+                t: t_min,
+            })
+            .map_err(|_| BvhError::StackOverflow)?;
+        // A tree visits each node at most once and tests each index of `order` at most once:
+        // the budgets bound the work even for corrupted storage handed to `from_parts`.
+        let mut visits = self.nodes.len();
+        let mut tests = self.order.len();
+        while let Some(e) = stack.pop() {
+            // Skip what the best hit has moved in front of since it was pushed (the ray enters
+            // its box at `e.t`, after the best hit).
+            if e.t > tmax {
+                continue;
             }
-            budget -= 1;
-            let node = node_at(current)?;
-            if node.count > 0 {
-                let first = node.first as usize;
+            if e.count > 0 {
+                let first = e.child as usize;
                 let ids = self
                     .order
-                    .get(first..first.saturating_add(node.count as usize))
+                    .get(first..first.saturating_add(e.count as usize))
                     .ok_or(BvhError::CorruptTree)?;
+                tests = tests.checked_sub(ids.len()).ok_or(BvhError::CorruptTree)?;
                 for &id in ids {
                     let p = self.patches.get(id as usize).ok_or(BvhError::CorruptTree)?;
                     // Each patch is tested over the caller's whole range, then compared with the
@@ -474,92 +716,97 @@ impl<'a, F: Float> Bvh<'a, F> {
                         }
                     }
                 }
-            } else {
-                let l = node.first;
-                let r = node.first.checked_add(1).ok_or(BvhError::CorruptTree)?;
-                let tl = enter(node_at(l)?, tmax);
-                let tr = enter(node_at(r)?, tmax);
-                match (tl, tr) {
-                    (Some((a, _)), Some((b, _))) => {
-                        let (near, far) = if a <= b { (l, r) } else { (r, l) };
-                        if stack.push(far).is_err() {
-                            return Err(BvhError::StackOverflow);
-                        }
-                        current = near;
-                        continue;
-                    }
-                    (Some(_), None) => {
-                        current = l;
-                        continue;
-                    }
-                    (None, Some(_)) => {
-                        current = r;
-                        continue;
-                    }
-                    (None, None) => {}
-                }
+                continue;
             }
-            // Pop the next node still worth visiting (the best hit may have moved closer since
-            // it was pushed).
-            let mut next = None;
-            while let Some(c) = stack.pop() {
-                if enter(node_at(c)?, tmax).is_some() {
-                    next = Some(c);
-                    break;
-                }
+            visits = visits.checked_sub(1).ok_or(BvhError::CorruptTree)?;
+            let node = self
+                .nodes
+                .get(e.child as usize)
+                .ok_or(BvhError::CorruptTree)?;
+            let (hit, near) = slab.enter(node, t_min, tmax);
+            if hit == 0 {
+                continue;
             }
-            match next {
-                Some(c) => current = c,
-                None => return Ok(best),
+            // The entered slots, farthest first onto the stack (so the nearest is popped next;
+            // equal entries keep slot order).
+            let mut order: [(F, usize); BVH_WIDTH] = [(F::ZERO, 0); BVH_WIDTH];
+            let mut m = 0usize;
+            for (k, &t) in near.iter().enumerate() {
+                if hit & (1 << k) == 0 {
+                    continue;
+                }
+                let mut j = m;
+                while j > 0 {
+                    let Some(&prev) = order.get(j - 1) else { break };
+                    if prev.0 >= t {
+                        break;
+                    }
+                    if let Some(s) = order.get_mut(j) {
+                        *s = prev;
+                    }
+                    j -= 1;
+                }
+                if let Some(s) = order.get_mut(j) {
+                    *s = (t, k);
+                }
+                m += 1;
+            }
+            for &(t, k) in order.iter().take(m) {
+                stack
+                    .push(Pending {
+                        child: node.child(k),
+                        count: node.count(k),
+                        t,
+                    })
+                    .map_err(|_| BvhError::StackOverflow)?;
             }
         }
+        Ok(best)
     }
 }
 
-/// The checks of [`Bvh::from_parts`]: a depth-first walk from the root with the traversal's
-/// stack, each node visited once.
+/// The checks of [`Bvh::from_parts`]: a depth-first walk from the root, each node visited
+/// once.
 fn validate<F: Float>(patches: usize, nodes: &[BvhNode<F>], order: &[u32]) -> Result<(), BvhError> {
     if nodes.is_empty() || patches == 0 {
         return Err(BvhError::EmptyScene);
     }
-    let mut stack: HVec<(u32, usize), MAX_DEPTH> = HVec::new();
-    let mut current = (0u32, 0usize);
+    let mut stack: HVec<(u32, usize), { BVH_STACK + BVH_WIDTH }> = HVec::new();
+    let mut current = Some((0u32, 0usize));
     let mut budget = nodes.len();
-    loop {
-        let (i, depth) = current;
-        if budget == 0 {
-            return Err(BvhError::CorruptTree);
-        }
-        budget -= 1;
+    let mut tests = order.len();
+    while let Some((i, depth)) = current {
+        budget = budget.checked_sub(1).ok_or(BvhError::CorruptTree)?;
         let node = nodes.get(i as usize).ok_or(BvhError::CorruptTree)?;
-        if node.count > 0 {
-            let first = node.first as usize;
-            let ids = order
-                .get(first..first.saturating_add(node.count as usize))
-                .ok_or(BvhError::CorruptTree)?;
-            if ids.iter().any(|&id| id as usize >= patches) {
-                return Err(BvhError::CorruptTree);
+        for k in 0..BVH_WIDTH {
+            let (child, count) = (node.child(k), node.count(k));
+            if child == BVH_EMPTY_SLOT {
+                continue;
             }
-        } else {
-            let l = node.first;
-            let r = l.checked_add(1).ok_or(BvhError::CorruptTree)?;
-            if l <= i || r as usize >= nodes.len() {
-                return Err(BvhError::CorruptTree);
+            if count > 0 {
+                let first = child as usize;
+                let ids = order
+                    .get(first..first.saturating_add(count as usize))
+                    .ok_or(BvhError::CorruptTree)?;
+                if ids.iter().any(|&id| id as usize >= patches) {
+                    return Err(BvhError::CorruptTree);
+                }
+                tests = tests.checked_sub(ids.len()).ok_or(BvhError::CorruptTree)?;
+            } else {
+                if child <= i || child as usize >= nodes.len() {
+                    return Err(BvhError::CorruptTree);
+                }
+                if depth + 1 > MAX_DEPTH - 2 {
+                    return Err(BvhError::StackOverflow);
+                }
+                stack
+                    .push((child, depth + 1))
+                    .map_err(|_| BvhError::StackOverflow)?;
             }
-            if depth + 1 >= MAX_DEPTH {
-                return Err(BvhError::StackOverflow);
-            }
-            stack
-                .push((r, depth + 1))
-                .map_err(|_| BvhError::StackOverflow)?;
-            current = (l, depth + 1);
-            continue;
         }
-        match stack.pop() {
-            Some(next) => current = next,
-            None => return Ok(()),
-        }
+        current = stack.pop();
     }
+    Ok(())
 }
 
 /// What the traversal compares: anything with a ray parameter.

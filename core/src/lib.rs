@@ -51,12 +51,12 @@
 //! let ib = [[0u32, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4]];
 //! let options = BuildOptions::default(); // the paper's line field, no seams
 //! let n = SceneSizes::new(5, 4, &options).unwrap();
-//! assert_eq!((n.patches, n.nodes, n.edges, n.seams, n.vertices), (4, 7, 12, 0, 0));
+//! assert_eq!((n.patches, n.nodes, n.edges, n.seams, n.vertices), (4, 3, 12, 0, 0));
 //! assert_eq!(n.edge_work, 6); // one block: at most 12 / 2 shared edges
 //! // Fixed-size storage, as firmware would hold it.
 //! let mut patches = [Patch::<f32>::default(); 4];
 //! let (mut ids, mut order, mut tris) = ([0u32; 4], [0u32; 4], [[0u32; 3]; 4]);
-//! let mut nodes = [BvhNode::default(); 7];
+//! let mut nodes = [BvhNode::default(); 3];
 //! let mut edges = [SharedEdge::default(); 12];
 //! let mut work = [EdgeWork::default(); 6];
 //! let storage = SceneStorage {
@@ -120,7 +120,7 @@ mod surface;
 pub mod internal;
 
 pub use aabb::Aabb;
-pub use bvh::{Bvh, BvhError, BvhNode, MAX_DEPTH};
+pub use bvh::{BVH_EMPTY_SLOT, BVH_STACK, BVH_WIDTH, Bvh, BvhError, BvhNode, MAX_DEPTH};
 pub use error::PatchError;
 pub use geometry::PatchData;
 pub use kernel::flat::{flat_hit, moller_trumbore};

@@ -33,8 +33,11 @@ override TILTED: u32 = 1u;
 
 // Interior bracketing samples K (the CPU's DEFAULT_SAMPLES): K + 2 = 8 points.
 const SAMPLES: u32 = 6u;
-// Traversal stack entries (the CPU's bvh::MAX_DEPTH).
-const STACK: u32 = 64u;
+// Traversal stack entries (the CPU's smoothtri::BVH_STACK: three pending children per level of
+// four-wide nodes, MAX_DEPTH = 64).
+const STACK: u32 = 192u;
+// A node's unused slot (the CPU's smoothtri::BVH_EMPTY_SLOT).
+const EMPTY_SLOT: u32 = 0xffffffffu;
 // f32 machine epsilon.
 const EPS: f32 = 1.1920929e-7;
 // vec4s per smooth patch record and per flat triangle record (see lib.rs, `PATCH_VEC4`).
@@ -82,11 +85,17 @@ struct HitOut {
     flags: u32,
 }
 
+// A four-wide node (core/src/bvh.rs `BvhNode`): the four children's boxes by coordinate, and per
+// slot a child node (count 0), a leaf `order[child..child + count]`, or EMPTY_SLOT.
 struct Node {
-    lo: vec3<f32>,
-    first: u32,
-    hi: vec3<f32>,
-    count: u32,
+    lox: vec4<f32>,
+    loy: vec4<f32>,
+    loz: vec4<f32>,
+    hix: vec4<f32>,
+    hiy: vec4<f32>,
+    hiz: vec4<f32>,
+    child: vec4<u32>,
+    count: vec4<u32>,
 }
 
 @group(0) @binding(0) var<uniform> params: Params;
@@ -1131,7 +1140,8 @@ fn flat_crossing(id: u32, o: vec3<f32>, d: vec3<f32>, t_min: f32, t_max: f32) ->
 }
 
 // ---------------------------------------------------------------------------------------------
-// Traversal (core/src/bvh.rs `traverse`, nearest child first, pending far children on a stack)
+// Traversal (core/src/bvh.rs `traverse`: four-wide nodes, entered children pushed farthest first
+// so the nearest is visited next, leaves tested when popped)
 
 fn miss(i: u32) {
     hits[i] = HitOut(0.0, 0.0, 0.0, 0.0, vec3<f32>(0.0), 0u, vec3<f32>(0.0), 0u);
@@ -1172,33 +1182,40 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     var best = no_crossing();
     var best_id = 0u;
     var err = 0u;
-    var stack: array<u32, STACK>;
-    var sp = 0u;
-    let root = nodes[0];
-    if (!box_span(root.lo, root.hi, o, d, inv, t_min, tmax).ok) {
-        miss(i);
-        return;
-    }
-    var current = 0u;
-    var budget = node_count;
+    // Pending nodes and leaves (child, count as in Node) with where the ray enters their box.
+    var st_child: array<u32, STACK>;
+    var st_count: array<u32, STACK>;
+    var st_t: array<f32, STACK>;
+    st_child[0] = 0u;
+    st_count[0] = 0u;
+    st_t[0] = t_min;
+    var sp = 1u;
+    // Slab test per axis as core/src/bvh.rs `SlabRay`: 1/d where finite; d = 0: the origin
+    // between the planes; 1/d not finite: the axis is not tested (conservative).
+    let slab = vec3<bool>(d.x != 0.0 && fin(inv.x), d.y != 0.0 && fin(inv.y),
+        d.z != 0.0 && fin(inv.z));
+    var visits = node_count;
     var tests = order_count;
     loop {
-        if (budget == 0u || current >= node_count) {
-            err |= STATUS_CORRUPT;
+        if (sp == 0u) {
             break;
         }
-        budget -= 1u;
-        let node = nodes[current];
-        if (node.count > 0u) {
-            if (node.first > order_count || node.count > order_count - node.first
-                || node.count > tests) {
+        sp -= 1u;
+        let ec = st_child[sp];
+        let en = st_count[sp];
+        // Skip what the best hit has moved in front of since it was pushed.
+        if (st_t[sp] > tmax) {
+            continue;
+        }
+        if (en > 0u) {
+            if (ec > order_count || en > order_count - ec || en > tests) {
                 err |= STATUS_CORRUPT;
                 break;
             }
-            tests -= node.count;
+            tests -= en;
             var stop = false;
-            for (var k = 0u; k < node.count; k++) {
-                let id = order[node.first + k];
+            for (var k = 0u; k < en; k++) {
+                let id = order[ec + k];
                 if (id >= patch_count) {
                     err |= STATUS_CORRUPT;
                     stop = true;
@@ -1226,58 +1243,75 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
             if (stop) {
                 break;
             }
-        } else {
-            if (node.first >= node_count - 1u) {
-                err |= STATUS_CORRUPT;
-                break;
+            continue;
+        }
+        if (visits == 0u || ec >= node_count) {
+            err |= STATUS_CORRUPT;
+            break;
+        }
+        visits -= 1u;
+        let node = nodes[ec];
+        var a = vec4<f32>(t_min);
+        var b = vec4<f32>(tmax);
+        var inside = node.child != vec4<u32>(EMPTY_SLOT);
+        if (slab.x) {
+            let t1 = (node.lox - o.x) * inv.x;
+            let t2 = (node.hix - o.x) * inv.x;
+            a = max(a, min(t1, t2));
+            b = min(b, max(t1, t2));
+        } else if (d.x == 0.0) {
+            inside = inside & (node.lox <= vec4<f32>(o.x)) & (vec4<f32>(o.x) <= node.hix);
+        }
+        if (slab.y) {
+            let t1 = (node.loy - o.y) * inv.y;
+            let t2 = (node.hiy - o.y) * inv.y;
+            a = max(a, min(t1, t2));
+            b = min(b, max(t1, t2));
+        } else if (d.y == 0.0) {
+            inside = inside & (node.loy <= vec4<f32>(o.y)) & (vec4<f32>(o.y) <= node.hiy);
+        }
+        if (slab.z) {
+            let t1 = (node.loz - o.z) * inv.z;
+            let t2 = (node.hiz - o.z) * inv.z;
+            a = max(a, min(t1, t2));
+            b = min(b, max(t1, t2));
+        } else if (d.z == 0.0) {
+            inside = inside & (node.loz <= vec4<f32>(o.z)) & (vec4<f32>(o.z) <= node.hiz);
+        }
+        let enter = inside & (a <= b);
+        // The entered slots sorted farthest first (insertion sort; equal entries keep slot
+        // order), pushed so that the nearest is popped next.
+        var sorted_t: array<f32, 4>;
+        var sorted_k: array<u32, 4>;
+        var m = 0u;
+        for (var k = 0u; k < 4u; k++) {
+            if (!enter[k]) {
+                continue;
             }
-            let l = node.first;
-            let r = node.first + 1u;
-            let nl = nodes[l];
-            let nr = nodes[r];
-            let tl = box_span(nl.lo, nl.hi, o, d, inv, t_min, tmax);
-            let tr = box_span(nr.lo, nr.hi, o, d, inv, t_min, tmax);
-            if (tl.ok && tr.ok) {
-                if (sp >= STACK) {
-                    err |= STATUS_STACK;
+            let t = a[k];
+            var j = m;
+            for (var q = 0u; q < 4u; q++) {
+                if (j == 0u || sorted_t[j - 1u] >= t) {
                     break;
                 }
-                if (tl.a <= tr.a) {
-                    stack[sp] = r;
-                    current = l;
-                } else {
-                    stack[sp] = l;
-                    current = r;
-                }
-                sp += 1u;
-                continue;
+                sorted_t[j] = sorted_t[j - 1u];
+                sorted_k[j] = sorted_k[j - 1u];
+                j -= 1u;
             }
-            if (tl.ok) {
-                current = l;
-                continue;
-            }
-            if (tr.ok) {
-                current = r;
-                continue;
-            }
+            sorted_t[j] = t;
+            sorted_k[j] = k;
+            m += 1u;
         }
-        // Pop the next node still worth visiting (pushed indices were checked above).
-        var next = false;
-        for (var k = 0u; k < STACK; k++) {
-            if (sp == 0u) {
-                break;
-            }
-            sp -= 1u;
-            let c = stack[sp];
-            let nc = nodes[c];
-            if (box_span(nc.lo, nc.hi, o, d, inv, t_min, tmax).ok) {
-                current = c;
-                next = true;
-                break;
-            }
-        }
-        if (!next) {
+        if (sp + m > STACK) {
+            err |= STATUS_STACK;
             break;
+        }
+        for (var q = 0u; q < m; q++) {
+            let k = sorted_k[q];
+            st_child[sp] = node.child[k];
+            st_count[sp] = node.count[k];
+            st_t[sp] = sorted_t[q];
+            sp += 1u;
         }
     }
     if (err != 0u) {

@@ -56,8 +56,8 @@ pub const SHADER: &str = include_str!("kernel.wgsl");
 /// Interior bracketing samples `K` of the shader (the CPU's `DEFAULT_SAMPLES`): `K + 2 = 8`
 /// points.
 pub const SAMPLES: usize = 6;
-/// Entries of the shader's traversal stack (the CPU's `bvh::MAX_DEPTH`).
-pub const STACK: usize = 64;
+/// Entries of the shader's traversal stack (the CPU's [`smoothtri::BVH_STACK`]).
+pub const STACK: usize = smoothtri::BVH_STACK;
 /// The refinement budget the demo uses by default on the GPU.
 pub const DEFAULT_ITERATIONS: usize = 4;
 /// Largest refinement budget a pipeline is built for.
@@ -366,8 +366,9 @@ impl Gpu {
                 limit,
             });
         }
-        if bytes.len() < 32 {
-            bytes.resize(32, 0);
+        // Empty arrays are not bindable: at least one element of the largest (a node).
+        if bytes.len() < size_of::<GpuNode>() {
+            bytes.resize(size_of::<GpuNode>(), 0);
         }
         scoped(&self.device, GpuError::Device, || {
             self.device
@@ -392,31 +393,32 @@ impl Gpu {
     }
 }
 
-/// One BVH node as the shader reads it (32 bytes): the box, and either two children (`count`
-/// 0, children `first` and `first + 1`) or a leaf of `count` patches (`order[first..]`), as
-/// [`smoothtri::BvhNode`].
+/// One BVH node as the shader reads it (128 bytes), as [`smoothtri::BvhNode`]: the four
+/// children's boxes by coordinate, and per slot a child node (count 0), a leaf of `count`
+/// patches (`order[child..]`), or [`smoothtri::BVH_EMPTY_SLOT`].
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct GpuNode {
-    /// Minimum corner.
-    pub lo: [f32; 3],
-    /// First child, or start of the leaf's range in the order.
-    pub first: u32,
-    /// Maximum corner.
-    pub hi: [f32; 3],
-    /// Patches of a leaf; 0 for an interior node.
-    pub count: u32,
+    /// Minimum corners: `lo[axis][slot]`.
+    pub lo: [[f32; 4]; 3],
+    /// Maximum corners: `hi[axis][slot]`.
+    pub hi: [[f32; 4]; 3],
+    /// Per slot: the child node, the start of the leaf's range in the order, or
+    /// [`smoothtri::BVH_EMPTY_SLOT`].
+    pub child: [u32; 4],
+    /// Per slot: patches of a leaf; 0 for a child node or an unused slot.
+    pub count: [u32; 4],
 }
 
 impl GpuNode {
     /// The node of a CPU BVH.
     pub fn from_node(n: &smoothtri::BvhNode<f32>) -> Self {
-        let b = n.bounds();
+        let b: [smoothtri::Aabb<f32>; 4] = std::array::from_fn(|k| n.bounds(k));
         GpuNode {
-            lo: b.min().to_array(),
-            first: n.first(),
-            hi: b.max().to_array(),
-            count: n.count(),
+            lo: [0, 1, 2].map(|a| b.map(|b| b.min()[a])),
+            hi: [0, 1, 2].map(|a| b.map(|b| b.max()[a])),
+            child: std::array::from_fn(|k| n.child(k)),
+            count: std::array::from_fn(|k| n.count(k)),
         }
     }
 }
@@ -613,15 +615,14 @@ impl GpuScene {
         let node_bytes: Vec<u8> = nodes
             .iter()
             .flat_map(|n| {
-                let mut b = Vec::with_capacity(32);
-                for x in n.lo {
+                // The shader's `Node`: lox, loy, loz, hix, hiy, hiz, child, count (vec4 each).
+                let mut b = Vec::with_capacity(128);
+                for x in n.lo.iter().chain(&n.hi).flatten() {
                     b.extend_from_slice(&x.to_ne_bytes());
                 }
-                b.extend_from_slice(&n.first.to_ne_bytes());
-                for x in n.hi {
+                for x in n.child.iter().chain(&n.count) {
                     b.extend_from_slice(&x.to_ne_bytes());
                 }
-                b.extend_from_slice(&n.count.to_ne_bytes());
                 b
             })
             .collect();

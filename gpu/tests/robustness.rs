@@ -6,6 +6,7 @@
 mod common;
 use common::*;
 use glam::Vec3;
+use smoothtri::BVH_EMPTY_SLOT;
 use smoothtri::{Patch, PatchData, Ray};
 use smoothtri_demo::scenes::icosphere;
 use smoothtri_gpu::{Gpu, GpuError, GpuNode, GpuScene, MAX_ITERATIONS, SceneKind};
@@ -127,15 +128,25 @@ fn empty_scene_gives_misses() {
     still_works(&gpu);
 }
 
-fn leaf(lo: Vec3, hi: Vec3, first: u32, count: u32) -> GpuNode {
+/// A node of four slots `(child, count)` sharing the box `[lo, hi]` (slots with
+/// `BVH_EMPTY_SLOT` are unused).
+fn node(lo: Vec3, hi: Vec3, slots: [(u32, u32); 4]) -> GpuNode {
     GpuNode {
-        lo: lo.to_array(),
-        first,
-        hi: hi.to_array(),
-        count,
+        lo: [0, 1, 2].map(|a| [lo[a]; 4]),
+        hi: [0, 1, 2].map(|a| [hi[a]; 4]),
+        child: slots.map(|s| s.0),
+        count: slots.map(|s| s.1),
     }
 }
 
+const NONE: (u32, u32) = (BVH_EMPTY_SLOT, 0);
+
+/// A node whose only slot is the leaf `order[first..first + count]`.
+fn leaf(lo: Vec3, hi: Vec3, first: u32, count: u32) -> GpuNode {
+    node(lo, hi, [(first, count), NONE, NONE, NONE])
+}
+
+/// A node whose only slot is the child node `first`.
 fn inner(lo: Vec3, hi: Vec3, first: u32) -> GpuNode {
     leaf(lo, hi, first, 0)
 }
@@ -177,8 +188,8 @@ fn corrupt_trees_are_typed_errors() {
             GpuError::CorruptTree,
         ),
         (
-            "u32::MAX child",
-            vec![inner(lo, hi, u32::MAX)],
+            "u32::MAX - 1 child (u32::MAX marks an unused slot)",
+            vec![inner(lo, hi, u32::MAX - 1)],
             vec![0],
             GpuError::CorruptTree,
         ),
@@ -196,7 +207,7 @@ fn corrupt_trees_are_typed_errors() {
         ),
         (
             "leaf range overflowing u32",
-            vec![leaf(lo, hi, u32::MAX, 2)],
+            vec![leaf(lo, hi, u32::MAX - 1, 2)],
             vec![0],
             GpuError::CorruptTree,
         ),
@@ -216,16 +227,12 @@ fn corrupt_trees_are_typed_errors() {
     for (what, nodes, order, want) in cases {
         assert_eq!(trace(&gpu, &data, &nodes, &order), Err(want), "{what}");
     }
-    // Deeper than the stack: every level pushes its far child (all boxes equal).
+    // Deeper than the stack: every level leaves three leaves pending (all boxes equal, so the
+    // last slot, the next node, is visited first).
     let depth = 70u32;
-    let mut nodes = Vec::new();
-    for k in 0..depth {
-        nodes.push(inner(lo, hi, 2 * k + 1));
-        if k > 0 {
-            nodes.push(leaf(lo, hi, 0, 1));
-        }
-    }
-    nodes.push(leaf(lo, hi, 0, 1));
+    let mut nodes: Vec<GpuNode> = (0..depth)
+        .map(|k| node(lo, hi, [(0, 1), (0, 1), (0, 1), (k + 1, 0)]))
+        .collect();
     nodes.push(leaf(lo, hi, 0, 1));
     assert_eq!(
         trace(&gpu, &data, &nodes, &[0]),

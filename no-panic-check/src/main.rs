@@ -176,15 +176,16 @@ fn exercise<F: Float>() -> u32 {
     // BVH over a few copies, in caller-provided storage, every query.
     const COUNT: usize = 8;
     let patches = [patch; COUNT];
-    let mut nodes = [BvhNode::<F>::default(); 2 * COUNT - 1];
+    let mut nodes = [BvhNode::<F>::default(); COUNT - 1];
     let mut order = [0u32; COUNT];
     match Bvh::build(black_box(&patches), &mut nodes, &mut order) {
         Ok(bvh) => {
             acc += bvh.node_count() as u32 + bvh.memory_bytes() as u32;
             acc += bvh.patches().len() as u32;
             let root = bvh.nodes().first().copied().unwrap_or_default();
-            acc += root.first() + root.count() + bvh.order().len() as u32;
-            acc += fin::<F>(root.bounds().min()) as u32;
+            let k = black_box(2usize);
+            acc += root.child(k) + root.count(k) + bvh.order().len() as u32;
+            acc += fin::<F>(root.bounds(k).min()) as u32;
             if let Some(h) = bvh.closest_hit::<8>(&ray, t0, t1) {
                 acc += h.patch;
             }
@@ -202,10 +203,11 @@ fn exercise<F: Float>() -> u32 {
     }
     // Storage not made by `build`: typed errors, never a panic.
     let junk = [BvhNode::<F>::default(); 3];
+    let b = [junk[1].bounds(black_box(9)); 4];
     let junk = [
         junk[0],
-        BvhNode::new(junk[1].bounds(), black_box(1), 0),
-        BvhNode::new(Aabb::EMPTY, black_box(0), black_box(9)),
+        BvhNode::new(b, black_box([1, 2, 0, 7]), [0, 0, 0, 3]),
+        BvhNode::new([Aabb::EMPTY; 4], black_box([0; 4]), black_box([9; 4])),
     ];
     match Bvh::from_parts(black_box(&patches), black_box(&junk), black_box(&order)) {
         Ok(raw) => acc += raw.closest_hit::<2>(&ray, t0, t1).is_some() as u32,

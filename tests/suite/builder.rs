@@ -223,7 +223,7 @@ fn strided_input_into_exact_storage() {
     let nrm = Vertices::strided(&vb, 5, 8, v).unwrap();
     let n = SceneSizes::new(v, m.triangles.len(), &options).unwrap();
     assert_eq!(n.patches, m.triangles.len());
-    assert_eq!(n.nodes, 2 * m.triangles.len() - 1);
+    assert_eq!(n.nodes, m.triangles.len() - 1);
     assert_eq!(
         (n.seams, n.edges, n.vertices),
         (n.patches, 3 * n.patches, v)

@@ -144,7 +144,7 @@ pub struct SceneSizes {
     /// Slots of [`SceneStorage::patches`], [`SceneStorage::triangle_ids`],
     /// [`SceneStorage::order`] and [`SceneStorage::triangles`]: one per triangle.
     pub patches: usize,
-    /// Slots of [`SceneStorage::nodes`]: `2·triangles − 1` ([`Bvh::nodes_needed`]).
+    /// Slots of [`SceneStorage::nodes`]: [`Bvh::nodes_needed`]`(triangles)`, `triangles − 1`.
     pub nodes: usize,
     /// Slots of [`SceneStorage::seams`]: one per triangle with [`BuildOptions::seams`], else 0.
     pub seams: usize,
@@ -173,13 +173,7 @@ impl SceneSizes {
         let Some(edges) = triangle_count.checked_mul(3) else {
             return None;
         };
-        let nodes = match triangle_count {
-            0 => 0,
-            n => match n.checked_mul(2) {
-                Some(x) => x - 1,
-                None => return None,
-            },
-        };
+        let nodes = Bvh::<f32>::nodes_needed(triangle_count);
         Some(SceneSizes {
             patches: triangle_count,
             nodes,

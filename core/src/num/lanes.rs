@@ -111,6 +111,10 @@ macro_rules! impl_wide4 {
             fn to_array4(self) -> [$f; 4] {
                 <$l>::to_array(self)
             }
+            #[inline(always)]
+            fn bits4(m: Self) -> u32 {
+                m.to_bitmask() as u32
+            }
         }
         impl_wide_ops!($l, $f);
     };
@@ -174,6 +178,10 @@ impl<F: Float> Lane4 for One<F> {
     #[inline(always)]
     fn to_array4(self) -> [F; 4] {
         [self.0; 4]
+    }
+    #[inline(always)]
+    fn bits4(m: bool) -> u32 {
+        if m { 0b1111 } else { 0 }
     }
 }
 

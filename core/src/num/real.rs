@@ -98,6 +98,8 @@ pub trait Lane4: LaneOps {
     fn from_array4(a: [Self::F; 4]) -> Self;
     /// The four lane values (beyond [`Lane4::POINTS`], copies of the first).
     fn to_array4(self) -> [Self::F; 4];
+    /// The lanes of `m` as the bits 0 to 3 (beyond [`Lane4::POINTS`], copies of the first).
+    fn bits4(m: Self::Mask) -> u32;
 }
 
 pub(crate) mod sealed {
