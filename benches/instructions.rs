@@ -36,6 +36,7 @@ const CASES: &[(&str, &str, usize)] = &[
     ("scene_tilted_sphere_face_f32_N4", "camera ray", 160 * 120),
     ("scene_tilted_sphere_vertex_f32_N4", "camera ray", 160 * 120),
     ("scene_flat_equal_error_f32", "camera ray", 160 * 120),
+    ("bvh_flat_triangles_f32", "camera ray", 160 * 120),
     ("construct_f32", "patch", 128),
     ("build_teapot8_f32", "triangle", 3968),
     ("build_teapot8_seams_f32", "triangle", 3968),
@@ -141,8 +142,37 @@ fn run_case(name: &str, reps: usize) -> usize {
             let mut hits = 0;
             for _ in 0..reps {
                 for r in &rays {
-                    let h = bvh.closest_with(black_box(r), 0.0, f32::INFINITY, |p, a, b| {
+                    let h = bvh.closest_with(black_box(r), 0.0, f32::INFINITY, |_, p, a, b| {
                         flat_hit(&p.vertices(), None, r, a, b)
+                    });
+                    hits += h.is_some() as usize;
+                }
+            }
+            hits
+        }
+        "bvh_flat_triangles_f32" => {
+            // Our BVH on Embree's task (the `embree` bench's row): the flat 35×35 torus, each
+            // leaf running Möller–Trumbore on the triangles of an array indexed by patch.
+            let (n, _) = flat_torus_matching(7.4e-3);
+            let scene = Scene::new(&torus(n, n, 1.0, 0.4));
+            let bvh = scene.bvh();
+            let tris: Vec<[glam::Vec3; 3]> = bvh.patches().iter().map(|p| p.vertices()).collect();
+            let rays = camera_rays(160, 120);
+            let mut hits = 0;
+            for _ in 0..reps {
+                for r in &rays {
+                    let h = bvh.closest_with(black_box(r), 0.0, f32::INFINITY, |id, _, a, b| {
+                        let (t, w1, w2) = moller_trumbore(tris.get(id as usize)?, r, a, b)?;
+                        Some(smoothtri::Hit {
+                            t,
+                            t_error: 0.0,
+                            point: glam::Vec3::ZERO,
+                            normal: glam::Vec3::ZERO,
+                            w1,
+                            w2,
+                            front_face: false,
+                            patch: id,
+                        })
                     });
                     hits += h.is_some() as usize;
                 }

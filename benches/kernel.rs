@@ -99,7 +99,7 @@ fn bench_scene(c: &mut Criterion) {
         b.iter(|| {
             rays.iter()
                 .filter(|r| {
-                    bvh.closest_with(r, 0.0, f32::INFINITY, |p, a, t| {
+                    bvh.closest_with(r, 0.0, f32::INFINITY, |_, p, a, t| {
                         flat_hit(&p.vertices(), None, r, a, t)
                     })
                     .is_some()
@@ -291,7 +291,7 @@ fn summary() {
         || {
             rays.iter()
                 .filter(|r| {
-                    bf.closest_with(r, 0.0, f32::INFINITY, |p, a, t| {
+                    bf.closest_with(r, 0.0, f32::INFINITY, |_, p, a, t| {
                         flat_hit(&p.vertices(), None, r, a, t)
                     })
                     .is_some()

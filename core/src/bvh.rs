@@ -621,7 +621,7 @@ impl<'a, F: Float> Bvh<'a, F> {
         t_max: F,
     ) -> Option<(u32, Crossing<F>)> {
         let mut stats = KernelStats::default();
-        self.traverse(ray, t_min, t_max, false, &mut |p, a, b| {
+        self.traverse(ray, t_min, t_max, false, &mut |_, p, a, b| {
             kernel::crossing::<F, DEFAULT_SAMPLES, N>(p, ray, a, b, &mut stats)
         })
         .ok()?
@@ -633,15 +633,17 @@ impl<'a, F: Float> Bvh<'a, F> {
     /// Never.
     pub fn any_hit<const N: usize>(&self, ray: &Ray<F>, t_min: F, t_max: F) -> bool {
         let mut stats = KernelStats::default();
-        let first = self.traverse(ray, t_min, t_max, true, &mut |p, a, b| {
+        let first = self.traverse(ray, t_min, t_max, true, &mut |_, p, a, b| {
             kernel::crossing::<F, DEFAULT_SAMPLES, N>(p, ray, a, b, &mut stats)
         });
         matches!(first, Ok(Some(_)))
     }
 
-    /// Closest hit with a caller-supplied per-patch test `test(patch, t_min, t_max)` (for
-    /// example the flat or Phong baselines of [`flat_hit`](crate::flat_hit) on the patch's vertices,
-    /// which lie inside the patch's box). The returned hit's `patch` is set to the patch index.
+    /// Closest hit with a caller-supplied per-patch test `test(index, patch, t_min, t_max)`,
+    /// where `index` is the patch's index in the slice given to [`Bvh::build`] (for example the
+    /// flat or Phong baselines of [`flat_hit`](crate::flat_hit) on the patch's vertices, which
+    /// lie inside the patch's box, or on the caller's own triangle array: an Embree-style user
+    /// geometry). The returned hit's `patch` is set to the patch index.
     ///
     /// # Panics
     /// Never (unless `test` panics).
@@ -650,7 +652,7 @@ impl<'a, F: Float> Bvh<'a, F> {
         ray: &Ray<F>,
         t_min: F,
         t_max: F,
-        mut test: impl FnMut(&Patch<F>, F, F) -> Option<Hit<F>>,
+        mut test: impl FnMut(u32, &Patch<F>, F, F) -> Option<Hit<F>>,
     ) -> Option<Hit<F>> {
         let (id, mut h) = self.traverse(ray, t_min, t_max, false, &mut test).ok()??;
         h.patch = id;
@@ -666,7 +668,7 @@ impl<'a, F: Float> Bvh<'a, F> {
         t_min: F,
         t_max: F,
         any: bool,
-        test: &mut impl FnMut(&Patch<F>, F, F) -> Option<C>,
+        test: &mut impl FnMut(u32, &Patch<F>, F, F) -> Option<C>,
     ) -> Result<Option<(u32, C)>, BvhError> {
         let o = F::from_glam(ray.origin);
         let d = F::from_glam(ray.dir);
@@ -706,7 +708,7 @@ impl<'a, F: Float> Bvh<'a, F> {
                     // Each patch is tested over the caller's whole range, then compared with the
                     // best so far: the kernel's first sign change depends on its interval, so
                     // shortening it to the best `t` could skip a closer crossing pair.
-                    if let Some(h) = test(p, t_min, t_max)
+                    if let Some(h) = test(id, p, t_min, t_max)
                         && (best.is_none() || h.t() < tmax)
                     {
                         tmax = h.t();

@@ -289,7 +289,7 @@ fn flat_baseline_matches_the_cpu() {
         .expect("trace");
     let (mut hits, mut worst) = (0, 0.0f32);
     for (ray, g) in rays.iter().zip(&got) {
-        let c = bvh.closest_with(ray, 0.0, f32::INFINITY, |p, a, b| {
+        let c = bvh.closest_with(ray, 0.0, f32::INFINITY, |_, p, a, b| {
             smoothtri::flat_hit(&p.vertices(), None, ray, a, b)
         });
         match (g, c) {

@@ -190,7 +190,7 @@ fn exercise<F: Float>() -> u32 {
                 acc += h.patch;
             }
             acc += bvh.any_hit::<4>(&ray, t0, t1) as u32;
-            let with = bvh.closest_with(&ray, t0, t1, |p, a, b| {
+            let with = bvh.closest_with(&ray, t0, t1, |_, p, a, b| {
                 flat_hit(&p.vertices(), Some(&p.normals()), &ray, a, b)
             });
             acc += with.is_some() as u32;

@@ -97,7 +97,7 @@ fn f64_scene_and_flat_leaf_test() {
                 h.point
             );
         }
-        let flat = bvh.closest_with(&ray, 0.0, f64::INFINITY, |p, a, b| {
+        let flat = bvh.closest_with(&ray, 0.0, f64::INFINITY, |_, p, a, b| {
             smoothtri::flat_hit(&p.vertices(), None, &ray, a, b)
         });
         if let Some(f) = flat {
@@ -295,7 +295,7 @@ fn identical_boxes_give_a_balanced_tree() {
     let h = bvh.closest_hit::<8>(&ray, 0.0, f64::INFINITY).unwrap();
     assert!((h.point.length() - 1.0).abs() <= F64_SPHERE_HIT);
     let mut tested = 0;
-    bvh.closest_with(&ray, 0.0, f64::INFINITY, |p, a, b| {
+    bvh.closest_with(&ray, 0.0, f64::INFINITY, |_, p, a, b| {
         tested += 1;
         p.intersect::<8>(&ray, a, b)
     });

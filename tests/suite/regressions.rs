@@ -373,7 +373,7 @@ fn bvh_closest_hit_equals_brute_force() {
     // The mechanism of the fix: every patch test gets the caller's range, never one shortened
     // to the best hit so far.
     let mut ranges = Vec::new();
-    bvh.closest_with(&ray, t0, t1, |p, a, b| {
+    bvh.closest_with(&ray, t0, t1, |_, p, a, b| {
         ranges.push((a, b));
         p.intersect::<6>(&ray, a, b)
     })

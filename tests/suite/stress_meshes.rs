@@ -43,7 +43,7 @@ fn holes(name: &str, m: &M, rng: &mut Rng) -> (usize, usize) {
         };
         let target = m.p[a] * (1.0 - u - v) + m.p[b] * u + m.p[c] * v;
         let ray = DRay::new(o, target - o);
-        let flat = bvh.closest_with(&ray, 0.0, f64::INFINITY, |p, lo, hi| {
+        let flat = bvh.closest_with(&ray, 0.0, f64::INFINITY, |_, p, lo, hi| {
             flat_hit(&p.vertices(), None, &ray, lo, hi)
         });
         let smooth = bvh.closest_hit::<8>(&ray, 0.0, f64::INFINITY);

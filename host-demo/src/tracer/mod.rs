@@ -131,7 +131,7 @@ struct Flat {
 }
 impl<F: Float> Tracer<F> for Flat {
     fn closest(&self, bvh: &Bvh<'_, F>, ray: &Ray<F>, t_min: F, t_max: F) -> Option<Hit<F>> {
-        bvh.closest_with(ray, t_min, t_max, |p, a, b| {
+        bvh.closest_with(ray, t_min, t_max, |_, p, a, b| {
             let ns = p.normals();
             flat_hit(&p.vertices(), self.phong.then_some(&ns), ray, a, b)
         })

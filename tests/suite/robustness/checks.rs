@@ -343,7 +343,7 @@ pub fn check_bvh<F: Float>(ps: &[Patch<F>], rays: &[RayParam]) -> Result<(), Tes
         let (t0, t1) = (F::from_f64(t0), F::from_f64(t1));
         let got = bvh.closest_hit::<6>(&ray, t0, t1);
         let any = bvh.any_hit::<6>(&ray, t0, t1);
-        if let Some(f) = bvh.closest_with(&ray, t0, t1, |p, a, b| {
+        if let Some(f) = bvh.closest_with(&ray, t0, t1, |_, p, a, b| {
             smoothtri::flat_hit(&p.vertices(), None, &ray, a, b)
         }) {
             prop_assert!(f.t.is_fin() && f.t >= t0 && f.t <= t1, "flat hit {f:?}");
