@@ -499,7 +499,10 @@ impl<'a, F: Float> Bvh<'a, F> {
             let mut tasks: HVec<Task<F>, BVH_WIDTH> = HVec::new();
             for (k, c) in kids.iter().enumerate() {
                 out.set_box(k, &c.bounds);
-                let (child, count) = if c.split.is_some() {
+                // A range that still splits becomes a child node, unless a leaf holds it: a
+                // node of a few leaves costs a visit more than testing those patches (each
+                // test starts with its own box).
+                let (child, count) = if c.split.is_some() && c.end - c.start > MAX_LEAF {
                     let at = used;
                     used += 1;
                     tasks
