@@ -85,15 +85,12 @@ struct HitOut {
     flags: u32,
 }
 
-// A four-wide node (core/src/bvh.rs `BvhNode`): the four children's boxes by coordinate, and per
+// A four-wide node (core/src/bvh.rs `BvhNode`): the four children's boxes by coordinate (lo[axis],
+// hi[axis]), and per
 // slot a child node (count 0), a leaf `order[child..child + count]`, or EMPTY_SLOT.
 struct Node {
-    lox: vec4<f32>,
-    loy: vec4<f32>,
-    loz: vec4<f32>,
-    hix: vec4<f32>,
-    hiy: vec4<f32>,
-    hiz: vec4<f32>,
+    lo: array<vec4<f32>, 3>,
+    hi: array<vec4<f32>, 3>,
     child: vec4<u32>,
     count: vec4<u32>,
 }
@@ -1254,29 +1251,15 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         var a = vec4<f32>(t_min);
         var b = vec4<f32>(tmax);
         var inside = node.child != vec4<u32>(EMPTY_SLOT);
-        if (slab.x) {
-            let t1 = (node.lox - o.x) * inv.x;
-            let t2 = (node.hix - o.x) * inv.x;
-            a = max(a, min(t1, t2));
-            b = min(b, max(t1, t2));
-        } else if (d.x == 0.0) {
-            inside = inside & (node.lox <= vec4<f32>(o.x)) & (vec4<f32>(o.x) <= node.hix);
-        }
-        if (slab.y) {
-            let t1 = (node.loy - o.y) * inv.y;
-            let t2 = (node.hiy - o.y) * inv.y;
-            a = max(a, min(t1, t2));
-            b = min(b, max(t1, t2));
-        } else if (d.y == 0.0) {
-            inside = inside & (node.loy <= vec4<f32>(o.y)) & (vec4<f32>(o.y) <= node.hiy);
-        }
-        if (slab.z) {
-            let t1 = (node.loz - o.z) * inv.z;
-            let t2 = (node.hiz - o.z) * inv.z;
-            a = max(a, min(t1, t2));
-            b = min(b, max(t1, t2));
-        } else if (d.z == 0.0) {
-            inside = inside & (node.loz <= vec4<f32>(o.z)) & (vec4<f32>(o.z) <= node.hiz);
+        for (var q = 0u; q < 3u; q++) {
+            if (slab[q]) {
+                let t1 = (node.lo[q] - o[q]) * inv[q];
+                let t2 = (node.hi[q] - o[q]) * inv[q];
+                a = max(a, min(t1, t2));
+                b = min(b, max(t1, t2));
+            } else if (d[q] == 0.0) {
+                inside = inside & (node.lo[q] <= vec4<f32>(o[q])) & (vec4<f32>(o[q]) <= node.hi[q]);
+            }
         }
         let enter = inside & (a <= b);
         // The entered slots sorted farthest first (insertion sort; equal entries keep slot

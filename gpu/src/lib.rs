@@ -615,7 +615,7 @@ impl GpuScene {
         let node_bytes: Vec<u8> = nodes
             .iter()
             .flat_map(|n| {
-                // The shader's `Node`: lox, loy, loz, hix, hiy, hiz, child, count (vec4 each).
+                // The shader's `Node`: lo[3], hi[3], child, count (vec4 each).
                 let mut b = Vec::with_capacity(128);
                 for x in n.lo.iter().chain(&n.hi).flatten() {
                     b.extend_from_slice(&x.to_ne_bytes());
