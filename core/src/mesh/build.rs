@@ -914,14 +914,18 @@ impl<'a, F: Float> Scene<'a, F> {
         };
         hit.patch = id;
         Some(SceneHit {
-            triangle: self
-                .triangle_ids
-                .get(id as usize)
-                .copied()
-                .unwrap_or(u32::MAX),
+            triangle: self.triangle_of(id),
             shading_normal,
             hit,
         })
+    }
+
+    /// The input triangle of patch `id`, or `u32::MAX` for an index not of this scene.
+    fn triangle_of(&self, id: u32) -> u32 {
+        self.triangle_ids
+            .get(id as usize)
+            .copied()
+            .unwrap_or(u32::MAX)
     }
 
     /// Whether `ray` hits anything with `t` in `[t_min, t_max]` (shadow rays): stops at the
@@ -941,11 +945,7 @@ impl<'a, F: Float> Scene<'a, F> {
     /// Never.
     pub fn scene_hit(&self, hit: Hit<F>) -> SceneHit<F> {
         SceneHit {
-            triangle: self
-                .triangle_ids
-                .get(hit.patch as usize)
-                .copied()
-                .unwrap_or(u32::MAX),
+            triangle: self.triangle_of(hit.patch),
             shading_normal: self.shading_normal(&hit),
             hit,
         }
