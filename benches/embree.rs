@@ -38,7 +38,7 @@ mod common;
 #[path = "embree/ffi.rs"]
 mod ffi;
 
-use common::{cpu_name, flat_torus_matching};
+use common::{FlatBvh, cpu_name, flat_torus_matching};
 
 /// `smoothtri render`'s defaults: image size, view (azimuth, elevation), iterations.
 const WIDTH: u32 = 640;
@@ -133,32 +133,25 @@ fn smoothtri_row(mesh: &Mesh, rays: &[Ray], reps: usize) -> Row {
     }
 }
 
-/// smoothtri's BVH over the flat `n`×`n` torus, as an Embree user geometry would use it: the
-/// scene's patches give the boxes, each leaf runs Möller–Trumbore on the triangle's vertices
-/// from an array indexed by the patch index (`Bvh::closest_with`), and the Phong normal is
-/// interpolated once, for the closest hit, as the Embree row does.
+/// smoothtri's BVH over the flat `n`×`n` torus, as an Embree user geometry would use it
+/// (`common::FlatBvh`): the BVH built over the flat triangles' boxes, each leaf running
+/// Möller–Trumbore on the triangles of an array indexed by the patch index
+/// (`Bvh::closest_with`), and the Phong normal interpolated once, for the closest hit, as the
+/// Embree row does.
 /// Returns the row and Embree's rate on the same triangles and rays, timed in interleaved
 /// rounds (this machine's speed drifts between passes).
 fn our_flat_row(n: usize, rays: &[Ray], reps: usize) -> (Row, f64) {
     let mesh = torus(n, n, BIG_R, SMALL_R);
-    let scene = Scene::<f32>::build(&mesh).expect("the flat torus builds");
-    let bvh = scene.bvh();
-    let tris: Vec<[Vec3; 3]> = scene.patches().iter().map(|p| p.vertices()).collect();
-    let normals: Vec<[Vec3; 3]> = scene.patches().iter().map(|p| p.normals()).collect();
+    let flat = FlatBvh::new(&mesh);
+    let bvh = flat.bvh();
+    let tris = &flat.triangles;
+    let normals: Vec<[Vec3; 3]> = mesh
+        .triangles
+        .iter()
+        .map(|t| t.map(|i| mesh.normals[i as usize].as_vec3()))
+        .collect();
     let hit = |r: &Ray| {
-        let h = bvh.closest_with(r, 0.0, f32::MAX, |id, _, a, b| {
-            let (t, w1, w2) = smoothtri::moller_trumbore(tris.get(id as usize)?, r, a, b)?;
-            Some(smoothtri::Hit {
-                t,
-                t_error: 0.0,
-                point: Vec3::ZERO,
-                normal: Vec3::ZERO,
-                w1,
-                w2,
-                front_face: false,
-                patch: id,
-            })
-        })?;
+        let h = flat.closest(&bvh, r)?;
         let [n0, n1, n2] = normals[h.patch as usize];
         let n = (n0 * (1.0 - h.w1 - h.w2) + n1 * h.w1 + n2 * h.w2).normalize();
         Some(smoothtri::Hit {
@@ -216,7 +209,7 @@ fn our_flat_row(n: usize, rays: &[Ray], reps: usize) -> (Row, f64) {
         what: format!(
             "smoothtri's BVH, flat {n}×{n}, Phong normals, Bvh::closest_with + moller_trumbore"
         ),
-        prims: scene.patches().len(),
+        prims: tris.len(),
         mrays: rays.len() as f64 / secs / 1e6,
         kib: (size_of_val(tris.as_slice()) + size_of_val(normals.as_slice()) + bvh.memory_bytes())
             as f64

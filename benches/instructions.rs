@@ -151,30 +151,16 @@ fn run_case(name: &str, reps: usize) -> usize {
             hits
         }
         "bvh_flat_triangles_f32" => {
-            // Our BVH on Embree's task (the `embree` bench's row): the flat 35×35 torus, each
-            // leaf running Möller–Trumbore on the triangles of an array indexed by patch.
+            // Our BVH on Embree's task (the `embree` bench's row): the flat 35×35 torus, boxes
+            // of the flat triangles, Möller–Trumbore in the leaves.
             let (n, _) = flat_torus_matching(7.4e-3);
-            let scene = Scene::new(&torus(n, n, 1.0, 0.4));
-            let bvh = scene.bvh();
-            let tris: Vec<[glam::Vec3; 3]> = bvh.patches().iter().map(|p| p.vertices()).collect();
+            let flat = FlatBvh::new(&torus(n, n, 1.0, 0.4));
+            let bvh = flat.bvh();
             let rays = camera_rays(160, 120);
             let mut hits = 0;
             for _ in 0..reps {
                 for r in &rays {
-                    let h = bvh.closest_with(black_box(r), 0.0, f32::INFINITY, |id, _, a, b| {
-                        let (t, w1, w2) = moller_trumbore(tris.get(id as usize)?, r, a, b)?;
-                        Some(smoothtri::Hit {
-                            t,
-                            t_error: 0.0,
-                            point: glam::Vec3::ZERO,
-                            normal: glam::Vec3::ZERO,
-                            w1,
-                            w2,
-                            front_face: false,
-                            patch: id,
-                        })
-                    });
-                    hits += h.is_some() as usize;
+                    hits += flat.closest(&bvh, black_box(r)).is_some() as usize;
                 }
             }
             hits

@@ -163,3 +163,64 @@ pub fn cpu_name() -> String {
         })
         .unwrap_or_else(|| "unknown CPU".into())
 }
+
+/// Our BVH over a mesh's flat triangles, as an Embree user geometry holds them: each triangle
+/// as a flat patch (its three vertex normals set to the face normal, so the patch's box is the
+/// triangle's box), a BVH over those boxes, and the triangles themselves for the leaf test.
+pub struct FlatBvh {
+    pub patches: Vec<Patch>,
+    pub nodes: Vec<smoothtri::BvhNode<f32>>,
+    pub order: Vec<u32>,
+    pub triangles: Vec<[Vec3; 3]>,
+}
+
+impl FlatBvh {
+    pub fn new(m: &Mesh) -> Self {
+        let triangles: Vec<[Vec3; 3]> = (0..m.triangles.len())
+            .map(|t| m.triangle(t).0.map(|p| p.as_vec3()))
+            .collect();
+        let patches: Vec<Patch> = triangles
+            .iter()
+            .map(|p| {
+                let nf = (p[1] - p[0]).cross(p[2] - p[0]).normalize();
+                Patch::new(*p, [nf; 3]).expect("a flat patch")
+            })
+            .collect();
+        let mut nodes =
+            vec![smoothtri::BvhNode::default(); Bvh::<f32>::nodes_needed(patches.len())];
+        let mut order = vec![0u32; patches.len()];
+        let used = Bvh::build(&patches, &mut nodes, &mut order)
+            .expect("the BVH builds")
+            .node_count();
+        nodes.truncate(used);
+        FlatBvh {
+            patches,
+            nodes,
+            order,
+            triangles,
+        }
+    }
+
+    pub fn bvh(&self) -> Bvh<'_, f32> {
+        Bvh::from_parts(&self.patches, &self.nodes, &self.order).expect("a tree made by build")
+    }
+
+    /// The closest hit of `r` (Möller–Trumbore in the leaves; no normal).
+    #[inline]
+    pub fn closest(&self, bvh: &Bvh<'_, f32>, r: &Ray) -> Option<smoothtri::Hit> {
+        bvh.closest_with(r, 0.0, f32::MAX, |id, _, a, b| {
+            let (t, w1, w2) =
+                smoothtri::moller_trumbore(self.triangles.get(id as usize)?, r, a, b)?;
+            Some(smoothtri::Hit {
+                t,
+                t_error: 0.0,
+                point: Vec3::ZERO,
+                normal: Vec3::ZERO,
+                w1,
+                w2,
+                front_face: false,
+                patch: id,
+            })
+        })
+    }
+}
