@@ -337,76 +337,67 @@ impl<F: Float> SlabRay<F> {
             .enumerate()
             .fold(0u32, |m, (k, &c)| m | (((c != BVH_EMPTY_SLOT) as u32) << k));
         if <F::L4 as Lane4>::POINTS == BVH_WIDTH {
-            let mut a = F::L4::splat(t_min);
-            let mut b = F::L4::splat(t_max);
-            let mut inside = used;
-            for ((((lo, hi), &o), &inv), &mode) in node
-                .lo
-                .iter()
-                .zip(&node.hi)
-                .zip(&self.o)
-                .zip(&self.inv)
-                .zip(&self.mode)
-            {
-                let (lo, hi) = (lanes::<F>(*lo), lanes::<F>(*hi));
-                match mode {
-                    0 => {
-                        let (o, inv) = (F::L4::splat(o), F::L4::splat(inv));
-                        let t1 = (lo - o) * inv;
-                        let t2 = (hi - o) * inv;
-                        // No NaN can occur (finite planes, origin and `1/d`), so min and max
-                        // as selects are exact.
-                        let near = F::L4::select(t1.lt(t2), t1, t2);
-                        let far = F::L4::select(t1.lt(t2), t2, t1);
-                        a = F::L4::select(near.gt(a), near, a);
-                        b = F::L4::select(far.lt(b), far, b);
-                    }
-                    1 => {
-                        let o = F::L4::splat(o);
-                        inside &= <F::L4 as Lane4>::bits4(F::L4::and(lo.le(o), o.le(hi)));
-                    }
-                    _ => {}
-                }
-            }
-            (inside & <F::L4 as Lane4>::bits4(a.le(b)), a.to_array4())
-        } else {
-            let mut hit = 0u32;
-            let mut near = [t_min; BVH_WIDTH];
-            for (k, t) in near.iter_mut().enumerate() {
-                let (mut a, mut b) = (t_min, t_max);
-                let mut ok = used & (1 << k) != 0;
-                for (ax, ((&o, &inv), &mode)) in
-                    self.o.iter().zip(&self.inv).zip(&self.mode).enumerate()
-                {
-                    let lo = node
-                        .lo
-                        .get(ax)
-                        .and_then(|r| r.get(k))
-                        .copied()
-                        .unwrap_or(F::MAX);
-                    let hi = node
-                        .hi
-                        .get(ax)
-                        .and_then(|r| r.get(k))
-                        .copied()
-                        .unwrap_or(F::MIN);
-                    match mode {
-                        0 => {
-                            let t1 = (lo - o) * inv;
-                            let t2 = (hi - o) * inv;
-                            let (n, f) = if t1 < t2 { (t1, t2) } else { (t2, t1) };
-                            a = if n > a { n } else { a };
-                            b = if f < b { f } else { b };
-                        }
-                        1 => ok &= lo <= o && o <= hi,
-                        _ => {}
-                    }
-                }
-                hit |= ((ok && a <= b) as u32) << k;
-                *t = a;
-            }
-            (hit, near)
+            let (hit, near) = self.slabs(&node.lo, &node.hi, t_min, t_max);
+            return (used & hit, near);
         }
+        // `F::L4` carries one value: the same arithmetic once per slot, the slot moved first.
+        let mut hit = 0u32;
+        let mut near = [t_min; BVH_WIDTH];
+        for (k, t) in near.iter_mut().enumerate() {
+            // Lane `j` takes slot `k + j` (mod 4); every index is in range.
+            let first = |m: &[[F; BVH_WIDTH]; 3]| {
+                m.map(|r| {
+                    core::array::from_fn(|j| r.get((k + j) % BVH_WIDTH).copied().unwrap_or(F::ZERO))
+                })
+            };
+            let (h, a) = self.slabs(&first(&node.lo), &first(&node.hi), t_min, t_max);
+            hit |= (h & 1) << k;
+            *t = a.first().copied().unwrap_or(t_min);
+        }
+        (used & hit, near)
+    }
+
+    /// The slab test of [`SlabRay::enter`] over the lanes of `F::L4`: the lanes the ray
+    /// enters (bit per lane) and where it enters each.
+    #[inline(always)]
+    fn slabs(
+        &self,
+        lo: &[[F; BVH_WIDTH]; 3],
+        hi: &[[F; BVH_WIDTH]; 3],
+        t_min: F,
+        t_max: F,
+    ) -> (u32, [F; BVH_WIDTH]) {
+        let mut a = F::L4::splat(t_min);
+        let mut b = F::L4::splat(t_max);
+        let mut inside = u32::MAX;
+        for ((((lo, hi), &o), &inv), &mode) in lo
+            .iter()
+            .zip(hi)
+            .zip(&self.o)
+            .zip(&self.inv)
+            .zip(&self.mode)
+        {
+            let (lo, hi) = (lanes::<F>(*lo), lanes::<F>(*hi));
+            match mode {
+                0 => {
+                    let (o, inv) = (F::L4::splat(o), F::L4::splat(inv));
+                    let t1 = (lo - o) * inv;
+                    let t2 = (hi - o) * inv;
+                    // No NaN can occur (finite planes, origin and `1/d`), so min and max as
+                    // selects are exact.
+                    let near = F::L4::select(t1.lt(t2), t1, t2);
+                    let far = F::L4::select(t1.lt(t2), t2, t1);
+                    a = F::L4::select(near.gt(a), near, a);
+                    b = F::L4::select(far.lt(b), far, b);
+                }
+                1 => {
+                    let o = F::L4::splat(o);
+                    inside &= <F::L4 as Lane4>::bits4(F::L4::and(lo.le(o), o.le(hi)));
+                }
+                _ => {}
+            }
+        }
+        (inside & <F::L4 as Lane4>::bits4(a.le(b)), a.to_array4())
     }
 }
 
@@ -454,24 +445,15 @@ impl<'a, F: Float> Bvh<'a, F> {
         }
         let root = examine(patches, order, 0, n, 0)?;
         let mut used = 1usize;
-        if root.split.is_none() {
-            // A few patches: the root holds one leaf.
-            let slot = nodes.first_mut().ok_or(BvhError::Internal)?;
-            *slot = BvhNode::default();
-            slot.set_box(0, &root.bounds);
-            slot.child = [0, BVH_EMPTY_SLOT, BVH_EMPTY_SLOT, BVH_EMPTY_SLOT];
-            slot.count = [n as u32, 0, 0, 0];
-        }
-        // Depth first; each node leaves at most three pending siblings per level.
+        // Depth first; each node leaves at most three pending siblings per level. A root that
+        // does not split becomes one leaf, like any range that does not.
         let mut stack: HVec<Task<F>, { BVH_STACK + BVH_WIDTH }> = HVec::new();
-        if root.split.is_some() {
-            stack
-                .push(Task {
-                    node: 0,
-                    range: root,
-                })
-                .map_err(|_| BvhError::Internal)?;
-        }
+        stack
+            .push(Task {
+                node: 0,
+                range: root,
+            })
+            .map_err(|_| BvhError::Internal)?;
         while let Some(Task { node, range }) = stack.pop() {
             // The node's children: split the range, then keep splitting the child of largest
             // area (then most patches) that splits, until there are four.

@@ -105,3 +105,38 @@ fn fast_patches_stay_close_and_kernel_is_finite() {
     assert!(worst_p <= FASTF32_SURFACE, "{worst_p:e}");
     assert_eq!(hits, 300);
 }
+
+/// The BVH over `FastF32` patches, whose four-wide slab test runs one slot at a time (its lane
+/// type carries one value): closest and any hit equal brute force over the same patches.
+#[test]
+fn fast_bvh_equals_brute_force() {
+    use smoothtri::{Bvh, BvhNode};
+    let mut rng = Rng(32);
+    let patches: Vec<Patch<FastF32>> = (0..60)
+        .map(|_| {
+            let (p, n) = random_patch(&mut rng, 30.0);
+            let off = rng.unit() * 6.0;
+            Patch::<FastF32>::new(p.map(|x| (x + off).as_vec3()), n.map(|x| x.as_vec3())).unwrap()
+        })
+        .collect();
+    let mut nodes = vec![BvhNode::default(); Bvh::<FastF32>::nodes_needed(patches.len())];
+    let mut order = vec![0u32; patches.len()];
+    let bvh = Bvh::build(&patches, &mut nodes, &mut order).unwrap();
+    let (zero, inf) = (FastF32(0.0), FastF32(f32::INFINITY));
+    let mut hits = 0;
+    for _ in 0..2000 {
+        let o = rng.unit() * 12.0;
+        let aim = rng.unit() * 6.0 * rng.f();
+        let ray = Ray::<FastF32>::new(o.as_vec3(), (aim - o).as_vec3());
+        let got = bvh.closest_hit::<4>(&ray, zero, inf).map(|h| h.t.0);
+        let want = patches
+            .iter()
+            .filter_map(|p| p.intersect::<4>(&ray, zero, inf))
+            .map(|h| h.t.0)
+            .reduce(f32::min);
+        assert_eq!(got, want);
+        assert_eq!(bvh.any_hit::<4>(&ray, zero, inf), want.is_some());
+        hits += want.is_some() as usize;
+    }
+    assert!(hits > 200, "{hits} hits");
+}
