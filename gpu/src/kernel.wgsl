@@ -26,6 +26,10 @@ const EARLY_STOP: f32 = 0.25;
 override FLAT: u32 = 0u;
 // 0: closest hit; 1: any hit (shadow rays).
 override ANY_HIT: u32 = 0u;
+// The shading normal of closest hits and frames: 0 the geometric normal; 1 seamless (smooth
+// patches with their seams in `shade_in`); 2 Phong (flat triangles with their vertex normals in
+// `shade_in`).
+override SHADING: u32 = 0u;
 // 1: the scene has patches with tilted sections (the shared line field, core/src/field.rs);
 // 0: every section is parallel, and the pipeline compiles without the tilted branches (they
 // cost the parallel path about a fifth of its rate when present).
@@ -56,6 +60,12 @@ const ROUNDING_ULPS: f32 = 16.0;
 const WALL_MARGIN_ULPS: f32 = 8.0;
 // core/src/field.rs SECTION_NEWTON_STEPS.
 const SECTION_NEWTON_STEPS: u32 = 6u;
+// Coefficients of each tilt of a seam (smoothtri::mesh::TWIST_TERMS) and vec4s per seam record
+// (lib.rs `SEAM_VEC4`).
+const TWIST_TERMS: u32 = 6u;
+const SEAM_VEC4: u32 = 10u;
+// A pixel's patch on a miss.
+const MISS: u32 = 0xffffffffu;
 // Status bits.
 const STATUS_CORRUPT: u32 = 1u;
 const STATUS_STACK: u32 = 2u;
@@ -83,6 +93,33 @@ struct HitOut {
     patch_id: u32,
     normal: vec3<f32>,
     flags: u32,
+    shading: vec3<f32>, // the shading normal (SHADING), else the normal
+    pad: u32,
+}
+
+// The frame's camera (host-demo/src/camera.rs `Camera`), light and output (lib.rs `FrameView`).
+struct View {
+    eye: vec3<f32>,
+    tan_half: f32,
+    forward: vec3<f32>,
+    aspect: f32,
+    right: vec3<f32>,
+    eps: f32,        // the shadow ray's offset along the primary ray, and its t_min
+    up: vec3<f32>,
+    heat_scale: f32, // > 0: the heat map of t_error · heat_scale; 0: shaded
+    light: vec3<f32>,
+    width: u32,
+    height: u32,
+}
+
+// One pixel's primary hit (patch MISS on a miss).
+struct PixelOut {
+    point: vec3<f32>,
+    patch_id: u32,
+    t_error: f32,
+    pad0: u32,
+    pad1: u32,
+    pad2: u32,
 }
 
 // A four-wide node (core/src/bvh.rs `BvhNode`): the four children's boxes by coordinate (lo[axis],
@@ -102,6 +139,14 @@ struct Node {
 @group(0) @binding(4) var<storage, read> rays: array<RayIn>;
 @group(0) @binding(5) var<storage, read_write> hits: array<HitOut>;
 @group(0) @binding(6) var<storage, read_write> status: array<atomic<u32>>;
+// Per patch: its seam record (SHADING = 1) or its three world vertex normals (SHADING = 2).
+@group(0) @binding(7) var<storage, read> shade_in: array<vec4<f32>>;
+@group(1) @binding(0) var<uniform> view: View;
+// Per pixel, row-major: the colour (r | g << 8 | b << 16 | 255 << 24) and the primary hit.
+@group(1) @binding(1) var<storage, read_write> image: array<u32>;
+@group(1) @binding(2) var<storage, read_write> pixels: array<PixelOut>;
+// [shadow rays traced, the largest t_error's bits]
+@group(1) @binding(3) var<storage, read_write> frame_stats: array<atomic<u32>, 4>;
 
 fn fin(x: f32) -> bool {
     return (bitcast<u32>(x) & 0x7f800000u) != 0x7f800000u;
@@ -1140,27 +1185,22 @@ fn flat_crossing(id: u32, o: vec3<f32>, d: vec3<f32>, t_min: f32, t_max: f32) ->
 // Traversal (core/src/bvh.rs `traverse`: four-wide nodes, entered children pushed farthest first
 // so the nearest is visited next, leaves tested when popped)
 
-fn miss(i: u32) {
-    hits[i] = HitOut(0.0, 0.0, 0.0, 0.0, vec3<f32>(0.0), 0u, vec3<f32>(0.0), 0u);
+struct Traced {
+    found: bool,
+    err: u32,
+    best: Crossing,
+    id: u32,
 }
 
-@compute @workgroup_size(64)
-fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let i = gid.x;
-    if (i >= params.ray_count || i >= arrayLength(&rays) || i >= arrayLength(&hits)) {
-        return;
-    }
-    let ray = rays[i];
-    let o = ray.o;
-    let d = ray.d;
-    let t_min = ray.t_min;
-    let t_max = ray.t_max;
+// The closest crossing of the ray in [t_min, t_max] (any crossing when `any`), its patch, and
+// the status bits of a corrupt tree or a full stack (then nothing is found).
+fn trace(o: vec3<f32>, d: vec3<f32>, t_min: f32, t_max: f32, any: bool) -> Traced {
+    var none = Traced(false, 0u, no_crossing(), 0u);
     // The host marks rays that the CPU rejects (non-finite, zero direction, NaN or reversed
     // range) with t_min > t_max; the checks here only repeat that.
     if (!(t_min <= t_max) || !fin3(o) || !fin3(d) || !fin(t_min) || !fin(t_max)
         || dot(d, d) == 0.0) {
-        miss(i);
-        return;
+        return none;
     }
     let node_count = min(params.node_count, arrayLength(&nodes));
     let order_count = min(params.order_count, arrayLength(&order));
@@ -1169,8 +1209,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         patch_count = min(params.patch_count, arrayLength(&patches) / FLAT_VEC4);
     }
     if (node_count == 0u) {
-        miss(i);
-        return;
+        return none;
     }
     let inv = vec3<f32>(select(0.0, 1.0 / d.x, d.x != 0.0), select(0.0, 1.0 / d.y, d.y != 0.0),
         select(0.0, 1.0 / d.z, d.z != 0.0));
@@ -1231,7 +1270,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
                     best = c;
                     best_id = id;
                     found = true;
-                    if (ANY_HIT != 0u) {
+                    if (any) {
                         stop = true;
                         break;
                     }
@@ -1298,40 +1337,300 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         }
     }
     if (err != 0u) {
-        atomicOr(&status[0], err);
+        none.err = err;
+        return none;
+    }
+    return Traced(found, 0u, best, best_id);
+}
+
+// The geometric normal (world, unit) of a crossing of patch `id` (checked by `trace`);
+// w = 0 where it is not finite (the CPU then reports no hit).
+fn hit_normal(id: u32, c: Crossing) -> vec4<f32> {
+    if (FLAT != 0u) {
+        let b = id * FLAT_VEC4;
+        let p0 = patches[b].xyz;
+        return try_normalize(cross(patches[b + 1u].xyz - p0, patches[b + 2u].xyz - p0));
+    }
+    let pt = load_patch(id);
+    let nl = normal_local(pt, c.bary);
+    let normal = pt.ex * nl.x + pt.ey * nl.y + pt.ez * nl.z;
+    return vec4<f32>(normal, select(0.0, 1.0, fin3(normal)));
+}
+
+// ---------------------------------------------------------------------------------------------
+// Shading normals (SHADING): the seamless normal of core/src/mesh/seams.rs `Seam::correct`,
+// or the Phong normal of the flat triangles (the interpolated vertex normals).
+
+// The tilt τ(t) = t(1 − t)·Σ_k c_k (2t − 1)^k (seams.rs `twist`).
+fn twist(c: array<f32, TWIST_TERMS>, t: f32) -> f32 {
+    let u = t + t - 1.0;
+    var h = 0.0;
+    for (var k = 0u; k < TWIST_TERMS; k++) {
+        h = h * u + c[TWIST_TERMS - 1u - k];
+    }
+    return t * (1.0 - t) * h;
+}
+
+fn edge_of(pt: Patch, j: u32) -> Edge {
+    if (j == 0u) {
+        return pt.e0;
+    }
+    if (j == 1u) {
+        return pt.e1;
+    }
+    return pt.e2;
+}
+
+// Edge j's point seen from barycentrics x (seams.rs `edge_points`): the opposite vertex's
+// weight moved onto the edge's two in proportion.
+fn edge_point(x: vec3<f32>, j: u32) -> vec3<f32> {
+    if (j == 0u) {
+        let s = x.x + x.y;
+        return vec3<f32>(x.x + x.z * (x.x / s), x.y + x.z * (x.y / s), 0.0);
+    }
+    if (j == 1u) {
+        let s = x.y + x.z;
+        return vec3<f32>(0.0, x.y + x.x * (x.y / s), x.z + x.x * (x.z / s));
+    }
+    let s = x.z + x.x;
+    return vec3<f32>(x.x + x.y * (x.x / s), 0.0, x.z + x.y * (x.z / s));
+}
+
+// The seamless normal (local frame) at projected barycentrics x from the geometric one ng
+// (seams.rs `Seam::correct_local`); w = 0 where the correction vanishes. `s` is the patch's
+// seam record (SEAM_VEC4 vec4s, lib.rs `seam_record`).
+fn seam_correct(pt: Patch, s: u32, x: vec3<f32>, ng: vec3<f32>) -> vec4<f32> {
+    let prods = vec3<f32>(x.x * x.y, x.y * x.z, x.z * x.x);
+    let big = max(max(prods.x, prods.y), prods.z);
+    if (!(big > 0.0) || !fin(big)) {
+        return vec4<f32>(0.0);
+    }
+    let r = prods / big;
+    let q = r * r;
+    let sum = q.x + q.y + q.z;
+    let flags = shade_in[s + 9u];
+    var acc = vec3<f32>(0.0);
+    var touched = false;
+    for (var j = 0u; j < 3u; j++) {
+        let v0 = shade_in[s + 3u * j];
+        let v1 = shade_in[s + 3u * j + 1u];
+        let v2 = shade_in[s + 3u * j + 2u];
+        let across = array<f32, TWIST_TERMS>(v0.x, v0.y, v0.z, v0.w, v1.x, v1.y);
+        let along = array<f32, TWIST_TERMS>(v1.z, v1.w, v2.x, v2.y, v2.z, v2.w);
+        let zero = all(v0 == vec4<f32>(0.0)) && all(v1 == vec4<f32>(0.0))
+            && all(v2 == vec4<f32>(0.0));
+        if (!(q[j] > 0.0) || zero) {
+            continue;
+        }
+        let xa = x[j];
+        let xb = x[(j + 1u) % 3u];
+        let t = xb / (xa + xb);
+        let e = edge_of(pt, j);
+        // The frame both neighbours build from the edge (seams.rs `shared_frame`).
+        let g = try_normalize(e.na * (1.0 - t) + e.nb * t);
+        let gb = try_normalize(cross(vec3<f32>(e.e, 0.0), g.xyz));
+        let ga = cross(g.xyz, gb.xyz);
+        if (g.w == 0.0 || gb.w == 0.0 || !fin3(ga)) {
+            continue;
+        }
+        var m: vec4<f32>;
+        if (flags[j] != 0.0) {
+            // The neighbour's vertex normals, interpolated, averaged with this side's.
+            let other = try_normalize(v0.xyz * (1.0 - t) + vec3<f32>(v0.w, v1.x, v1.y) * t);
+            m = select(vec4<f32>(0.0), try_normalize(g.xyz + other.xyz), other.w != 0.0);
+        } else {
+            m = try_normalize(g.xyz + gb.xyz * twist(across, t) + ga * twist(along, t));
+        }
+        if (m.w == 0.0) {
+            continue;
+        }
+        let own = normal_local(pt, edge_point(x, j));
+        acc = acc + (m.xyz - own) * (q[j] / sum);
+        touched = true;
+    }
+    if (!touched) {
+        return vec4<f32>(0.0);
+    }
+    return try_normalize(ng + acc);
+}
+
+// The shading normal (world) of the closest crossing c of patch id with geometric normal
+// `normal` (SHADING: 0 the geometric normal itself; 1 seamless, as the CPU's
+// `Scene::shading_normal`; 2 Phong, the flat scene's interpolated vertex normals).
+fn shading_normal(id: u32, c: Crossing, normal: vec3<f32>) -> vec3<f32> {
+    let w1 = c.bary.y;
+    let w2 = c.bary.z;
+    if (SHADING == 2u) {
+        let b = id * 3u;
+        if (b + 2u >= arrayLength(&shade_in)) {
+            return normal;
+        }
+        let w0 = 1.0 - w1 - w2;
+        let n = try_normalize(shade_in[b].xyz * w0 + shade_in[b + 1u].xyz * w1
+            + shade_in[b + 2u].xyz * w2);
+        return select(normal, n.xyz, n.w != 0.0);
+    }
+    if (SHADING != 1u || FLAT != 0u) {
+        return normal;
+    }
+    let s = id * SEAM_VEC4;
+    if (s + SEAM_VEC4 > arrayLength(&shade_in) || shade_in[s + 9u].w == 0.0) {
+        return normal;
+    }
+    let pt = load_patch(id);
+    let ng = try_normalize(vec3<f32>(dot(normal, pt.ex), dot(normal, pt.ey), dot(normal, pt.ez)));
+    if (ng.w == 0.0) {
+        return normal;
+    }
+    let x = project(vec3<f32>(1.0 - w1 - w2, w1, w2));
+    let n = seam_correct(pt, s, x, ng.xyz);
+    if (n.w == 0.0) {
+        return normal;
+    }
+    return pt.ex * n.x + pt.ey * n.y + pt.ez * n.z;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Entry point of the batch queries (lib.rs `GpuScene::closest_hit`, `any_hit`): one ray per
+// invocation, from `rays` to `hits`.
+
+fn miss(i: u32) {
+    hits[i] = HitOut(0.0, 0.0, 0.0, 0.0, vec3<f32>(0.0), 0u, vec3<f32>(0.0), 0u, vec3<f32>(0.0),
+        0u);
+}
+
+@compute @workgroup_size(64)
+fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let i = gid.x;
+    if (i >= params.ray_count || i >= arrayLength(&rays) || i >= arrayLength(&hits)) {
+        return;
+    }
+    let ray = rays[i];
+    let tr = trace(ray.o, ray.d, ray.t_min, ray.t_max, ANY_HIT != 0u);
+    if (tr.err != 0u) {
+        atomicOr(&status[0], tr.err);
+    }
+    if (!tr.found) {
         miss(i);
         return;
     }
-    if (!found) {
-        miss(i);
-        return;
-    }
+    let best = tr.best;
     if (ANY_HIT != 0u) {
         hits[i] = HitOut(best.t, best.t_error, best.bary.y, best.bary.z, vec3<f32>(0.0),
-            best_id, vec3<f32>(0.0), 1u);
+            tr.id, vec3<f32>(0.0), 1u, vec3<f32>(0.0), 0u);
         return;
     }
     // The normal, once, for the closest crossing.
-    var normal: vec3<f32>;
-    if (FLAT != 0u) {
-        let b = best_id * FLAT_VEC4;
-        let p0 = patches[b].xyz;
-        let face = try_normalize(cross(patches[b + 1u].xyz - p0, patches[b + 2u].xyz - p0));
-        if (face.w == 0.0) {
-            miss(i);
-            return;
-        }
-        normal = face.xyz;
-    } else {
-        let pt = load_patch(best_id);
-        let nl = normal_local(pt, best.bary);
-        normal = pt.ex * nl.x + pt.ey * nl.y + pt.ez * nl.z;
-        if (!fin3(normal)) {
-            miss(i);
-            return;
-        }
+    let n = hit_normal(tr.id, best);
+    if (n.w == 0.0) {
+        miss(i);
+        return;
     }
-    let front = dot(normal, d) < 0.0;
-    hits[i] = HitOut(best.t, best.t_error, best.bary.y, best.bary.z, o + d * best.t, best_id,
-        normal, select(1u, 3u, front));
+    let front = dot(n.xyz, ray.d) < 0.0;
+    hits[i] = HitOut(best.t, best.t_error, best.bary.y, best.bary.z, ray.o + ray.d * best.t,
+        tr.id, n.xyz, select(1u, 3u, front), shading_normal(tr.id, best, n.xyz), 0u);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Entry point of whole frames (lib.rs `GpuScene::render_frame`): one invocation per pixel
+// generates the camera ray, traces it, shades the closest hit with the shading normal, Lambert
+// and ambient light and one shadow ray, and writes the pixel's colour and hit. The demo's
+// renderer (host-demo/src/renderer.rs `render`, `shade`, `background`, and the heat map of
+// `view`) in f32.
+
+fn to_u8(x: f32) -> u32 {
+    let c = clamp(x, 0.0, 1.0);
+    return u32(select(0.0, pow(c, 1.0 / 2.2), c > 0.0) * 255.0 + 0.5);
+}
+
+fn pack(c: vec3<u32>) -> u32 {
+    return min(c.x, 255u) | (min(c.y, 255u) << 8u) | (min(c.z, 255u) << 16u) | (255u << 24u);
+}
+
+// host-demo/src/image.rs `heat`.
+fn heat(l: f32) -> vec3<u32> {
+    let t = clamp(l, 0.0, 1.0);
+    var a = 0.0;
+    var b = 0.33;
+    var ca = vec3<f32>(20.0, 20.0, 90.0);
+    var cb = vec3<f32>(30.0, 170.0, 200.0);
+    if (t > 0.66) {
+        a = 0.66;
+        b = 1.0;
+        ca = vec3<f32>(240.0, 220.0, 60.0);
+        cb = vec3<f32>(220.0, 30.0, 30.0);
+    } else if (t > 0.33) {
+        a = 0.33;
+        b = 0.66;
+        ca = cb;
+        cb = vec3<f32>(240.0, 220.0, 60.0);
+    }
+    return vec3<u32>(ca + (cb - ca) * ((t - a) / (b - a)));
+}
+
+@compute @workgroup_size(8, 8)
+fn frame(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let x = gid.x;
+    let y = gid.y;
+    let w = view.width;
+    let h = view.height;
+    if (x >= w || y >= h) {
+        return;
+    }
+    let i = y * w + x;
+    if (i >= arrayLength(&image) || i >= arrayLength(&pixels)) {
+        return;
+    }
+    // host-demo/src/camera.rs `Camera::ray` through the pixel's centre.
+    let sx = (2.0 * (f32(x) + 0.5) / f32(w) - 1.0) * view.tan_half * view.aspect;
+    let sy = (1.0 - 2.0 * (f32(y) + 0.5) / f32(h)) * view.tan_half;
+    let d = normalize(view.forward + view.right * sx + view.up * sy);
+    let o = view.eye;
+    let tr = trace(o, d, 0.0, 3.4028235e38, false);
+    if (tr.err != 0u) {
+        atomicOr(&status[0], tr.err);
+    }
+    var n = vec4<f32>(0.0);
+    if (tr.found) {
+        n = hit_normal(tr.id, tr.best);
+    }
+    if (n.w == 0.0) {
+        let s = f32(y) / f32(max(h, 1u));
+        var bg = vec3<u32>(vec3<f32>(48.0 - 24.0 * s, 54.0 - 26.0 * s, 66.0 - 30.0 * s));
+        if (view.heat_scale > 0.0) {
+            bg = vec3<u32>(0u);
+        }
+        image[i] = pack(bg);
+        pixels[i] = PixelOut(vec3<f32>(0.0), MISS, 0.0, 0u, 0u, 0u);
+        return;
+    }
+    let best = tr.best;
+    let p = o + d * best.t;
+    var nn = shading_normal(tr.id, best, n.xyz);
+    if (dot(nn, d) > 0.0) {
+        nn = -nn;
+    }
+    let lambert = max(dot(nn, view.light), 0.0);
+    var vis = 0.0;
+    if (lambert > 0.0) {
+        atomicAdd(&frame_stats[0], 1u);
+        let shadow = trace(p - d * view.eps, view.light, view.eps, 3.4028235e38, true);
+        if (shadow.err != 0u) {
+            atomicOr(&status[0], shadow.err);
+        }
+        vis = select(1.0, 0.0, shadow.found);
+    }
+    var c: vec3<u32>;
+    if (view.heat_scale > 0.0) {
+        let rel = max(best.t_error * view.heat_scale, 1e-12);
+        c = heat((log2(rel) * 0.30103 + 9.0) / 6.0);
+    } else {
+        let front = dot(n.xyz, d) < 0.0;
+        let albedo = select(vec3<f32>(0.25, 0.45, 0.80), vec3<f32>(0.85, 0.50, 0.22), front);
+        let s = 0.12 + (1.0 - 0.12) * lambert * vis;
+        c = vec3<u32>(to_u8(albedo.x * s), to_u8(albedo.y * s), to_u8(albedo.z * s));
+    }
+    image[i] = pack(c);
+    pixels[i] = PixelOut(p, tr.id, best.t_error, 0u, 0u, 0u);
+    atomicMax(&frame_stats[1], bitcast<u32>(best.t_error));
 }

@@ -47,8 +47,12 @@ use std::fmt;
 use std::sync::{Arc, Mutex};
 
 use glam::Vec3;
+use smoothtri::mesh::Seam;
 use smoothtri::{Bvh, Hit, PatchData, Ray};
 use wgpu::util::DeviceExt;
+
+mod frame;
+pub use frame::{FramePixel, FrameStats, FrameView, GpuFrame, GpuSurface};
 
 /// The shader (WGSL), as compiled by [`Gpu::new`].
 pub const SHADER: &str = include_str!("kernel.wgsl");
@@ -70,7 +74,10 @@ pub const FLAT_VEC4: usize = 3;
 /// Bytes per ray uploaded (`origin, t_min, dir, t_max`).
 pub const RAY_BYTES: usize = 32;
 /// Bytes per hit read back.
-pub const HIT_BYTES: usize = 48;
+pub const HIT_BYTES: usize = 64;
+/// `vec4<f32>` per seam record (the seamless normal's coefficients of one patch,
+/// [`seam_record`]): 160 bytes.
+pub const SEAM_VEC4: usize = 10;
 /// Invocations per workgroup.
 const WORKGROUP: u32 = 64;
 /// Two resolved timestamp queries (begin and end of the compute pass), 8 bytes each.
@@ -114,6 +121,9 @@ pub enum GpuError {
     StackOverflow,
     /// A device error while tracing (validation, out of memory, lost device, mapping).
     Device(String),
+    /// The device cannot present to the window (no surface for it, no format in common, a
+    /// surface lost for good).
+    Surface(String),
 }
 
 impl fmt::Display for GpuError {
@@ -142,6 +152,7 @@ impl fmt::Display for GpuError {
             ),
             GpuError::StackOverflow => f.write_str("GPU BVH traversal stack overflow"),
             GpuError::Device(m) => write!(f, "GPU device error: {m}"),
+            GpuError::Surface(m) => write!(f, "cannot present to the window on the GPU: {m}"),
         }
     }
 }
@@ -151,14 +162,19 @@ impl std::error::Error for GpuError {}
 /// A GPU device with the kernel's shader compiled: create one per process with [`Gpu::new`]
 /// and share it (`Arc`) between scenes.
 pub struct Gpu {
+    instance: wgpu::Instance,
+    adapter: wgpu::Adapter,
     device: wgpu::Device,
     queue: wgpu::Queue,
     info: wgpu::AdapterInfo,
     limits: wgpu::Limits,
     layout: wgpu::BindGroupLayout,
     pipeline_layout: wgpu::PipelineLayout,
+    /// Group 1 of the frame pass: the view, the image, the pixels and the frame's counters.
+    frame_layout: wgpu::BindGroupLayout,
+    frame_pipeline_layout: wgpu::PipelineLayout,
     module: wgpu::ShaderModule,
-    pipelines: Mutex<HashMap<(u32, bool, bool, bool), wgpu::ComputePipeline>>,
+    pipelines: Mutex<HashMap<PipelineKey, wgpu::ComputePipeline>>,
     uncaptured: Arc<Mutex<Option<String>>>,
     /// The device was created with timestamp queries (kernel timings for benchmarks).
     timestamps: bool,
@@ -255,37 +271,66 @@ impl Gpu {
         };
         let ro = wgpu::BufferBindingType::Storage { read_only: true };
         let rw = wgpu::BufferBindingType::Storage { read_only: false };
-        let (layout, pipeline_layout, module) = scoped(&device, GpuError::Shader, || {
-            let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                label: Some("smoothtri"),
-                entries: &[
-                    entry(0, wgpu::BufferBindingType::Uniform),
-                    entry(1, ro),
-                    entry(2, ro),
-                    entry(3, ro),
-                    entry(4, ro),
-                    entry(5, rw),
-                    entry(6, rw),
-                ],
-            });
-            let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some("smoothtri"),
-                bind_group_layouts: &[Some(&layout)],
-                immediate_size: 0,
-            });
-            let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-                label: Some("smoothtri kernel"),
-                source: wgpu::ShaderSource::Wgsl(SHADER.into()),
-            });
-            (layout, pipeline_layout, module)
-        })?;
+        let (layout, pipeline_layout, frame_layout, frame_pipeline_layout, module) =
+            scoped(&device, GpuError::Shader, || {
+                let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                    label: Some("smoothtri"),
+                    entries: &[
+                        entry(0, wgpu::BufferBindingType::Uniform),
+                        entry(1, ro),
+                        entry(2, ro),
+                        entry(3, ro),
+                        entry(4, ro),
+                        entry(5, rw),
+                        entry(6, rw),
+                        entry(7, ro),
+                    ],
+                });
+                let pipeline_layout =
+                    device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                        label: Some("smoothtri"),
+                        bind_group_layouts: &[Some(&layout)],
+                        immediate_size: 0,
+                    });
+                let frame_layout =
+                    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                        label: Some("smoothtri frame"),
+                        entries: &[
+                            entry(0, wgpu::BufferBindingType::Uniform),
+                            entry(1, rw),
+                            entry(2, rw),
+                            entry(3, rw),
+                        ],
+                    });
+                let frame_pipeline_layout =
+                    device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                        label: Some("smoothtri frame"),
+                        bind_group_layouts: &[Some(&layout), Some(&frame_layout)],
+                        immediate_size: 0,
+                    });
+                let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                    label: Some("smoothtri kernel"),
+                    source: wgpu::ShaderSource::Wgsl(SHADER.into()),
+                });
+                (
+                    layout,
+                    pipeline_layout,
+                    frame_layout,
+                    frame_pipeline_layout,
+                    module,
+                )
+            })?;
         Ok(Arc::new(Gpu {
+            instance,
+            adapter,
             device,
             queue,
             info,
             limits,
             layout,
             pipeline_layout,
+            frame_layout,
+            frame_pipeline_layout,
             module,
             pipelines: Mutex::new(HashMap::new()),
             uncaptured,
@@ -308,19 +353,11 @@ impl Gpu {
         self.info.device_type == wgpu::DeviceType::Cpu
     }
 
-    /// The pipeline for budget `n`, flat or smooth, closest or any hit, with or without the
-    /// tilted-section branches (compiled once).
-    fn pipeline(
-        &self,
-        n: usize,
-        flat: bool,
-        any: bool,
-        tilted: bool,
-    ) -> Result<wgpu::ComputePipeline, GpuError> {
-        if n > MAX_ITERATIONS {
-            return Err(GpuError::Iterations(n));
+    /// The pipeline of `key` (compiled once).
+    fn pipeline(&self, key: PipelineKey) -> Result<wgpu::ComputePipeline, GpuError> {
+        if key.n > MAX_ITERATIONS {
+            return Err(GpuError::Iterations(key.n));
         }
-        let key = (n as u32, flat, any, tilted);
         let mut map = self
             .pipelines
             .lock()
@@ -329,18 +366,24 @@ impl Gpu {
             return Ok(p.clone());
         }
         let constants = [
-            ("ITERATIONS", n as f64),
-            ("FLAT", f64::from(u8::from(flat))),
-            ("ANY_HIT", f64::from(u8::from(any))),
-            ("TILTED", f64::from(u8::from(tilted))),
+            ("ITERATIONS", key.n as f64),
+            ("FLAT", f64::from(u8::from(key.flat))),
+            ("ANY_HIT", f64::from(u8::from(key.any))),
+            ("TILTED", f64::from(u8::from(key.tilted))),
+            ("SHADING", f64::from(key.shading as u8)),
         ];
+        let (layout, entry) = if key.frame {
+            (&self.frame_pipeline_layout, "frame")
+        } else {
+            (&self.pipeline_layout, "main")
+        };
         let p = scoped(&self.device, GpuError::Shader, || {
             self.device
                 .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
                     label: Some("smoothtri kernel"),
-                    layout: Some(&self.pipeline_layout),
+                    layout: Some(layout),
                     module: &self.module,
-                    entry_point: Some("main"),
+                    entry_point: Some(entry),
                     compilation_options: wgpu::PipelineCompilationOptions {
                         constants: &constants,
                         zero_initialize_workgroup_memory: false,
@@ -380,6 +423,46 @@ impl Gpu {
         })
     }
 
+    /// Submits `enc`, waits for it, and returns `range` of `read_buf` (a `MAP_READ` buffer the
+    /// commands copied into). Call inside [`scoped`].
+    fn submit_and_read(
+        &self,
+        enc: wgpu::CommandEncoder,
+        read_buf: &wgpu::Buffer,
+        range: std::ops::Range<u64>,
+    ) -> Result<Vec<u8>, GpuError> {
+        self.queue.submit([enc.finish()]);
+        let done = Arc::new(Mutex::new(None));
+        let flag = Arc::clone(&done);
+        read_buf.map_async(wgpu::MapMode::Read, range.clone(), move |r| {
+            if let Ok(mut slot) = flag.lock() {
+                *slot = Some(r);
+            }
+        });
+        let polled = self.device.poll(wgpu::PollType::wait_indefinitely());
+        let mapped = done.lock().ok().and_then(|mut s| s.take());
+        let out = match (polled, mapped) {
+            (Err(e), _) => Err(GpuError::Device(e.to_string())),
+            (_, Some(Ok(()))) => {
+                let view = read_buf
+                    .get_mapped_range(range)
+                    .map_err(|e| GpuError::Device(e.to_string()))?;
+                let v = view.to_vec();
+                drop(view);
+                read_buf.unmap();
+                Ok(v)
+            }
+            (_, Some(Err(e))) => Err(GpuError::Device(e.to_string())),
+            (_, None) => Err(GpuError::Device("the readback was never mapped".into())),
+        };
+        if let Ok(mut slot) = self.uncaptured.lock()
+            && let Some(msg) = slot.take()
+        {
+            return Err(GpuError::Device(msg));
+        }
+        out
+    }
+
     /// Rays per dispatch: bounded by the device's buffer and dispatch limits.
     fn chunk(&self) -> usize {
         let limit = self
@@ -391,6 +474,30 @@ impl Gpu {
             self.limits.max_compute_workgroups_per_dimension as usize * WORKGROUP as usize;
         MAX_CHUNK.min(by_buffer).min(by_dispatch).max(1)
     }
+}
+
+/// What a compute pipeline is compiled for: the budget `n`, flat or smooth records, closest or
+/// any hit, with or without the tilted-section branches, the shading normal, and the batch
+/// entry point (`main`) or the frame pass (`frame`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+struct PipelineKey {
+    n: usize,
+    flat: bool,
+    any: bool,
+    tilted: bool,
+    shading: Shading,
+    frame: bool,
+}
+
+/// The shading normal a scene's closest hits and frames carry (the shader's `SHADING`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Shading {
+    /// The geometric normal: the patch's exact normal, or the flat triangle's face normal.
+    Geometric = 0,
+    /// The seamless normal of smooth patches ([`smoothtri::mesh::Seam::correct`]).
+    Seamless = 1,
+    /// The flat triangles' interpolated vertex normals (Phong).
+    Phong = 2,
 }
 
 /// One BVH node as the shader reads it (128 bytes), as [`smoothtri::BvhNode`]: the four
@@ -444,6 +551,10 @@ pub struct GpuScene {
     /// Some smooth patch has tilted sections (`smoothtri::LineField::Vertex`): traced by the
     /// pipeline with the tilted branches (`TILTED` in the shader), all others without them.
     tilted: bool,
+    /// The shading normal of closest hits and frames, with its data (`shade_in`: seam records
+    /// or vertex normals; one zero record for [`Shading::Geometric`]).
+    shading: Shading,
+    shade_in: wgpu::Buffer,
 }
 
 impl fmt::Debug for GpuScene {
@@ -546,6 +657,23 @@ struct Raw {
     patch: u32,
     normal: [f32; 3],
     flags: u32,
+    shading: [f32; 3],
+}
+
+impl Raw {
+    /// The hit of a closest-hit query, `None` on a miss.
+    fn hit(&self) -> Option<Hit<f32>> {
+        (self.flags & 1 != 0).then(|| Hit {
+            t: self.t,
+            t_error: self.t_error,
+            point: Vec3::from_array(self.point),
+            normal: Vec3::from_array(self.normal),
+            w1: self.w1,
+            w2: self.w2,
+            front_face: self.flags & 2 != 0,
+            patch: self.patch,
+        })
+    }
 }
 
 fn parse_hit(b: &[u8]) -> Raw {
@@ -567,7 +695,30 @@ fn parse_hit(b: &[u8]) -> Raw {
         patch: u(7),
         normal: [f(8), f(9), f(10)],
         flags: u(11),
+        shading: [f(12), f(13), f(14)],
     }
+}
+
+/// The seam record of one patch as the shader reads it ([`SEAM_VEC4`] vec4s): per edge `j` the
+/// six coefficients of the common normal's tilt across the edge then the six along it; then
+/// the three edges' `free` flags (1 or 0) and 1 for a non-zero seam (0: no correction).
+pub fn seam_record(seam: &Seam<f32>) -> [f32; SEAM_VEC4 * 4] {
+    let mut r = [0.0f32; SEAM_VEC4 * 4];
+    let mut k = 0;
+    for (common, along) in seam.common.iter().zip(&seam.common_along) {
+        // The shader's TWIST_TERMS is 6: a change of smoothtri::mesh::TWIST_TERMS fails here.
+        let (c, a): (&[f32; 6], &[f32; 6]) = (common, along);
+        for (dst, src) in r.iter_mut().skip(k).zip(c.iter().chain(a)) {
+            *dst = *src;
+        }
+        k += 12;
+    }
+    let flags = seam.free.map(|f| f32::from(u8::from(f)));
+    let nonzero = f32::from(u8::from(!seam.is_zero()));
+    for (dst, src) in r.iter_mut().skip(36).zip(flags.iter().chain([&nonzero])) {
+        *dst = *src;
+    }
+    r
 }
 
 impl GpuScene {
@@ -576,6 +727,49 @@ impl GpuScene {
         let data: Vec<PatchData<f32>> = bvh.patches().iter().map(|p| p.data()).collect();
         let nodes: Vec<GpuNode> = bvh.nodes().iter().map(GpuNode::from_node).collect();
         Self::from_parts(gpu, SceneKind::Smooth, &data, &nodes, bvh.order())
+    }
+
+    /// Uploads the smooth patches and the BVH of `bvh` with the patches' seams (`seams[i]` the
+    /// seam of `bvh.patches()[i]`, as `smoothtri::Scene::seams`): closest hits and frames then
+    /// carry the seamless shading normal ([`Shading::Seamless`], the CPU's
+    /// `Scene::shading_normal`). Returns [`GpuError::LengthMismatch`] when the lengths differ.
+    pub fn smooth_seamless(
+        gpu: &Arc<Gpu>,
+        bvh: &Bvh<'_, f32>,
+        seams: &[Seam<f32>],
+    ) -> Result<GpuScene, GpuError> {
+        if seams.len() != bvh.patches().len() {
+            return Err(GpuError::LengthMismatch {
+                rays: bvh.patches().len(),
+                out: seams.len(),
+            });
+        }
+        let data = f32_bytes(seams.iter().flat_map(seam_record));
+        Self::smooth(gpu, bvh)?.with_shading(Shading::Seamless, data)
+    }
+
+    /// Uploads the flat triangles of `bvh`'s patches with their world vertex normals: closest
+    /// hits and frames carry the Phong normal ([`Shading::Phong`]: the vertex normals
+    /// interpolated at the hit's barycentrics, normalised; the face normal where that vanishes).
+    pub fn phong(gpu: &Arc<Gpu>, bvh: &Bvh<'_, f32>) -> Result<GpuScene, GpuError> {
+        let data = f32_bytes(
+            bvh.patches()
+                .iter()
+                .flat_map(|p| p.normals().into_iter().flat_map(|n| [n.x, n.y, n.z, 0.0])),
+        );
+        Self::flat(gpu, bvh)?.with_shading(Shading::Phong, data)
+    }
+
+    fn with_shading(mut self, shading: Shading, data: Vec<u8>) -> Result<GpuScene, GpuError> {
+        self.bytes += data.len() as u64;
+        self.shade_in = self.gpu.storage("shading", data)?;
+        self.shading = shading;
+        Ok(self)
+    }
+
+    /// The shading normal of the scene's closest hits and frames.
+    pub fn shading(&self) -> Shading {
+        self.shading
     }
 
     /// Uploads the flat triangles of `bvh`'s patches (their world vertices) with the same BVH:
@@ -638,7 +832,21 @@ impl GpuScene {
             bytes,
             tilted: kind == SceneKind::Smooth
                 && patches.iter().any(|pd| pd.d.iter().any(|d| d[2] != 1.0)),
+            shading: Shading::Geometric,
+            shade_in: gpu.storage("shading", Vec::new())?,
         })
+    }
+
+    /// The pipeline key of this scene's queries.
+    fn key(&self, n: usize, any: bool, frame: bool) -> PipelineKey {
+        PipelineKey {
+            n,
+            flat: self.kind == SceneKind::Flat,
+            any,
+            tilted: self.tilted,
+            shading: self.shading,
+            frame,
+        }
     }
 
     /// Whether the records are smooth patches or flat triangles.
@@ -728,16 +936,40 @@ impl GpuScene {
             seconds,
             &mut |i, raw| {
                 if let Some(slot) = hits.get_mut(i) {
-                    *slot = (raw.flags & 1 != 0).then(|| Hit {
-                        t: raw.t,
-                        t_error: raw.t_error,
-                        point: Vec3::from_array(raw.point),
-                        normal: Vec3::from_array(raw.normal),
-                        w1: raw.w1,
-                        w2: raw.w2,
-                        front_face: raw.flags & 2 != 0,
-                        patch: raw.patch,
-                    });
+                    *slot = raw.hit();
+                }
+            },
+        )
+    }
+
+    /// [`GpuScene::closest_hit_with`] with each hit's shading normal (world, unit, oriented like
+    /// [`Hit::normal`]): the scene's [`Shading`] — the seamless normal, bit for bit in spirit
+    /// the CPU's `Scene::shading_normal` (the same formula in `f32`; the parity tests bound the
+    /// difference), the Phong normal, or the hit's own normal.
+    pub fn closest_shaded_with(
+        &self,
+        iterations: usize,
+        rays: &[Ray<f32>],
+        t_min: f32,
+        t_max: f32,
+        out: &mut [Option<(Hit<f32>, Vec3)>],
+    ) -> Result<(), GpuError> {
+        if rays.len() != out.len() {
+            return Err(GpuError::LengthMismatch {
+                rays: rays.len(),
+                out: out.len(),
+            });
+        }
+        self.run(
+            iterations,
+            false,
+            rays,
+            t_min,
+            t_max,
+            None,
+            &mut |i, raw| {
+                if let Some(slot) = out.get_mut(i) {
+                    *slot = raw.hit().map(|h| (h, Vec3::from_array(raw.shading)));
                 }
             },
         )
@@ -791,7 +1023,7 @@ impl GpuScene {
         out: &mut dyn FnMut(usize, Raw),
     ) -> Result<(), GpuError> {
         let gpu = &self.gpu;
-        let pipeline = gpu.pipeline(iterations, self.kind == SceneKind::Flat, any, self.tilted)?;
+        let pipeline = gpu.pipeline(self.key(iterations, any, false))?;
         if rays.is_empty() {
             return Ok(());
         }
@@ -855,6 +1087,7 @@ impl GpuScene {
                     e(4, &ray_buf),
                     e(5, &hit_buf),
                     e(6, &status_buf),
+                    e(7, &self.shade_in),
                 ],
             })
         })?;
@@ -909,36 +1142,8 @@ impl GpuScene {
                     );
                     range.end += TIMESTAMP_BYTES as u64;
                 }
-                gpu.queue.submit([enc.finish()]);
-                let done = Arc::new(Mutex::new(None));
-                let flag = Arc::clone(&done);
-                read_buf.map_async(wgpu::MapMode::Read, range.clone(), move |r| {
-                    if let Ok(mut slot) = flag.lock() {
-                        *slot = Some(r);
-                    }
-                });
-                let polled = device.poll(wgpu::PollType::wait_indefinitely());
-                let mapped = done.lock().ok().and_then(|mut s| s.take());
-                match (polled, mapped) {
-                    (Err(e), _) => Err(GpuError::Device(e.to_string())),
-                    (_, Some(Ok(()))) => {
-                        let view = read_buf
-                            .get_mapped_range(range)
-                            .map_err(|e| GpuError::Device(e.to_string()))?;
-                        let v = view.to_vec();
-                        drop(view);
-                        read_buf.unmap();
-                        Ok(v)
-                    }
-                    (_, Some(Err(e))) => Err(GpuError::Device(e.to_string())),
-                    (_, None) => Err(GpuError::Device("the readback was never mapped".into())),
-                }
+                gpu.submit_and_read(enc, &read_buf, range)
             })??;
-            if let Ok(mut slot) = gpu.uncaptured.lock()
-                && let Some(msg) = slot.take()
-            {
-                return Err(GpuError::Device(msg));
-            }
             let (Some(hits), Some(tail)) = (
                 data.get(..n * HIT_BYTES),
                 data.get(n * HIT_BYTES..n * HIT_BYTES + 4),

@@ -368,16 +368,25 @@ fn shader_constants_match_the_cpu_kernel() {
     ] {
         assert_eq!(value(name), cpu, "{name}");
     }
-    let decl = "const SECTION_NEWTON_STEPS: u32 = ";
-    let at = smoothtri_gpu::SHADER
-        .find(decl)
-        .expect("SECTION_NEWTON_STEPS declared");
-    let rest = &smoothtri_gpu::SHADER[at + decl.len()..];
-    let steps: usize = rest[..rest.find("u;").expect("a u32")]
-        .trim()
-        .parse()
-        .expect("a number");
-    assert_eq!(steps, smoothtri::internal::SECTION_NEWTON_STEPS);
+    let count = |name: &str| -> usize {
+        let decl = format!("const {name}: u32 = ");
+        let at = smoothtri_gpu::SHADER
+            .find(&decl)
+            .unwrap_or_else(|| panic!("{name} not declared in the shader"));
+        let rest = &smoothtri_gpu::SHADER[at + decl.len()..];
+        rest[..rest.find("u;").expect("a u32")]
+            .trim()
+            .parse()
+            .expect("a number")
+    };
+    assert_eq!(
+        count("SECTION_NEWTON_STEPS"),
+        smoothtri::internal::SECTION_NEWTON_STEPS
+    );
+    let seam = smoothtri::mesh::Seam::<f32>::default();
+    assert_eq!(count("TWIST_TERMS"), seam.common[0].len());
+    assert_eq!(count("SEAM_VEC4"), smoothtri_gpu::SEAM_VEC4);
+    assert_eq!(count("PATCH_VEC4"), smoothtri_gpu::PATCH_VEC4);
 }
 
 /// Each interior edge of `mesh` once: (triangle, its edge, the neighbour, its edge), edges
@@ -574,4 +583,75 @@ fn shared_line_field_matches_the_cpu() {
         at.len()
     );
     assert_eq!(through, 0);
+}
+
+/// Camera rays framing `mesh` (`w × h`, from the demo's camera).
+fn camera_rays(mesh: &Mesh, w: u32, h: u32) -> Vec<Ray> {
+    let cam = smoothtri_demo::camera::Camera::for_mesh(mesh, 30.0, 35.0, w, h);
+    (0..h)
+        .flat_map(|y| (0..w).map(move |x| (x, y)))
+        .map(|(x, y)| {
+            let (o, d) = cam.pixel_ray(x, y);
+            Ray::new(o.as_vec3(), d.as_vec3())
+        })
+        .collect()
+}
+
+/// The seamless normal in WGSL (`Shading::Seamless`) against the CPU's `Scene::shading_normal`
+/// of the same hit, on the torus and the teapot (clamped and folded patches included), and the
+/// Phong normal of the flat triangles against the interpolated vertex normals. The corrections
+/// must matter (differ from the geometric normal) for the comparison to mean anything.
+#[test]
+fn shading_normals_match_the_cpu() {
+    let Some(gpu) = gpu() else { return };
+    for (name, mesh) in [("torus", torus(8, 8, 1.0, 0.4)), ("teapot", teapot(4))] {
+        let scene = smoothtri_demo::tracer::Scene::<f32>::build_with(&mesh, LineField::Face, true)
+            .expect("scene");
+        let core = scene.core();
+        let rays = camera_rays(&mesh, 120, 90);
+        let mut got = vec![None; rays.len()];
+        GpuScene::smooth_seamless(&gpu, core.bvh(), core.seams())
+            .expect("upload")
+            .closest_shaded_with(N, &rays, 0.0, f32::INFINITY, &mut got)
+            .expect("trace");
+        let (mut hits, mut corrected, mut worst) = (0, 0, 0.0f32);
+        for (hit, shading) in got.iter().flatten() {
+            let cpu = core.shading_normal(hit);
+            let d = (*shading - cpu).length();
+            assert!(
+                d <= NORMAL_TOL,
+                "{name}: seamless normal {shading} vs CPU {cpu} ({d}) at {hit:?}"
+            );
+            worst = worst.max(d);
+            hits += 1;
+            corrected += usize::from((cpu - hit.normal).length() > 1e-3);
+        }
+        eprintln!(
+            "{name}: {hits} hits, {corrected} with a seam correction over 1e-3, GPU vs CPU \
+             seamless normal at most {worst:.2e}"
+        );
+        assert!(hits > rays.len() / 10 && corrected > hits / 10, "{name}");
+
+        let mut flat = vec![None; rays.len()];
+        GpuScene::phong(&gpu, core.bvh())
+            .expect("upload")
+            .closest_shaded_with(0, &rays, 0.0, f32::INFINITY, &mut flat)
+            .expect("trace");
+        let mut interpolated = 0;
+        for (hit, shading) in flat.iter().flatten() {
+            let [n0, n1, n2] = core.patches()[hit.patch as usize].normals();
+            let cpu = (n0 * (1.0 - hit.w1 - hit.w2) + n1 * hit.w1 + n2 * hit.w2)
+                .try_normalize()
+                .unwrap_or(hit.normal);
+            assert!(
+                (*shading - cpu).length() <= NORMAL_TOL,
+                "{name}: Phong normal {shading} vs {cpu}"
+            );
+            interpolated += usize::from((cpu - hit.normal).length() > 1e-3);
+        }
+        assert!(
+            interpolated > hits / 2,
+            "{name}: Phong normals are not interpolated"
+        );
+    }
 }

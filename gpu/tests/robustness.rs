@@ -9,7 +9,9 @@ use glam::Vec3;
 use smoothtri::BVH_EMPTY_SLOT;
 use smoothtri::{Patch, PatchData, Ray};
 use smoothtri_demo::scenes::icosphere;
-use smoothtri_gpu::{Gpu, GpuError, GpuNode, GpuScene, MAX_ITERATIONS, SceneKind};
+use smoothtri_gpu::{
+    FrameView, Gpu, GpuError, GpuFrame, GpuNode, GpuScene, MAX_ITERATIONS, SceneKind,
+};
 use std::sync::Arc;
 
 /// A correct trace after the adversarial ones: the device is alive.
@@ -307,5 +309,88 @@ fn timed_trace_returns_the_same_hits_and_a_kernel_time() {
     if let Some(s) = seconds {
         assert!(s.is_finite() && s >= 0.0, "kernel time {s}");
     }
+    still_works(&gpu);
+}
+
+/// A frame looking at the unit patch down the diagonal.
+fn frame_view() -> FrameView {
+    let forward = -Vec3::ONE.normalize();
+    let right = forward.cross(Vec3::Z).normalize();
+    FrameView {
+        eye: Vec3::splat(2.0),
+        forward,
+        right,
+        up: right.cross(forward),
+        tan_half: 0.3,
+        light: Vec3::ONE.normalize(),
+        eps: 1e-4,
+        heat: None,
+    }
+}
+
+/// Frames: a zero or oversized frame is `TooLarge`, a scene with the wrong number of seams is
+/// `LengthMismatch`, an empty scene shows only the background, a corrupt tree is a typed error
+/// from the frame pass as from the batch queries, and a frame of another device is refused.
+#[test]
+fn frames_fail_with_typed_errors() {
+    let Some(gpu) = gpu() else { return };
+    assert!(matches!(
+        GpuFrame::new(&gpu, 0, 10),
+        Err(GpuError::TooLarge { .. })
+    ));
+    assert!(matches!(
+        GpuFrame::new(&gpu, 16384, 16384),
+        Err(GpuError::TooLarge { .. })
+    ));
+    let p = unit_patch();
+    let patches = [p];
+    let tree = Tree::new(&patches);
+    let bvh = tree.bvh(&patches);
+    assert!(matches!(
+        GpuScene::smooth_seamless(&gpu, &bvh, &[]),
+        Err(GpuError::LengthMismatch { .. })
+    ));
+    let mut frame = GpuFrame::new(&gpu, 16, 12).expect("frame");
+    // The patch is in view: some pixels hit it.
+    let scene = GpuScene::smooth(&gpu, &bvh).expect("upload");
+    let stats = scene
+        .render_frame(4, &frame_view(), &mut frame)
+        .expect("frame");
+    let (_, pixels) = frame.read().expect("read");
+    let hits = pixels.iter().filter(|p| p.patch == Some(0)).count();
+    assert!(hits > 0 && stats.rays >= 16 * 12, "{hits} {stats:?}");
+    assert!(stats.max_t_error > 0.0 && stats.max_t_error.is_finite());
+    for kind in [SceneKind::Smooth, SceneKind::Flat] {
+        let empty = GpuScene::from_parts(&gpu, kind, &[], &[], &[]).expect("upload");
+        let stats = empty
+            .render_frame(4, &frame_view(), &mut frame)
+            .expect("frame");
+        let (_, pixels) = frame.read().expect("read");
+        assert!(pixels.iter().all(|p| p.patch.is_none()));
+        assert_eq!((stats.rays, stats.max_t_error), (16 * 12, 0.0));
+    }
+    let (lo, hi) = (p.bounds().min(), p.bounds().max());
+    let corrupt = GpuScene::from_parts(
+        &gpu,
+        SceneKind::Smooth,
+        &[p.data()],
+        &[inner(lo, hi, 1000)],
+        &[0],
+    )
+    .expect("upload");
+    assert_eq!(
+        corrupt.render_frame(4, &frame_view(), &mut frame),
+        Err(GpuError::CorruptTree)
+    );
+    assert_eq!(
+        scene.render_frame(MAX_ITERATIONS + 1, &frame_view(), &mut frame),
+        Err(GpuError::Iterations(MAX_ITERATIONS + 1))
+    );
+    let other = Gpu::new().expect("a second device");
+    let mut theirs = GpuFrame::new(&other, 4, 4).expect("frame");
+    assert!(matches!(
+        scene.render_frame(4, &frame_view(), &mut theirs),
+        Err(GpuError::Device(_))
+    ));
     still_works(&gpu);
 }

@@ -8,11 +8,11 @@ use std::process::{Command, Stdio};
 use std::sync::Arc;
 
 use smoothtri_demo::Camera;
-use smoothtri_demo::commands::render::render_gpu;
+use smoothtri_demo::commands::render::{frame_view, gpu_scene, render_gpu};
 use smoothtri_demo::renderer::render;
 use smoothtri_demo::scenes::torus;
 use smoothtri_demo::tracer::{Mode, Scene, tracer};
-use smoothtri_gpu::{Gpu, GpuError};
+use smoothtri_gpu::{Gpu, GpuError, GpuFrame};
 
 /// Largest per-channel difference (of 255) allowed on any pixel.
 const PIXEL_TOL: u8 = 2;
@@ -46,21 +46,25 @@ fn gpu_torus_image_equals_the_cpu_image() {
     let Some(gpu) = gpu() else { return };
     let mesh = torus(8, 8, 1.0, 0.4);
     let cam = Camera::for_mesh(&mesh, 30.0, 35.0, 200, 150);
-    let scene = Scene::<f32>::build(&mesh).expect("scene");
-    for (mode, n) in [
-        (Mode::Smooth, 8),
-        (Mode::Smooth, 4),
-        (Mode::Flat, 0),
-        (Mode::Phong, 0),
+    let plain = Scene::<f32>::build(&mesh).expect("scene");
+    // With seams: the smooth mode shades with the seamless normal on both sides.
+    let seamed = Scene::<f32>::build_with(&mesh, smoothtri::LineField::Face, true).expect("scene");
+    let mut images = Vec::new();
+    for (mode, n, scene) in [
+        (Mode::Smooth, 8, &plain),
+        (Mode::Smooth, 4, &plain),
+        (Mode::Smooth, 4, &seamed),
+        (Mode::Flat, 0, &plain),
+        (Mode::Phong, 0, &plain),
     ] {
         let cpu = render(
-            &scene,
+            scene,
             &cam,
             tracer::<f32>(mode, n).expect("tracer"),
             mesh.diagonal(),
             false,
         );
-        let g = render_gpu(&gpu, &scene, &cam, mode, n, mesh.diagonal()).expect("gpu render");
+        let g = render_gpu(&gpu, scene, &cam, mode, n, mesh.diagonal()).expect("gpu render");
         assert_eq!((g.image.width, g.image.height), (200, 150));
         assert_eq!(g.rays, cpu.rays, "{mode:?} N = {n}: primary + shadow rays");
         let (mut worst, mut differ, mut mask) = (0u8, 0usize, 0usize);
@@ -87,7 +91,44 @@ fn gpu_torus_image_equals_the_cpu_image() {
             "{mode:?} N = {n}: a pixel differs by {worst}"
         );
         assert_eq!(mask, 0, "{mode:?} N = {n}: hit masks differ");
+        images.push(g.image.data);
     }
+    // The seamless normal changes the shading (the second and third cases differ only in it).
+    assert_ne!(images[1], images[2], "the seams changed nothing");
+}
+
+/// The GPU's heat map colours each hit by its own `t_error` on the scale of the CPU viewer's
+/// (`image::heat` of `log10(t_error / diag)` from −9 to −3), within 1/255; misses black.
+#[test]
+fn gpu_heat_map_follows_the_cpu_scale() {
+    let Some(gpu) = gpu() else { return };
+    let mesh = torus(8, 8, 1.0, 0.4);
+    let cam = Camera::for_mesh(&mesh, 30.0, 35.0, 160, 120);
+    let scene = Scene::<f32>::build(&mesh).expect("scene");
+    let gs = gpu_scene(&gpu, &scene, Mode::Smooth).expect("upload");
+    let mut frame = GpuFrame::new(&gpu, 160, 120).expect("frame");
+    let diag = mesh.diagonal();
+    gs.render_frame(4, &frame_view(&cam, diag, true), &mut frame)
+        .expect("frame");
+    let (rgb, pixels) = frame.read().expect("read");
+    let mut hits = 0;
+    for (px, c) in pixels.iter().zip(rgb.chunks(3)) {
+        let want = match px.patch {
+            Some(_) => {
+                hits += 1;
+                let rel = (f64::from(px.t_error) / diag).max(1e-12);
+                smoothtri_demo::image::heat((rel.log10() + 9.0) / 6.0)
+            }
+            None => [0, 0, 0],
+        };
+        let worst = c.iter().zip(want).map(|(a, b)| a.abs_diff(b)).max();
+        assert!(
+            worst <= Some(1),
+            "{c:?} against {want:?} at t_error {}",
+            px.t_error
+        );
+    }
+    assert!(hits > 1000, "{hits}");
 }
 
 fn smoothtri(args: &[&str], no_adapter: bool) -> (i32, String, String) {

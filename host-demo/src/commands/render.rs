@@ -6,9 +6,8 @@ use std::cell::RefCell;
 use std::rc::Rc;
 use std::sync::Arc;
 
-use glam::Vec3;
-use smoothtri::{Hit, LineField, Ray};
-use smoothtri_gpu::{Gpu, GpuScene};
+use smoothtri::LineField;
+use smoothtri_gpu::{FrameStats, FrameView, Gpu, GpuFrame, GpuScene};
 
 use crate::camera::{Camera, Up};
 use crate::error::{DemoError, Result};
@@ -247,13 +246,81 @@ fn render_panel_gpu(
     Ok(Panel::from(r))
 }
 
+/// The GPU scene of `scene` for `mode`: the smooth patches with the seamless normal when the
+/// scene shades with it (built with seams), else with the geometric one; the flat triangles,
+/// with their vertex normals for `Mode::Phong`.
+pub fn gpu_scene(gpu: &Arc<Gpu>, scene: &Scene<f32>, mode: Mode) -> Result<GpuScene> {
+    let bvh = scene.bvh();
+    let seams = scene.seams();
+    match mode {
+        Mode::Smooth
+            if scene.normals == Normals::Seamless && seams.len() == bvh.patches().len() =>
+        {
+            GpuScene::smooth_seamless(gpu, &bvh, seams)
+        }
+        Mode::Smooth => GpuScene::smooth(gpu, &bvh),
+        Mode::Flat => GpuScene::flat(gpu, &bvh),
+        Mode::Phong => GpuScene::phong(gpu, &bvh),
+    }
+    .map_err(gpu_error)
+}
+
+/// The frame pass's view of `cam`: its camera, [`light_dir`], the shadow-ray offset of the
+/// CPU renderer in `f32` (`diag` · 2e-4, `diag` the scene's bounding-box diagonal), and the
+/// heat map of `t_error` relative to `diag` when `heat`.
+pub fn frame_view(cam: &Camera, diag: f64, heat: bool) -> FrameView {
+    FrameView {
+        eye: cam.eye.as_vec3(),
+        forward: cam.forward.as_vec3(),
+        right: cam.right.as_vec3(),
+        up: cam.up.as_vec3(),
+        tan_half: cam.tan_half as f32,
+        light: light_dir(cam).as_vec3(),
+        eps: (diag * 2e-4) as f32,
+        heat: heat.then(|| (1.0 / diag.max(f64::MIN_POSITIVE)) as f32),
+    }
+}
+
+/// The frame in `frame` as the CPU renderer returns one: the image and each pixel's primary
+/// hit (`triangle` the mesh triangle of the hit patch).
+pub fn read_frame(scene: &Scene<f32>, frame: &GpuFrame, stats: FrameStats) -> Result<Rendered> {
+    let (data, pixels) = frame.read().map_err(gpu_error)?;
+    let hits = pixels
+        .iter()
+        .map(|p| match p.patch {
+            Some(patch) => PixelHit {
+                hit: true,
+                point: p.point.as_dvec3(),
+                t_error: f64::from(p.t_error),
+                triangle: scene
+                    .tri_ids()
+                    .get(patch as usize)
+                    .copied()
+                    .unwrap_or(u32::MAX),
+            },
+            None => PixelHit::default(),
+        })
+        .collect();
+    Ok(Rendered {
+        image: Image {
+            width: frame.width(),
+            height: frame.height(),
+            data,
+        },
+        hits,
+        rays: stats.rays,
+        seconds: stats.seconds,
+    })
+}
+
 /// Renders `scene` through `cam` on the GPU, as [`crate::renderer::render`] does on the CPU
-/// (the same rays, shading, light and shadow-ray offsets): all primary rays in one batch of
-/// [`GpuScene::closest_hit_with`], then the shadow rays of the lit pixels in one batch of
-/// [`GpuScene::any_hit_with`]. `Mode::Smooth` traces the patches with budget `n`; `Flat` and
-/// `Phong` their flat triangles (Phong interpolates the vertex normals on the host). `diag`
-/// is the scene's bounding-box diagonal. The time excludes the upload and the pipelines'
-/// compilation.
+/// (the same camera, shading, light and shadow-ray offset), in one frame pass
+/// ([`GpuScene::render_frame`]: rays, closest hits, shading normals and shadow rays all on the
+/// GPU), then reads the frame back. `Mode::Smooth` traces the patches with budget `n` and
+/// shades with the scene's normal (seamless when built with seams); `Flat` and `Phong` trace
+/// the flat triangles, Phong with the interpolated vertex normals. `diag` is the scene's
+/// bounding-box diagonal. The time is the frame pass's (without the upload, the pipeline's
+/// compilation and the readback of the pixels).
 pub fn render_gpu(
     gpu: &Arc<Gpu>,
     scene: &Scene<f32>,
@@ -262,112 +329,11 @@ pub fn render_gpu(
     n: usize,
     diag: f64,
 ) -> Result<Rendered> {
-    let bvh = scene.bvh();
-    let gs = match mode {
-        Mode::Smooth => GpuScene::smooth(gpu, &bvh),
-        Mode::Flat | Mode::Phong => GpuScene::flat(gpu, &bvh),
-    }
-    .map_err(gpu_error)?;
-    // Compile both pipelines before the clock starts.
-    gs.closest_hit_with(n, &[], 0.0, f32::MAX, &mut [])
-        .and_then(|()| gs.any_hit_with(n, &[], 0.0, f32::MAX, &mut []))
-        .map_err(gpu_error)?;
-    let start = std::time::Instant::now();
-    let light = light_dir(cam);
-    let eps = diag * 2e-4;
-    let (w, h) = (cam.width, cam.height);
-    let mut primary = Vec::with_capacity(w as usize * h as usize);
-    let mut dirs = Vec::with_capacity(primary.capacity());
-    for y in 0..h {
-        for x in 0..w {
-            let (o, d) = cam.pixel_ray(x, y);
-            primary.push(Ray::<f32>::new(o.as_vec3(), d.as_vec3()));
-            dirs.push(d);
-        }
-    }
-    let mut hits: Vec<Option<Hit<f32>>> = vec![None; primary.len()];
-    gs.closest_hit_with(n, &primary, 0.0, f32::MAX, &mut hits)
-        .map_err(gpu_error)?;
-    // Shading normals, Lambert terms and the shadow rays of the lit pixels.
-    let mut lit: Vec<(usize, f64)> = Vec::new();
-    let mut shadow = Vec::new();
-    for (i, (hit, &d)) in hits.iter().zip(&dirs).enumerate() {
-        let Some(hit) = hit else { continue };
-        let normal = match mode {
-            Mode::Phong => phong_normal(scene, hit),
-            Mode::Smooth => scene.shading_normal(hit),
-            Mode::Flat => hit.normal,
-        };
-        let p = hit.point.as_dvec3();
-        let mut nn = normal.as_dvec3();
-        if nn.dot(d) > 0.0 {
-            nn = -nn;
-        }
-        let lambert = nn.dot(light).max(0.0);
-        if lambert > 0.0 {
-            shadow.push(Ray::<f32>::new((p - d * eps).as_vec3(), light.as_vec3()));
-        }
-        lit.push((i, lambert));
-    }
-    let mut occluded = vec![false; shadow.len()];
-    gs.any_hit_with(n, &shadow, eps as f32, f32::MAX, &mut occluded)
-        .map_err(gpu_error)?;
-    let mut image = Image::new(w, h, [0, 0, 0]);
-    for y in 0..h {
-        let bg = crate::renderer::background(y, h);
-        for x in 0..w {
-            image.put(i64::from(x), i64::from(y), bg);
-        }
-    }
-    let mut mask = vec![PixelHit::default(); primary.len()];
-    let mut next_shadow = occluded.iter();
-    for (i, lambert) in lit {
-        let Some(hit) = hits.get(i).copied().flatten() else {
-            continue;
-        };
-        let vis = if lambert > 0.0 && next_shadow.next() == Some(&false) {
-            1.0
-        } else {
-            0.0
-        };
-        let (x, y) = (i as u32 % w, i as u32 / w);
-        image.put(
-            i64::from(x),
-            i64::from(y),
-            crate::renderer::shade(hit.front_face, lambert, vis),
-        );
-        if let Some(m) = mask.get_mut(i) {
-            *m = PixelHit {
-                hit: true,
-                point: hit.point.as_dvec3(),
-                t_error: f64::from(hit.t_error),
-                triangle: scene
-                    .tri_ids()
-                    .get(hit.patch as usize)
-                    .copied()
-                    .unwrap_or(u32::MAX),
-            };
-        }
-    }
-    Ok(Rendered {
-        image,
-        hits: mask,
-        rays: (primary.len() + shadow.len()) as u64,
-        seconds: start.elapsed().as_secs_f64(),
-    })
-}
-
-/// The Phong shading normal of a flat hit: the vertex normals interpolated at its
-/// barycentrics (the face normal where they cancel), as the CPU's `flat_hit`.
-fn phong_normal(scene: &Scene<f32>, hit: &Hit<f32>) -> Vec3 {
-    let Some(p) = scene.patches().get(hit.patch as usize) else {
-        return hit.normal;
-    };
-    let [n0, n1, n2] = p.normals();
-    let w0 = 1.0 - hit.w1 - hit.w2;
-    (n0 * w0 + n1 * hit.w1 + n2 * hit.w2)
-        .try_normalize()
-        .unwrap_or(hit.normal)
+    let gs = gpu_scene(gpu, scene, mode)?;
+    let mut frame = GpuFrame::new(gpu, cam.width, cam.height).map_err(gpu_error)?;
+    let view = frame_view(cam, diag, false);
+    let stats = gs.render_frame(n, &view, &mut frame).map_err(gpu_error)?;
+    read_frame(scene, &frame, stats)
 }
 
 /// Renders [`RenderOptions::source`] (the torus when unset) to a PNG and reports the ray rate

@@ -1,6 +1,8 @@
-//! `smoothtri view`: the kernel in real time, in a window (winit; softbuffer presents the
-//! frames). The CPU kernel renders on rayon's threads; `--gpu` renders each frame with the
-//! WGSL kernel. Orbit with the left mouse button, zoom with the wheel; keys switch the mode,
+//! `smoothtri view`: the kernel in real time, in a window (winit). The CPU kernel renders on
+//! rayon's threads and softbuffer presents its frames; `--gpu` renders each frame on the GPU
+//! in one compute pass of the WGSL kernel (camera rays, closest hits, seamless or Phong
+//! normals, shadow rays, shading) and draws it into the window's wgpu swap chain, with no
+//! readback but the frame's counters. Orbit with the left mouse button, zoom with the wheel; keys switch the mode,
 //! the normals, `N`, the precision and the error heat map (see [`KEYS`]). While the camera
 //! moves, frames render at a third of the resolution; once it rests, one full frame follows.
 //!
@@ -17,7 +19,7 @@ use std::time::{Duration, Instant};
 
 use glam::DVec3;
 use smoothtri::LineField;
-use smoothtri_gpu::Gpu;
+use smoothtri_gpu::{FrameStats, Gpu, GpuFrame, GpuScene, GpuSurface};
 use winit::application::ApplicationHandler;
 use winit::dpi::PhysicalSize;
 use winit::event::{ElementState, MouseButton, MouseScrollDelta, WindowEvent};
@@ -26,7 +28,7 @@ use winit::keyboard::{Key, NamedKey};
 use winit::window::{Window, WindowId};
 
 use super::MeshSource;
-use super::render::{Note, build_scene, open_gpu, render_gpu};
+use super::render::{Note, build_scene, frame_view, gpu_error, gpu_scene, open_gpu, read_frame};
 use crate::camera::{Camera, Up};
 use crate::error::{DemoError, Result};
 use crate::image::{Image, heat};
@@ -128,11 +130,34 @@ impl Scenes {
 
 /// One rendered frame and what the title shows of it.
 struct Frame {
-    image: Image,
-    hits: Vec<PixelHit>,
+    /// The CPU's image and hits; `None` for a GPU frame, which stays on the GPU
+    /// ([`GpuView::frame`]) until a screenshot reads it back.
+    pixels: Option<(Image, Vec<PixelHit>)>,
+    width: u32,
+    height: u32,
     rays: u64,
     seconds: f64,
     max_t_error: f64,
+}
+
+/// The GPU side of `--gpu`: the device, the uploaded scenes, the frame storage and the
+/// window's swap chain.
+struct GpuView {
+    gpu: Arc<Gpu>,
+    /// Per mode and shading normal.
+    scenes: HashMap<(Mode, Normals), Rc<GpuScene>>,
+    /// The last frame (its size is the last frame's) and the scene and counters it was
+    /// rendered with.
+    frame: Option<(GpuFrame, Rc<GpuScene>, FrameStats)>,
+    surface: Option<GpuSurface>,
+}
+
+/// How frames reach the window.
+enum Presenter {
+    /// The CPU's frames, copied into the window's buffer.
+    Soft(softbuffer::Surface<Arc<Window>, Arc<Window>>),
+    /// The GPU's frames, drawn into its swap chain.
+    Gpu,
 }
 
 /// The viewer: the mesh, its scenes, the settings and the window.
@@ -142,11 +167,11 @@ struct Viewer {
     /// The sphere the camera frames (centre and radius), as `render`'s camera.
     sphere: (DVec3, f64),
     diag: f64,
-    gpu: Option<Arc<Gpu>>,
+    gpu: Option<GpuView>,
     scenes: Scenes,
     settings: Settings,
-    window: Option<Rc<Window>>,
-    surface: Option<softbuffer::Surface<Rc<Window>, Rc<Window>>>,
+    window: Option<Arc<Window>>,
+    surface: Option<Presenter>,
     drag: Option<(f64, f64)>,
     cursor: (f64, f64),
     last_input: Instant,
@@ -188,16 +213,42 @@ impl Viewer {
         let cam = self.camera(w, h);
         let s = self.settings;
         let seams = s.normals == Normals::Seamless && s.mode == Mode::Smooth;
-        let r: Rendered = match (&self.gpu, s.precision) {
-            (Some(gpu), _) => {
-                let gpu = Arc::clone(gpu);
-                let scene = self
-                    .scenes
-                    .get::<f32>(&self.mesh, self.options.field, seams)?;
-                render_gpu(&gpu, &scene, &cam, s.mode, s.n, self.diag)?
-            }
-            (None, Precision::F32) => self.render_cpu::<f32>(&cam, seams)?,
-            (None, Precision::F64) => self.render_cpu::<f64>(&cam, seams)?,
+        if self.gpu.is_some() {
+            let scene = self
+                .scenes
+                .get::<f32>(&self.mesh, self.options.field, seams)?;
+            let Some(g) = self.gpu.as_mut() else {
+                return Err(DemoError::Usage("view: no GPU".into()));
+            };
+            let key = (s.mode, s.normals);
+            let gs = match g.scenes.get(&key) {
+                Some(gs) => Rc::clone(gs),
+                None => {
+                    let gs = Rc::new(gpu_scene(&g.gpu, &scene, s.mode)?);
+                    g.scenes.insert(key, Rc::clone(&gs));
+                    gs
+                }
+            };
+            let mut frame = match g.frame.take() {
+                Some((f, _, _)) if (f.width(), f.height()) == (w, h) => f,
+                _ => GpuFrame::new(&g.gpu, w, h).map_err(gpu_error)?,
+            };
+            let stats = gs
+                .render_frame(s.n, &frame_view(&cam, self.diag, s.heat), &mut frame)
+                .map_err(gpu_error)?;
+            g.frame = Some((frame, gs, stats));
+            return Ok(Frame {
+                pixels: None,
+                width: w,
+                height: h,
+                rays: stats.rays,
+                seconds: stats.seconds,
+                max_t_error: f64::from(stats.max_t_error),
+            });
+        }
+        let r: Rendered = match s.precision {
+            Precision::F32 => self.render_cpu::<f32>(&cam, seams)?,
+            Precision::F64 => self.render_cpu::<f64>(&cam, seams)?,
         };
         let max_t_error = r.hits.iter().map(|p| p.t_error).fold(0.0, f64::max);
         let image = if s.heat {
@@ -206,8 +257,9 @@ impl Viewer {
             r.image
         };
         Ok(Frame {
-            image,
-            hits: r.hits,
+            width: image.width,
+            height: image.height,
+            pixels: Some((image, r.hits)),
             rays: r.rays,
             seconds: r.seconds,
             max_t_error,
@@ -280,8 +332,17 @@ impl Viewer {
         };
         let frame = self.render(rw, rh)?;
         window.set_title(&self.title(&frame, moving));
-        if let Some(surface) = self.surface.as_mut() {
-            present(surface, &frame.image, size)?;
+        match (self.surface.as_mut(), &frame.pixels, self.gpu.as_mut()) {
+            (Some(Presenter::Soft(surface)), Some((image, _)), _) => present(surface, image, size)?,
+            (Some(Presenter::Gpu), None, Some(g)) => {
+                if let (Some(surface), Some((f, _, _))) = (g.surface.as_mut(), &g.frame) {
+                    surface
+                        .resize(size.width, size.height)
+                        .and_then(|()| surface.present(f))
+                        .map_err(gpu_error)?;
+                }
+            }
+            _ => {}
         }
         if !moving {
             self.shown = Some((self.settings, fw, fh));
@@ -337,7 +398,29 @@ impl Viewer {
     }
 
     /// Headless: writes the last frame and its mask, and prints the frame rate.
-    fn write_outputs(&self) -> Result<()> {
+    fn write_outputs(&mut self) -> Result<()> {
+        let Some(frame) = &self.last else {
+            return Err(DemoError::Usage("view: no frame was rendered".into()));
+        };
+        let (image, hits) = match (&frame.pixels, &self.gpu) {
+            (Some((image, hits)), _) => (image.clone(), hits.clone()),
+            (
+                None,
+                Some(GpuView {
+                    frame: Some((f, _, stats)),
+                    ..
+                }),
+            ) => {
+                let seams = self.settings.normals == Normals::Seamless
+                    && self.settings.mode == Mode::Smooth;
+                let scene = self
+                    .scenes
+                    .get::<f32>(&self.mesh, self.options.field, seams)?;
+                let r = read_frame(&scene, f, *stats)?;
+                (r.image, r.hits)
+            }
+            _ => return Err(DemoError::Usage("view: no frame was rendered".into())),
+        };
         let Some(frame) = &self.last else {
             return Err(DemoError::Usage("view: no frame was rendered".into()));
         };
@@ -346,8 +429,8 @@ impl Viewer {
         println!(
             "view: {} frames of {}x{} ({}): {:.1} ms per frame ({:.1} frames/s), {:.2} Mrays/s",
             self.frames_done,
-            frame.image.width,
-            frame.image.height,
+            frame.width,
+            frame.height,
             self.title(frame, false)
                 .split(" — ")
                 .nth(1)
@@ -357,13 +440,12 @@ impl Viewer {
             rays as f64 / secs.max(1e-9) / 1e6
         );
         if let Some(path) = &self.options.screenshot {
-            frame.image.write_png(path)?;
+            image.write_png(path)?;
         }
         if let Some(path) = &self.options.mask {
-            let (w, h) = (frame.image.width, frame.image.height);
             crate::image::write_bytes(
                 path,
-                crate::renderer::mask_pbm(w, h, &frame.hits).as_bytes(),
+                crate::renderer::mask_pbm(image.width, image.height, &hits).as_bytes(),
             )?;
         }
         Ok(())
@@ -377,7 +459,7 @@ impl Viewer {
 
 /// Copies `image` into the window's buffer, scaled (nearest pixel) to the window's size.
 fn present(
-    surface: &mut softbuffer::Surface<Rc<Window>, Rc<Window>>,
+    surface: &mut softbuffer::Surface<Arc<Window>, Arc<Window>>,
     image: &Image,
     size: PhysicalSize<u32>,
 ) -> Result<()> {
@@ -425,7 +507,7 @@ impl ApplicationHandler for Viewer {
             .with_title("smoothtri view")
             .with_inner_size(PhysicalSize::new(self.options.width, self.options.height));
         let window = match event_loop.create_window(attrs) {
-            Ok(w) => Rc::new(w),
+            Ok(w) => Arc::new(w),
             Err(e) => {
                 return self.fail(
                     DemoError::Usage(format!("view: cannot open a window: {e}")),
@@ -433,15 +515,26 @@ impl ApplicationHandler for Viewer {
                 );
             }
         };
-        let surface = softbuffer::Context::new(Rc::clone(&window))
-            .and_then(|c| softbuffer::Surface::new(&c, Rc::clone(&window)));
-        match surface {
-            Ok(s) => self.surface = Some(s),
-            Err(e) => {
-                return self.fail(
-                    DemoError::Usage(format!("view: cannot draw into the window: {e}")),
-                    event_loop,
-                );
+        if let Some(g) = self.gpu.as_mut() {
+            let size = window.inner_size();
+            match GpuSurface::new(&g.gpu, Arc::clone(&window), size.width, size.height) {
+                Ok(s) => {
+                    g.surface = Some(s);
+                    self.surface = Some(Presenter::Gpu);
+                }
+                Err(e) => return self.fail(gpu_error(e), event_loop),
+            }
+        } else {
+            let surface = softbuffer::Context::new(Arc::clone(&window))
+                .and_then(|c| softbuffer::Surface::new(&c, Arc::clone(&window)));
+            match surface {
+                Ok(s) => self.surface = Some(Presenter::Soft(s)),
+                Err(e) => {
+                    return self.fail(
+                        DemoError::Usage(format!("view: cannot draw into the window: {e}")),
+                        event_loop,
+                    );
+                }
             }
         }
         window.request_redraw();
@@ -570,7 +663,16 @@ pub fn run(o: ViewOptions) -> Result<()> {
         return Err(no_display("DISPLAY is not set"));
     }
     let (_, mesh, _) = o.source.load_upright(true, o.up)?;
-    let gpu = if o.gpu { Some(open_gpu()?) } else { None };
+    let gpu = if o.gpu {
+        Some(GpuView {
+            gpu: open_gpu()?,
+            scenes: HashMap::new(),
+            frame: None,
+            surface: None,
+        })
+    } else {
+        None
+    };
     let event_loop = EventLoop::new().map_err(no_display)?;
     let mut viewer = Viewer {
         sphere: Camera::mesh_sphere(&mesh),

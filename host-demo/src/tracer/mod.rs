@@ -13,7 +13,7 @@ pub use precision::{Prec, Precision};
 pub use scene::{RayonExecutor, Scene};
 
 /// How primary and shadow rays meet the surface.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, clap::ValueEnum)]
 pub enum Mode {
     /// The smooth patches (the core's kernel).
     Smooth,
@@ -55,7 +55,7 @@ impl From<Field> for smoothtri::LineField {
 }
 
 /// Which normal the smooth mode shades with (`render --normals`).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, clap::ValueEnum)]
 pub enum Normals {
     /// The seamless shading normal ([`smoothtri::Seam::correct`]): continuous across shared
     /// edges.
