@@ -176,3 +176,36 @@ fn headless_screenshots_equal_render_cpu_and_gpu() {
         std::fs::read(&gheat).unwrap() != std::fs::read(dir.path().join("gpu-render.png")).unwrap()
     );
 }
+
+#[test]
+fn without_a_display_view_is_one_readable_error() {
+    let (code, out, err) = output(
+        Command::new(bin())
+            .args(["view", "--width", "64", "--height", "48"])
+            .env_remove("DISPLAY")
+            .env_remove("WAYLAND_DISPLAY"),
+    );
+    assert_eq!(code, 1, "{out}{err}");
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(err.starts_with("error: view: no display"), "{err}");
+    assert!(!err.contains("panicked"));
+}
+
+#[test]
+fn view_options_are_checked() {
+    for (args, needle) in [
+        (&["--frames", "0"][..], "--frames must be at least 1"),
+        (&["--screenshot", "x.png"][..], "need --frames"),
+        (
+            &["--iterations", "17"][..],
+            "--iterations must be in 0..=16",
+        ),
+        (&["--width", "0"][..], "--width and --height"),
+        (&["--gpu", "--precision", "f64"][..], "--gpu traces in f32"),
+    ] {
+        let (code, _, err) = output(Command::new(bin()).arg("view").args(args));
+        assert_eq!(code, 1, "{args:?}: {err}");
+        assert!(err.contains(needle), "{args:?}: {err}");
+        assert_eq!(err.lines().count(), 1, "{err}");
+    }
+}

@@ -171,6 +171,10 @@ struct Viewer {
     scenes: Scenes,
     settings: Settings,
     window: Option<Arc<Window>>,
+    /// The window's inner size, from its creation and its `Resized` events (never asked of
+    /// the window: winit's X11 backend panics when asked about a window another client
+    /// destroyed).
+    size: PhysicalSize<u32>,
     surface: Option<Presenter>,
     drag: Option<(f64, f64)>,
     cursor: (f64, f64),
@@ -314,7 +318,7 @@ impl Viewer {
         let Some(window) = self.window.clone() else {
             return Ok(());
         };
-        let size = window.inner_size();
+        let size = self.size;
         let headless = self.options.frames.is_some();
         let (fw, fh) = if headless {
             (self.options.width, self.options.height)
@@ -515,8 +519,9 @@ impl ApplicationHandler for Viewer {
                 );
             }
         };
+        self.size = window.inner_size();
         if let Some(g) = self.gpu.as_mut() {
-            let size = window.inner_size();
+            let size = self.size;
             match GpuSurface::new(&g.gpu, Arc::clone(&window), size.width, size.height) {
                 Ok(s) => {
                     g.surface = Some(s);
@@ -544,8 +549,18 @@ impl ApplicationHandler for Viewer {
     fn window_event(&mut self, event_loop: &ActiveEventLoop, _id: WindowId, event: WindowEvent) {
         let headless = self.options.frames.is_some();
         match event {
-            WindowEvent::CloseRequested | WindowEvent::Destroyed => event_loop.exit(),
-            WindowEvent::Resized(_) => {
+            WindowEvent::CloseRequested | WindowEvent::Destroyed => {
+                // Drop the surfaces and the window first: a window destroyed by another client
+                // must not be asked for its size again (winit's X11 backend panics on that).
+                self.surface = None;
+                if let Some(g) = self.gpu.as_mut() {
+                    g.surface = None;
+                }
+                self.window = None;
+                event_loop.exit();
+            }
+            WindowEvent::Resized(size) => {
+                self.size = size;
                 self.shown = None;
                 if let Some(w) = &self.window {
                     w.request_redraw();
@@ -606,7 +621,7 @@ impl ApplicationHandler for Viewer {
             return;
         }
         // Once the camera rests, one full-resolution frame of what is shown.
-        let size = self.window.as_ref().map(|w| w.inner_size());
+        let size = self.window.as_ref().map(|_| self.size);
         let full = size.map(|s| (self.settings, s.width, s.height));
         if full.is_some() && full != self.shown {
             let rest_at = self.last_input + REST;
@@ -683,6 +698,7 @@ pub fn run(o: ViewOptions) -> Result<()> {
         gpu,
         scenes: Scenes::default(),
         window: None,
+        size: PhysicalSize::new(0, 0),
         surface: None,
         drag: None,
         cursor: (0.0, 0.0),
