@@ -8,10 +8,19 @@
 //! `16 ε L / |f′|`), and the exact surface normal once per ray (forward-mode derivatives written
 //! out in the shader, no finite differences).
 //!
-//! The host API mirrors the CPU one: [`GpuScene::closest_hit`] fills a slice of
+//! Two ways in. **Batches**, mirroring the CPU API: [`GpuScene::closest_hit`] fills a slice of
 //! [`Option<Hit>`](smoothtri::Hit) for a slice of [`Ray`]s (the CPU's
 //! [`Bvh::closest_hit`](smoothtri::Bvh::closest_hit) per ray), [`GpuScene::any_hit`] a slice of
 //! `bool` (shadow rays), with the iteration budget `N` a compile-time constant of the pipeline.
+//! [`GpuScene::closest_shaded_with`] adds each hit's shading normal: the seamless normal of
+//! smooth patches uploaded with their seams ([`GpuScene::smooth_seamless`], the CPU's
+//! `Scene::shading_normal` in WGSL) or the Phong normal of flat triangles ([`GpuScene::phong`]).
+//! **Frames**, for real-time use: [`GpuScene::render_frame`] makes the camera rays of a
+//! [`FrameView`], traces them, shades each closest hit with the scene's normal and a shadow ray,
+//! and writes the colours into a [`GpuFrame`], all in one compute pass; [`GpuSurface::present`]
+//! draws the frame into a window's swap chain, so nothing comes back but the frame's counters
+//! ([`GpuFrame::read`] reads the pixels for screenshots).
+//!
 //! Every failure is a [`GpuError`]: no adapter, buffers over the device's limits, a corrupt tree
 //! (detected by the shader, which never reads outside a buffer), a lost device. Nothing here
 //! panics on bad input.
@@ -19,7 +28,9 @@
 //! # Bounded work
 //! Per patch test at most `8 + 8·N` height evaluations ([`SAMPLES`]` + 2` bracketing points,
 //! `N` steps of 8), every loop of the kernel with a constant trip count; per ray at most one
-//! visit per BVH node, one test per index of the tree's order, and [`STACK`] pending nodes.
+//! visit per BVH node, one test per index of the tree's order, and [`STACK`] pending nodes; per
+//! pixel of a frame two such rays (the camera ray and at most one shadow ray) and at most four
+//! exact normals (the hit's and, for the seamless normal, three edge points').
 //!
 //! ```no_run
 //! use glam::Vec3;
