@@ -932,12 +932,6 @@ impl GpuScene {
         hits: &mut [Option<Hit<f32>>],
         seconds: Option<&mut f64>,
     ) -> Result<(), GpuError> {
-        if rays.len() != hits.len() {
-            return Err(GpuError::LengthMismatch {
-                rays: rays.len(),
-                out: hits.len(),
-            });
-        }
         self.run(
             iterations,
             false,
@@ -945,18 +939,15 @@ impl GpuScene {
             t_min,
             t_max,
             seconds,
-            &mut |i, raw| {
-                if let Some(slot) = hits.get_mut(i) {
-                    *slot = raw.hit();
-                }
-            },
+            hits,
+            Raw::hit,
         )
     }
 
     /// [`GpuScene::closest_hit_with`] with each hit's shading normal (world, unit, oriented like
-    /// [`Hit::normal`]): the scene's [`Shading`] — the seamless normal, bit for bit in spirit
-    /// the CPU's `Scene::shading_normal` (the same formula in `f32`; the parity tests bound the
-    /// difference), the Phong normal, or the hit's own normal.
+    /// [`Hit::normal`]): the scene's [`Shading`], i.e. the seamless normal (the CPU's
+    /// `Scene::shading_normal`, the same formula in `f32`: within 1e-5 of it for the same hit
+    /// in the parity tests), the Phong normal, or the hit's own normal.
     pub fn closest_shaded_with(
         &self,
         iterations: usize,
@@ -965,25 +956,9 @@ impl GpuScene {
         t_max: f32,
         out: &mut [Option<(Hit<f32>, Vec3)>],
     ) -> Result<(), GpuError> {
-        if rays.len() != out.len() {
-            return Err(GpuError::LengthMismatch {
-                rays: rays.len(),
-                out: out.len(),
-            });
-        }
-        self.run(
-            iterations,
-            false,
-            rays,
-            t_min,
-            t_max,
-            None,
-            &mut |i, raw| {
-                if let Some(slot) = out.get_mut(i) {
-                    *slot = raw.hit().map(|h| (h, Vec3::from_array(raw.shading)));
-                }
-            },
-        )
+        self.run(iterations, false, rays, t_min, t_max, None, out, |raw| {
+            raw.hit().map(|h| (h, Vec3::from_array(raw.shading)))
+        })
     }
 
     /// Whether anything is hit in `[t_min, t_max]` along each ray (shadow rays), with `N`
@@ -1007,23 +982,23 @@ impl GpuScene {
         t_max: f32,
         occluded: &mut [bool],
     ) -> Result<(), GpuError> {
-        if rays.len() != occluded.len() {
-            return Err(GpuError::LengthMismatch {
-                rays: rays.len(),
-                out: occluded.len(),
-            });
-        }
-        self.run(iterations, true, rays, t_min, t_max, None, &mut |i, raw| {
-            if let Some(slot) = occluded.get_mut(i) {
-                *slot = raw.flags & 1 != 0;
-            }
-        })
+        self.run(
+            iterations,
+            true,
+            rays,
+            t_min,
+            t_max,
+            None,
+            occluded,
+            |raw| raw.flags & 1 != 0,
+        )
     }
 
-    /// Traces `rays` in chunks; calls `out(index, hit)` for every ray; adds the kernel's GPU
-    /// time to `seconds` when asked and the device has timestamp queries.
+    /// Traces `rays` in chunks into `out` (`out[i] = map(hit of rays[i])`; `LengthMismatch`
+    /// unless the lengths agree); adds the kernel's GPU time to `seconds` when asked and the
+    /// device has timestamp queries.
     #[allow(clippy::too_many_arguments)] // one private worker behind the public entry points
-    fn run(
+    fn run<T>(
         &self,
         iterations: usize,
         any: bool,
@@ -1031,8 +1006,15 @@ impl GpuScene {
         t_min: f32,
         t_max: f32,
         mut seconds: Option<&mut f64>,
-        out: &mut dyn FnMut(usize, Raw),
+        out: &mut [T],
+        map: impl Fn(&Raw) -> T,
     ) -> Result<(), GpuError> {
+        if rays.len() != out.len() {
+            return Err(GpuError::LengthMismatch {
+                rays: rays.len(),
+                out: out.len(),
+            });
+        }
         let gpu = &self.gpu;
         let pipeline = gpu.pipeline(self.key(iterations, any, false))?;
         if rays.is_empty() {
@@ -1179,7 +1161,9 @@ impl GpuScene {
                 }
             }
             for (k, h) in hits.chunks_exact(HIT_BYTES).enumerate() {
-                out(c * chunk + k, parse_hit(h));
+                if let Some(slot) = out.get_mut(c * chunk + k) {
+                    *slot = map(&parse_hit(h));
+                }
             }
         }
         if status & 1 != 0 {
