@@ -111,24 +111,7 @@ fn headless_screenshots_equal_render_cpu_and_gpu() {
         assert!(out.contains("(CPU)"), "{out}");
     }
     // The heat map: the same hits (mask), other colours.
-    let (heat, heat_mask) = (dir.path().join("heat.png"), dir.path().join("heat.pbm"));
-    let (code, _, err) = output(
-        Command::new("xvfb-run")
-            .args(["-a", bin(), "view", "--frames", "1", "--heat"])
-            .args(size)
-            .arg("--screenshot")
-            .arg(&heat)
-            .arg("--mask")
-            .arg(&heat_mask),
-    );
-    assert_eq!(code, 0, "view --heat failed: {err}");
-    assert!(
-        std::fs::read(&heat_mask).unwrap()
-            == std::fs::read(dir.path().join("cpu0-render.pbm")).unwrap()
-    );
-    assert!(
-        std::fs::read(&heat).unwrap() != std::fs::read(dir.path().join("cpu0-render.png")).unwrap()
-    );
+    heat_map_keeps_the_hits(dir.path(), &size, "cpu0");
     // The GPU kernel (Mesa's lavapipe in CI): skipped without a Vulkan adapter unless
     // SMOOTHTRI_REQUIRE_GPU is set.
     let probe = output(
@@ -157,24 +140,30 @@ fn headless_screenshots_equal_render_cpu_and_gpu() {
         .collect();
     screenshot_equals_render(dir.path(), &args, "gpu-phong");
     // The GPU's heat map: the same hits, other colours (its scale: tests/gpu.rs).
-    let (gheat, gheat_mask) = (dir.path().join("gheat.png"), dir.path().join("gheat.pbm"));
+    let args: Vec<&str> = size.iter().copied().chain(["--gpu"]).collect();
+    heat_map_keeps_the_hits(dir.path(), &args, "gpu");
+}
+
+/// `view --heat` with `args` keeps the hit mask of `render` run by [`screenshot_equals_render`]
+/// under `tag` and changes its colours.
+fn heat_map_keeps_the_hits(dir: &Path, args: &[&str], tag: &str) {
+    let (heat, heat_mask) = (
+        dir.join(format!("{tag}-heat.png")),
+        dir.join(format!("{tag}-heat.pbm")),
+    );
     let (code, _, err) = output(
         Command::new("xvfb-run")
-            .args(["-a", bin(), "view", "--frames", "1", "--heat", "--gpu"])
-            .args(size)
+            .args(["-a", bin(), "view", "--frames", "1", "--heat"])
+            .args(args)
             .arg("--screenshot")
-            .arg(&gheat)
+            .arg(&heat)
             .arg("--mask")
-            .arg(&gheat_mask),
+            .arg(&heat_mask),
     );
-    assert_eq!(code, 0, "view --heat --gpu failed: {err}");
-    assert!(
-        std::fs::read(&gheat_mask).unwrap()
-            == std::fs::read(dir.path().join("gpu-render.pbm")).unwrap()
-    );
-    assert!(
-        std::fs::read(&gheat).unwrap() != std::fs::read(dir.path().join("gpu-render.png")).unwrap()
-    );
+    assert_eq!(code, 0, "view --heat {args:?} failed: {err}");
+    let read = |p: std::path::PathBuf| std::fs::read(p).unwrap();
+    assert!(read(heat_mask) == read(dir.join(format!("{tag}-render.pbm"))));
+    assert!(read(heat) != read(dir.join(format!("{tag}-render.png"))));
 }
 
 #[test]
