@@ -10,7 +10,7 @@ use std::sync::Arc;
 use glam::Vec3;
 use wgpu::util::DeviceExt;
 
-use crate::{Gpu, GpuError, GpuScene, scoped};
+use crate::{Gpu, GpuError, GpuScene, bind_entry as entry, scoped, status_result, word};
 
 /// Bytes of the shader's `View` uniform.
 const VIEW_BYTES: usize = 96;
@@ -106,10 +106,7 @@ impl GpuFrame {
     /// [`GpuError::TooLarge`] beyond the device's buffer limits or for a zero size.
     pub fn new(gpu: &Arc<Gpu>, width: u32, height: u32) -> Result<GpuFrame, GpuError> {
         let pixels = u64::from(width) * u64::from(height);
-        let limit = gpu
-            .limits
-            .max_storage_buffer_binding_size
-            .min(gpu.limits.max_buffer_size);
+        let limit = gpu.buffer_limit();
         let bytes = pixels * PIXEL_BYTES as u64;
         if pixels == 0 || bytes > limit {
             return Err(GpuError::TooLarge {
@@ -210,15 +207,8 @@ impl GpuFrame {
         let pixels = hits
             .chunks_exact(PIXEL_BYTES)
             .map(|b| {
-                let word = |k: usize| {
-                    let mut w = [0u8; 4];
-                    if let Some(s) = b.get(4 * k..4 * k + 4) {
-                        w.copy_from_slice(s);
-                    }
-                    u32::from_ne_bytes(w)
-                };
-                let f = |k: usize| f32::from_bits(word(k));
-                let patch = word(3);
+                let f = |k: usize| f32::from_bits(word(b, k));
+                let patch = word(b, 3);
                 FramePixel {
                     patch: (patch != MISS).then_some(patch),
                     point: Vec3::new(f(0), f(1), f(2)),
@@ -227,13 +217,6 @@ impl GpuFrame {
             })
             .collect();
         Ok((rgb, pixels))
-    }
-}
-
-fn entry(binding: u32, b: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
-    wgpu::BindGroupEntry {
-        binding,
-        resource: b.as_entire_binding(),
     }
 }
 
@@ -290,20 +273,12 @@ impl GpuScene {
             .collect();
         let start = std::time::Instant::now();
         let data = scoped(device, GpuError::Device, || {
-            let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("smoothtri"),
-                layout: &gpu.layout,
-                entries: &[
-                    entry(0, &frame.params),
-                    entry(1, &self.patches),
-                    entry(2, &self.nodes),
-                    entry(3, &self.order),
-                    entry(4, &frame.unused.0),
-                    entry(5, &frame.unused.1),
-                    entry(6, &frame.status),
-                    entry(7, &self.shade_in),
-                ],
-            });
+            let bind = self.bind_group(
+                &frame.params,
+                &frame.unused.0,
+                &frame.unused.1,
+                &frame.status,
+            );
             gpu.queue.write_buffer(&frame.params, 0, &params);
             gpu.queue
                 .write_buffer(&frame.view, 0, &view_bytes(view, frame.width, frame.height));
@@ -331,20 +306,8 @@ impl GpuScene {
             gpu.submit_and_read(enc, &frame.readback, 0..STATS_BYTES as u64)
         })??;
         let seconds = start.elapsed().as_secs_f64();
-        let word = |k: usize| {
-            let mut w = [0u8; 4];
-            if let Some(s) = data.get(4 * k..4 * k + 4) {
-                w.copy_from_slice(s);
-            }
-            u32::from_ne_bytes(w)
-        };
-        let status = word(2);
-        if status & 1 != 0 {
-            return Err(GpuError::CorruptTree);
-        }
-        if status & 2 != 0 {
-            return Err(GpuError::StackOverflow);
-        }
+        let word = |k: usize| word(&data, k);
+        status_result(word(2))?;
         Ok(FrameStats {
             rays: u64::from(frame.width) * u64::from(frame.height) + u64::from(word(0)),
             max_t_error: f32::from_bits(word(1)),

@@ -409,10 +409,7 @@ impl Gpu {
     /// A storage buffer with `bytes` (at least 16 bytes: an empty slice gets one zero record,
     /// ignored through the counts), checked against the device's limits.
     fn storage(&self, what: &'static str, mut bytes: Vec<u8>) -> Result<wgpu::Buffer, GpuError> {
-        let limit = self
-            .limits
-            .max_storage_buffer_binding_size
-            .min(self.limits.max_buffer_size);
+        let limit = self.buffer_limit();
         if bytes.len() as u64 > limit {
             return Err(GpuError::TooLarge {
                 what,
@@ -474,13 +471,16 @@ impl Gpu {
         out
     }
 
+    /// The largest storage buffer the device binds, in bytes.
+    fn buffer_limit(&self) -> u64 {
+        self.limits
+            .max_storage_buffer_binding_size
+            .min(self.limits.max_buffer_size)
+    }
+
     /// Rays per dispatch: bounded by the device's buffer and dispatch limits.
     fn chunk(&self) -> usize {
-        let limit = self
-            .limits
-            .max_storage_buffer_binding_size
-            .min(self.limits.max_buffer_size);
-        let by_buffer = (limit / HIT_BYTES as u64).min(usize::MAX as u64) as usize;
+        let by_buffer = (self.buffer_limit() / HIT_BYTES as u64).min(usize::MAX as u64) as usize;
         let by_dispatch =
             self.limits.max_compute_workgroups_per_dimension as usize * WORKGROUP as usize;
         MAX_CHUNK.min(by_buffer).min(by_dispatch).max(1)
@@ -687,16 +687,38 @@ impl Raw {
     }
 }
 
+/// The shader's status word as a result: its `STATUS_CORRUPT` bit (1) is
+/// [`GpuError::CorruptTree`], its `STATUS_STACK` bit (2) [`GpuError::StackOverflow`].
+fn status_result(status: u32) -> Result<(), GpuError> {
+    if status & 1 != 0 {
+        return Err(GpuError::CorruptTree);
+    }
+    if status & 2 != 0 {
+        return Err(GpuError::StackOverflow);
+    }
+    Ok(())
+}
+
+/// A buffer bound whole at `binding`.
+fn bind_entry(binding: u32, b: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
+    wgpu::BindGroupEntry {
+        binding,
+        resource: b.as_entire_binding(),
+    }
+}
+
+/// The `k`-th 32-bit word of bytes read back (0 past the end).
+fn word(b: &[u8], k: usize) -> u32 {
+    let mut a = [0u8; 4];
+    if let Some(s) = b.get(4 * k..4 * k + 4) {
+        a.copy_from_slice(s);
+    }
+    u32::from_ne_bytes(a)
+}
+
 fn parse_hit(b: &[u8]) -> Raw {
-    let w = |k: usize| -> [u8; 4] {
-        let mut a = [0u8; 4];
-        if let Some(s) = b.get(4 * k..4 * k + 4) {
-            a.copy_from_slice(s);
-        }
-        a
-    };
-    let f = |k: usize| f32::from_ne_bytes(w(k));
-    let u = |k: usize| u32::from_ne_bytes(w(k));
+    let f = |k: usize| f32::from_bits(word(b, k));
+    let u = |k: usize| word(b, k);
     Raw {
         t: f(0),
         t_error: f(1),
@@ -846,6 +868,33 @@ impl GpuScene {
             shading: Shading::Geometric,
             shade_in: gpu.storage("shading", Vec::new())?,
         })
+    }
+
+    /// The shader's group 0 for this scene with the query's own buffers (the frame pass binds
+    /// unused ones for `rays` and `hits`). Call inside [`scoped`].
+    fn bind_group(
+        &self,
+        params: &wgpu::Buffer,
+        rays: &wgpu::Buffer,
+        hits: &wgpu::Buffer,
+        status: &wgpu::Buffer,
+    ) -> wgpu::BindGroup {
+        self.gpu
+            .device
+            .create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("smoothtri"),
+                layout: &self.gpu.layout,
+                entries: &[
+                    bind_entry(0, params),
+                    bind_entry(1, &self.patches),
+                    bind_entry(2, &self.nodes),
+                    bind_entry(3, &self.order),
+                    bind_entry(4, rays),
+                    bind_entry(5, hits),
+                    bind_entry(6, status),
+                    bind_entry(7, &self.shade_in),
+                ],
+            })
     }
 
     /// The pipeline key of this scene's queries.
@@ -1063,26 +1112,7 @@ impl GpuScene {
             _ => None,
         };
         let bind = scoped(device, GpuError::Device, || {
-            fn e(binding: u32, b: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
-                wgpu::BindGroupEntry {
-                    binding,
-                    resource: b.as_entire_binding(),
-                }
-            }
-            device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("smoothtri"),
-                layout: &gpu.layout,
-                entries: &[
-                    e(0, &params_buf),
-                    e(1, &self.patches),
-                    e(2, &self.nodes),
-                    e(3, &self.order),
-                    e(4, &ray_buf),
-                    e(5, &hit_buf),
-                    e(6, &status_buf),
-                    e(7, &self.shade_in),
-                ],
-            })
+            self.bind_group(&params_buf, &ray_buf, &hit_buf, &status_buf)
         })?;
         let mut status = 0u32;
         for (c, part) in rays.chunks(chunk).enumerate() {
@@ -1166,13 +1196,7 @@ impl GpuScene {
                 }
             }
         }
-        if status & 1 != 0 {
-            return Err(GpuError::CorruptTree);
-        }
-        if status & 2 != 0 {
-            return Err(GpuError::StackOverflow);
-        }
-        Ok(())
+        status_result(status)
     }
 }
 
