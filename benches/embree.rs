@@ -20,6 +20,9 @@
 //! triangles, in one process, interleaved rounds: the 8×8 torus and, when Debian's
 //! `assimp-testmodels` is installed, a real scanned mesh with vertex normals (`WusonOBJ.obj`,
 //! 3.7k triangles), each framed by the camera, N = 8.
+//!
+//! Between the two, smoothtri's BVH traces the flat n×n torus beside Embree;
+//! `SMOOTHTRI_EMBREE_FLAT_ONLY=1` runs that table alone.
 
 use std::hint::black_box;
 use std::io::Write;
@@ -226,6 +229,23 @@ fn our_flat_row(n: usize, rays: &[Ray], reps: usize) -> (Row, f64) {
         ),
     };
     (row, rays.len() as f64 / embree_secs / 1e6)
+}
+
+/// Our BVH on Embree's task (the same flat triangles, the same rays): the table.
+fn flat_table(n: usize, rays: &[Ray], embree_reps: usize) {
+    let (ours_flat, embree_same) = our_flat_row(n, rays, embree_reps);
+    println!(
+        "\n## smoothtri's BVH on flat triangles beside Embree's (the flat {n}×{n} torus, the same \
+         rays, one thread, median of {embree_reps} interleaved rounds)\n\n| what | Mrays/s | \
+         ÷ Embree |\n|---|---|---|"
+    );
+    println!(
+        "| {} | {:.3} | {:.2}× |",
+        ours_flat.what,
+        ours_flat.mrays,
+        embree_same / ours_flat.mrays
+    );
+    println!("| Embree flat {n}×{n}, Phong normals, rtcIntersect1 | {embree_same:.3} | 1.00× |");
 }
 
 /// The Embree ray of `r` (`tnear` 0, `tfar` f32::MAX as smoothtri's query), no hit yet.
@@ -451,6 +471,10 @@ fn main() {
     let n = env_usize("SMOOTHTRI_EMBREE_N", 35).max(3);
 
     let embree_reps = 4 * smooth_reps + 1;
+    if std::env::var_os("SMOOTHTRI_EMBREE_FLAT_ONLY").is_some() {
+        flat_table(n, &rays, embree_reps);
+        return;
+    }
 
     let smooth = smoothtri_row(&mesh, &rays, smooth_reps);
     // The coarsest flat grid whose triangles stay within smoothtri's max distance (sampled on
@@ -460,8 +484,6 @@ fn main() {
     if n_eq != n {
         rows.push(embree_row(n_eq, true, &rays, embree_reps));
     }
-    // Our BVH on Embree's task: the same flat triangles, the same rays.
-    let (ours_flat, embree_same) = our_flat_row(n, &rays, embree_reps);
 
     println!(
         "\n## smoothtri vs Embree 3 ({}; one thread, {} camera rays {WIDTH}×{HEIGHT}, median of \
@@ -494,18 +516,7 @@ fn main() {
             r.max_dist / s.max_dist
         );
     }
-    println!(
-        "\n## smoothtri's BVH on flat triangles beside Embree's (the flat {n}×{n} torus, the same \
-         rays, one thread, median of {embree_reps} interleaved rounds)\n\n| what | Mrays/s | \
-         ÷ Embree |\n|---|---|---|"
-    );
-    println!(
-        "| {} | {:.3} | {:.2}× |",
-        ours_flat.what,
-        ours_flat.mrays,
-        embree_same / ours_flat.mrays
-    );
-    println!("| Embree flat {n}×{n}, Phong normals, rtcIntersect1 | {embree_same:.3} | 1.00× |");
+    flat_table(n, &rays, embree_reps);
 
     // The plug-in table: the same mesh three ways, from C.
     let exe = plugin_program();

@@ -306,6 +306,9 @@ struct SlabRay<F: Float> {
     /// (as the kernel's clip); 2: `1/d` is not finite (a subnormal `d`): the axis is not
     /// tested, which keeps the test conservative.
     mode: [u8; 3],
+    /// Every axis in mode 0 (the common case): the near plane of each axis is known from the
+    /// sign of `1/d`, so the test needs no per-lane min and max.
+    slabs_only: bool,
 }
 
 impl<F: Float> SlabRay<F> {
@@ -321,7 +324,12 @@ impl<F: Float> SlabRay<F> {
                 _ => 2,
             }
         });
-        SlabRay { o, inv, mode }
+        SlabRay {
+            o,
+            inv,
+            mode,
+            slabs_only: mode == [0; 3],
+        }
     }
 
     /// Which slots of `node` the ray enters within `[t_min, t_max]` (bit `k` for slot `k`) and
@@ -369,6 +377,20 @@ impl<F: Float> SlabRay<F> {
     ) -> (u32, [F; BVH_WIDTH]) {
         let mut a = F::L4::splat(t_min);
         let mut b = F::L4::splat(t_max);
+        if self.slabs_only {
+            // `(plane − o)·(1/d)` is monotone in the plane, increasing where `1/d > 0`: the
+            // same near and far values as the selects below (for boxes with `lo ≤ hi`; an
+            // empty box, `lo > hi`, is entered by neither).
+            for (((lo, hi), &o), &inv) in lo.iter().zip(hi).zip(&self.o).zip(&self.inv) {
+                let (near, far) = if inv > F::ZERO { (lo, hi) } else { (hi, lo) };
+                let (o, inv) = (F::L4::splat(o), F::L4::splat(inv));
+                let near = (lanes::<F>(*near) - o) * inv;
+                let far = (lanes::<F>(*far) - o) * inv;
+                a = near.max_fast(a);
+                b = far.min_fast(b);
+            }
+            return (<F::L4 as Lane4>::bits4(a.le(b)), a.to_array4());
+        }
         let mut inside = u32::MAX;
         for ((((lo, hi), &o), &inv), &mode) in lo
             .iter()
@@ -664,18 +686,18 @@ impl<'a, F: Float> Bvh<'a, F> {
         let mut best: Option<(u32, C)> = None;
         let mut tmax = t_max;
         let mut stack: HVec<Pending<F>, BVH_STACK> = HVec::new();
-        stack
-            .push(Pending {
-                child: 0,
-                count: 0,
-                t: t_min,
-            })
-            .map_err(|_| BvhError::StackOverflow)?;
+        // The entry taken next: the nearest child of the node just visited, without a trip
+        // through the stack (the one it would have been popped next from), or the root.
+        let mut next = Some(Pending {
+            child: 0,
+            count: 0,
+            t: t_min,
+        });
         // A tree visits each node at most once and tests each index of `order` at most once:
         // the budgets bound the work even for corrupted storage handed to `from_parts`.
         let mut visits = self.nodes.len();
         let mut tests = self.order.len();
-        while let Some(e) = stack.pop() {
+        while let Some(e) = next.take().or_else(|| stack.pop()) {
             // Skip what the best hit has moved in front of since it was pushed (the ray enters
             // its box at `e.t`, after the best hit).
             if e.t > tmax {
@@ -714,8 +736,32 @@ impl<'a, F: Float> Bvh<'a, F> {
             if hit == 0 {
                 continue;
             }
-            // The entered slots, farthest first onto the stack (so the nearest is popped next;
-            // equal entries keep slot order).
+            // The entered slots, farthest first onto the stack, the nearest taken next (of
+            // equal entries, the later slot). One or two slots (most visits) without the sort.
+            let entry = |k: usize, t: F| Pending {
+                child: node.child(k),
+                count: node.count(k),
+                t,
+            };
+            let at = |k: usize| near.get(k).copied().unwrap_or(t_min);
+            let k0 = hit.trailing_zeros() as usize;
+            let rest = hit & (hit - 1);
+            if rest == 0 {
+                next = Some(entry(k0, at(k0)));
+                continue;
+            }
+            let k1 = rest.trailing_zeros() as usize;
+            if rest & (rest - 1) == 0 {
+                let (t0, t1) = (at(k0), at(k1));
+                let (far, near_one) = if t1 <= t0 {
+                    (entry(k0, t0), entry(k1, t1))
+                } else {
+                    (entry(k1, t1), entry(k0, t0))
+                };
+                stack.push(far).map_err(|_| BvhError::StackOverflow)?;
+                next = Some(near_one);
+                continue;
+            }
             let mut order: [(F, usize); BVH_WIDTH] = [(F::ZERO, 0); BVH_WIDTH];
             let mut m = 0usize;
             for (k, &t) in near.iter().enumerate() {
@@ -738,14 +784,14 @@ impl<'a, F: Float> Bvh<'a, F> {
                 }
                 m += 1;
             }
-            for &(t, k) in order.iter().take(m) {
-                stack
-                    .push(Pending {
-                        child: node.child(k),
-                        count: node.count(k),
-                        t,
-                    })
-                    .map_err(|_| BvhError::StackOverflow)?;
+            for (i, &(t, k)) in order.iter().take(m).enumerate() {
+                if i + 1 == m {
+                    next = Some(entry(k, t));
+                } else {
+                    stack
+                        .push(entry(k, t))
+                        .map_err(|_| BvhError::StackOverflow)?;
+                }
             }
         }
         Ok(best)

@@ -23,10 +23,18 @@ fn closest_and_any_hit_equal_brute_force() {
     assert!(bvh.node_count() <= Bvh::<f32>::nodes_needed(ps.len()));
     let mut rng = Rng(11);
     let (mut hits, mut tested, mut ties) = (0, 0, 0u32);
-    for _ in 0..3000 {
+    for i in 0..3000 {
         let o = rng.unit() * rng.range(2.0, 6.0);
         let aim = rng.unit() * 1.5 * rng.f();
-        let ray = Ray::new(o.as_vec3(), (aim - o).as_vec3());
+        let mut dir = (aim - o).as_vec3();
+        // Every fifth ray has a zero direction component or two (the slab test's other path:
+        // the origin must lie between that axis's planes).
+        match i % 10 {
+            0 => dir.z = 0.0,
+            5 => (dir.x, dir.y) = (0.0, 0.0),
+            _ => {}
+        }
+        let ray = Ray::new(o.as_vec3(), dir);
         let got = bvh.closest_hit::<6>(&ray, 0.0, f32::INFINITY);
         let mut want: Option<(f32, u32)> = None;
         for (i, p) in ps.iter().enumerate() {

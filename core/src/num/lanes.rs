@@ -115,6 +115,14 @@ macro_rules! impl_wide4 {
             fn bits4(m: Self) -> u32 {
                 m.to_bitmask() as u32
             }
+            #[inline(always)]
+            fn max_fast(self, o: Self) -> Self {
+                self.fast_max(o)
+            }
+            #[inline(always)]
+            fn min_fast(self, o: Self) -> Self {
+                self.fast_min(o)
+            }
         }
         impl_wide_ops!($l, $f);
     };
@@ -182,6 +190,14 @@ impl<F: Float> Lane4 for One<F> {
     #[inline(always)]
     fn bits4(m: bool) -> u32 {
         if m { 0b1111 } else { 0 }
+    }
+    #[inline(always)]
+    fn max_fast(self, o: Self) -> Self {
+        if self.0 > o.0 { self } else { o }
+    }
+    #[inline(always)]
+    fn min_fast(self, o: Self) -> Self {
+        if self.0 < o.0 { self } else { o }
     }
 }
 

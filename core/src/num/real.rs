@@ -100,6 +100,11 @@ pub trait Lane4: LaneOps {
     fn to_array4(self) -> [Self::F; 4];
     /// The lanes of `m` as the bits 0 to 3 (beyond [`Lane4::POINTS`], copies of the first).
     fn bits4(m: Self::Mask) -> u32;
+    /// The larger of `self` and `o` per lane, for lanes that are not NaN (one instruction
+    /// where the target has it; with a NaN or at `±0` either may be returned).
+    fn max_fast(self, o: Self) -> Self;
+    /// The smaller of `self` and `o` per lane, as [`Lane4::max_fast`].
+    fn min_fast(self, o: Self) -> Self;
 }
 
 pub(crate) mod sealed {
