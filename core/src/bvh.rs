@@ -339,11 +339,9 @@ impl<F: Float> SlabRay<F> {
     /// here, so every patch whose box the kernel enters lies in a slot reported here.
     #[inline(always)]
     fn enter(&self, node: &BvhNode<F>, t_min: F, t_max: F) -> (u32, [F; BVH_WIDTH]) {
-        let used = node
-            .child
-            .iter()
-            .enumerate()
-            .fold(0u32, |m, (k, &c)| m | (((c != BVH_EMPTY_SLOT) as u32) << k));
+        // The used slots, in one four-lane compare of the child indices.
+        let empty = wide::u32x4::new(node.child).simd_eq(wide::u32x4::splat(BVH_EMPTY_SLOT));
+        let used = !empty.to_bitmask() & 0b1111;
         if <F::L4 as Lane4>::POINTS == BVH_WIDTH {
             let (hit, near) = self.slabs(&node.lo, &node.hi, t_min, t_max);
             return (used & hit, near);
