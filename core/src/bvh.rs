@@ -306,9 +306,6 @@ struct SlabRay<F: Float> {
     /// (as the kernel's clip); 2: `1/d` is not finite (a subnormal `d`): the axis is not
     /// tested, which keeps the test conservative.
     mode: [u8; 3],
-    /// Every axis in mode 0 (the common case): the near plane of each axis is known from the
-    /// sign of `1/d`, so the test needs no per-lane min and max.
-    slabs_only: bool,
 }
 
 impl<F: Float> SlabRay<F> {
@@ -324,12 +321,7 @@ impl<F: Float> SlabRay<F> {
                 _ => 2,
             }
         });
-        SlabRay {
-            o,
-            inv,
-            mode,
-            slabs_only: mode == [0; 3],
-        }
+        SlabRay { o, inv, mode }
     }
 
     /// Which slots of `node` the ray enters within `[t_min, t_max]` (bit `k` for slot `k`) and
@@ -375,20 +367,6 @@ impl<F: Float> SlabRay<F> {
     ) -> (u32, [F; BVH_WIDTH]) {
         let mut a = F::L4::splat(t_min);
         let mut b = F::L4::splat(t_max);
-        if self.slabs_only {
-            // `(plane − o)·(1/d)` is monotone in the plane, increasing where `1/d > 0`: the
-            // same near and far values as the selects below (for boxes with `lo ≤ hi`; an
-            // empty box, `lo > hi`, is entered by neither).
-            for (((lo, hi), &o), &inv) in lo.iter().zip(hi).zip(&self.o).zip(&self.inv) {
-                let (near, far) = if inv > F::ZERO { (lo, hi) } else { (hi, lo) };
-                let (o, inv) = (F::L4::splat(o), F::L4::splat(inv));
-                let near = (lanes::<F>(*near) - o) * inv;
-                let far = (lanes::<F>(*far) - o) * inv;
-                a = near.max_fast(a);
-                b = far.min_fast(b);
-            }
-            return (<F::L4 as Lane4>::bits4(a.le(b)), a.to_array4());
-        }
         let mut inside = u32::MAX;
         for ((((lo, hi), &o), &inv), &mode) in lo
             .iter()
@@ -397,20 +375,19 @@ impl<F: Float> SlabRay<F> {
             .zip(&self.inv)
             .zip(&self.mode)
         {
-            let (lo, hi) = (lanes::<F>(*lo), lanes::<F>(*hi));
             match mode {
                 0 => {
+                    // `(plane − o)·(1/d)` is monotone in the plane, increasing where `1/d > 0`,
+                    // so the sign picks the near and the far plane (for a box with `lo ≤ hi`;
+                    // an empty box, `lo > hi`, is not entered). No NaN can occur (finite
+                    // planes, origin and `1/d`), so the one-instruction max and min are exact.
+                    let (near, far) = if inv > F::ZERO { (lo, hi) } else { (hi, lo) };
                     let (o, inv) = (F::L4::splat(o), F::L4::splat(inv));
-                    let t1 = (lo - o) * inv;
-                    let t2 = (hi - o) * inv;
-                    // No NaN can occur (finite planes, origin and `1/d`), so min and max as
-                    // selects are exact.
-                    let near = F::L4::select(t1.lt(t2), t1, t2);
-                    let far = F::L4::select(t1.lt(t2), t2, t1);
-                    a = F::L4::select(near.gt(a), near, a);
-                    b = F::L4::select(far.lt(b), far, b);
+                    a = ((lanes::<F>(*near) - o) * inv).max_fast(a);
+                    b = ((lanes::<F>(*far) - o) * inv).min_fast(b);
                 }
                 1 => {
+                    let (lo, hi) = (lanes::<F>(*lo), lanes::<F>(*hi));
                     let o = F::L4::splat(o);
                     inside &= <F::L4 as Lane4>::bits4(F::L4::and(lo.le(o), o.le(hi)));
                 }
