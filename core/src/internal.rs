@@ -3,7 +3,10 @@
 //! may change in any release.
 
 pub use crate::bvh::MAX_LEAF;
-pub use crate::kernel::refine::{EARLY_STOP, INNER, RHO_GROWTH, RHO_MAX, RHO_START, WORST_SHRINK};
+pub use crate::kernel::refine::{
+    EARLY_STOP, INNER_OF_SPREAD, INNER_OF_STOP, OUTER_OF_INNER, OUTER_OF_SPREAD, OUTER_OF_WIDTH,
+    WORST_SHRINK,
+};
 pub use crate::kernel::{ROUNDING_ULPS, WALL_MARGIN_ULPS};
 pub use crate::mesh::cracks::{CRACK_REACH, CRACK_SAMPLES, MAX_CRACK_REACH};
 pub use crate::mesh::seams::{FIT_SAMPLES, TWIST_TERMS};

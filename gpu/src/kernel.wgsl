@@ -48,10 +48,11 @@ const EPS: f32 = 1.1920929e-7;
 const PATCH_VEC4: u32 = 25u;
 const FLAT_VEC4: u32 = 3u;
 // Refinement parameters (the CPU's kernel/refine.rs).
-const RHO_START: f32 = 0.0625;
-const RHO_GROWTH: f32 = 4.0;
-const RHO_MAX: f32 = 0.25;
-const INNER: f32 = 0.125;
+const INNER_OF_SPREAD: f32 = 0.015625;
+const INNER_OF_STOP: f32 = 0.4;
+const OUTER_OF_SPREAD: f32 = 2.0;
+const OUTER_OF_INNER: f32 = 8.0;
+const OUTER_OF_WIDTH: f32 = 0.0625;
 // Rounding allowance of t_error, in ulps of the patch's extent L (`pt.scale`; the CPU's
 // `smoothtri::kernel::ROUNDING_ULPS`); also the snap of f at the shell interval's ends.
 const ROUNDING_ULPS: f32 = 16.0;
@@ -726,6 +727,64 @@ fn estimate(br: Bracket) -> f32 {
     return 0.5 * (br.a + br.b);
 }
 
+// A sample (x, f(x)) beside a bracket, for the start estimate; `ok` false where there is none.
+struct Side {
+    ok: bool,
+    x: f32,
+    f: f32,
+}
+
+// The CPU's `refine::start_estimate`: the zero of the inverse interpolation x(f) through the
+// bracket's ends and the samples before and after it where f is strictly monotone over them
+// (cubic, quadratic), else regula falsi.
+fn start_estimate(br: Bracket, before: Side, after: Side) -> f32 {
+    let rf = estimate(br);
+    if (br.fa == 0.0 || br.fb == 0.0) {
+        return rf;
+    }
+    let rising = br.fb > br.fa;
+    let use_p = before.ok && select((before.f > br.fa), (before.f < br.fa), rising);
+    // (The comparisons in parentheses: `a < b, c > d` would parse as a template list.)
+    let use_q = after.ok && select((after.f < br.fb), (after.f > br.fb), rising);
+    var xs: array<f32, 4>;
+    var fs: array<f32, 4>;
+    var m = 0u;
+    if (use_p) {
+        xs[m] = before.x;
+        fs[m] = before.f;
+        m++;
+    }
+    xs[m] = br.a;
+    fs[m] = br.fa;
+    m++;
+    xs[m] = br.b;
+    fs[m] = br.fb;
+    m++;
+    if (use_q) {
+        xs[m] = after.x;
+        fs[m] = after.f;
+        m++;
+    }
+    if (m == 2u) {
+        return rf;
+    }
+    // Lagrange: Σ_i x_i Π_{j≠i} f_j / (f_j − f_i).
+    var x = 0.0;
+    for (var i = 0u; i < m; i++) {
+        var w = 1.0;
+        for (var j = 0u; j < m; j++) {
+            if (j != i) {
+                w = w * (fs[j] / (fs[j] - fs[i]));
+            }
+        }
+        x = x + xs[i] * w;
+    }
+    if (fin(x) && x > br.a && x < br.b) {
+        return x;
+    }
+    return rf;
+}
+
 struct Crossing {
     ok: bool,
     t: f32,
@@ -780,6 +839,8 @@ fn smooth_crossing(id: u32, o: vec3<f32>, d: vec3<f32>, inv: vec3<f32>, t_min: f
     // f at the interval's ends within the rounding of f counts as zero (the CPU's
     // `refine::bracket_step`): neighbours decide a crossing at their shared wall alike.
     let snap = ROUNDING_ULPS * EPS * pt.scale;
+    var before = Side(false, 0.0, 0.0);
+    var at = 0u;
     for (var j = 0u; j < SAMPLES + 2u; j++) {
         let x1 = select(shell.a + stp * f32(j), shell.b, j >= SAMPLES + 1u);
         var f1 = f_at(pt, lo, lr, x1);
@@ -789,13 +850,24 @@ fn smooth_crossing(id: u32, o: vec3<f32>, d: vec3<f32>, inv: vec3<f32>, t_min: f
         if (j > 0u && (f0 == 0.0 || f1 == 0.0 || (f1 > 0.0) != (f0 > 0.0))) {
             br = Bracket(x0, x1, f0, f1);
             found = true;
+            at = j;
             break;
+        }
+        if (j > 0u) {
+            before = Side(true, x0, f0);
         }
         x0 = x1;
         f0 = f1;
     }
     if (!found) {
         return no_crossing();
+    }
+    // The sample after the bracket (the CPU's lane call computes it with the others), for the
+    // start estimate; none after the last.
+    var after = Side(false, 0.0, 0.0);
+    if (at < SAMPLES + 1u && br.fa != 0.0 && br.fb != 0.0) {
+        let x2 = select(shell.a + stp * f32(at + 1u), shell.b, at + 1u >= SAMPLES + 1u);
+        after = Side(true, x2, f_at(pt, lo, lr, x2));
     }
     let first = br;
     // Early stop, as on the CPU: once the bracket is within EARLY_STOP of the rounding
@@ -810,14 +882,20 @@ fn smooth_crossing(id: u32, o: vec3<f32>, d: vec3<f32>, inv: vec3<f32>, t_min: f
     }
     // Refinement: at most ITERATIONS steps of 8 points (fewer once the bracket has collapsed
     // onto an exact zero or is within `stop`).
-    var rho = RHO_START;
+    var x = start_estimate(br, before, after);
     for (var it = 0u; it < ITERATIONS; it++) {
         if (br.fa == 0.0 || br.fb == 0.0 || !(br.b - br.a > stop)) {
             break;
         }
         let wd = br.b - br.a;
-        let x = estimate(br);
-        let delta = rho * wd;
+        // Radii around the estimate from its distance e to regula falsi's (the CPU's
+        // `refine::refine`).
+        let e = abs(x - estimate(br));
+        var r_in = max(e * INNER_OF_SPREAD, stop * INNER_OF_STOP);
+        if (!(e > 0.0)) {
+            r_in = max(r_in, wd * (OUTER_OF_WIDTH / OUTER_OF_INNER));
+        }
+        let r_out = max(max(e * OUTER_OF_SPREAD, r_in * OUTER_OF_INNER), wd * OUTER_OF_WIDTH);
         let neg_a = br.fa < 0.0;
         var nb = br.b;
         var fnb = br.fb;
@@ -830,16 +908,16 @@ fn smooth_crossing(id: u32, o: vec3<f32>, d: vec3<f32>, inv: vec3<f32>, t_min: f
                     xk = br.a + wd * (0.2 * f32(k + 1u));
                 }
                 case 4u: {
-                    xk = x - delta;
+                    xk = x - r_out;
                 }
                 case 5u: {
-                    xk = x - delta * INNER;
+                    xk = x - r_in;
                 }
                 case 6u: {
-                    xk = x + delta * INNER;
+                    xk = x + r_in;
                 }
                 default: {
-                    xk = x + delta;
+                    xk = x + r_out;
                 }
             }
             xk = min(max(xk, br.a), br.b);
@@ -861,19 +939,42 @@ fn smooth_crossing(id: u32, o: vec3<f32>, d: vec3<f32>, inv: vec3<f32>, t_min: f
                 fna = fs[k];
             }
         }
-        let caught = na >= x - delta && nb <= x + delta;
-        if (caught) {
-            rho = max(rho * ((nb - na) / wd), EPS);
-        } else {
-            rho = min(rho * RHO_GROWTH, RHO_MAX);
+        // The nearest samples outside the new bracket, for the next estimate.
+        var bef = Side(false, 0.0, 0.0);
+        var aft = Side(false, 0.0, 0.0);
+        for (var k = 0u; k < 10u; k++) {
+            var xk: f32;
+            var fk: f32;
+            if (k < 8u) {
+                xk = xs[k];
+                fk = fs[k];
+            } else if (k == 8u) {
+                xk = br.a;
+                fk = br.fa;
+            } else {
+                xk = br.b;
+                fk = br.fb;
+            }
+            if (xk < na && (!bef.ok || xk > bef.x)) {
+                bef = Side(true, xk, fk);
+            }
+            if (xk > nb && (!aft.ok || xk < aft.x)) {
+                aft = Side(true, xk, fk);
+            }
         }
         if (fnb == 0.0) {
             br = Bracket(nb, nb, fnb, fnb);
         } else {
             br = Bracket(na, nb, fna, fnb);
         }
+        x = start_estimate(br, bef, aft);
     }
-    let tau = estimate(br);
+    // The estimate inside the final bracket (the CPU's `refine` returns it with the bracket):
+    // regula falsi once the bracket is within `stop`, where the samples are rounding noise.
+    if (!(br.b - br.a > stop)) {
+        x = estimate(br);
+    }
+    let tau = x;
     let bc = bary(pt, lo + lr * tau);
     // Re-basing can round the hit an ulp outside the caller's range: clamp it.
     let t = min(max(t0 + tau, t_min), t_max);

@@ -346,7 +346,9 @@ fn grazing_rays_give_finite_answers() {
 /// the WGSL repeats them, this test keeps them equal).
 #[test]
 fn shader_constants_match_the_cpu_kernel() {
-    use smoothtri::internal::{EARLY_STOP, INNER, RHO_GROWTH, RHO_MAX, RHO_START};
+    use smoothtri::internal::{
+        EARLY_STOP, INNER_OF_SPREAD, INNER_OF_STOP, OUTER_OF_INNER, OUTER_OF_SPREAD, OUTER_OF_WIDTH,
+    };
     use smoothtri::internal::{ROUNDING_ULPS, WALL_MARGIN_ULPS};
     let value = |name: &str| -> f64 {
         let decl = format!("const {name}: f32 = ");
@@ -359,10 +361,11 @@ fn shader_constants_match_the_cpu_kernel() {
     };
     for (name, cpu) in [
         ("EARLY_STOP", EARLY_STOP),
-        ("RHO_START", RHO_START),
-        ("RHO_GROWTH", RHO_GROWTH),
-        ("RHO_MAX", RHO_MAX),
-        ("INNER", INNER),
+        ("INNER_OF_SPREAD", INNER_OF_SPREAD),
+        ("INNER_OF_STOP", INNER_OF_STOP),
+        ("OUTER_OF_SPREAD", OUTER_OF_SPREAD),
+        ("OUTER_OF_INNER", OUTER_OF_INNER),
+        ("OUTER_OF_WIDTH", OUTER_OF_WIDTH),
         ("ROUNDING_ULPS", ROUNDING_ULPS),
         ("WALL_MARGIN_ULPS", WALL_MARGIN_ULPS),
     ] {

@@ -221,13 +221,13 @@ pub(crate) fn crossing<F: Float, const K: usize, const N: usize>(
         stats.height_evals += crate::num::lanes::LANES as u32;
         f_lanes(&prep, o8, r8, <F::L8 as Lane>::from_array(taus)).to_array()
     };
-    let bracket = first_sign_change::<F, K>(a, b, end_snap(cl.scale), &mut f)?;
+    let (bracket, start) = first_sign_change::<F, K>(a, b, end_snap(cl.scale), &mut f)?;
     // The allowance of `complete` is at least the one from the sampling bracket's secant
     // (it takes the flatter of two secants): a bracket below a fraction of it is converged.
     let floor = rounding_allowance(cl.scale, secant(&bracket));
     let stop = floor * F::from_f64(refine::EARLY_STOP);
-    let fin = refine::<F, N>(bracket, stop, &mut f);
-    complete(patch, &cl, &bracket, &fin, t_min, t_max)
+    let (fin, tau) = refine::<F, N>(bracket, start, stop, &mut f);
+    complete(patch, &cl, &bracket, &fin, tau, t_min, t_max)
 }
 
 /// `|f(b) − f(a)| / (b − a)` of a bracket (`+∞` or NaN when it has zero width).
@@ -283,18 +283,19 @@ pub(crate) fn end_snap<F: Float>(scale: F) -> F {
     F::from_f64(ROUNDING_ULPS) * F::EPSILON * scale
 }
 
-/// The crossing at the final bracket `fin` (refined from the sampling bracket `bracket`)
-/// of the clipped ray `cl`: `t`, `t_error` with its rounding allowance, barycentrics.
+/// The crossing at `tau`, the estimate inside the final bracket `fin` (refined from the
+/// sampling bracket `bracket`), of the clipped ray `cl`: `t`, `t_error` with its rounding
+/// allowance, barycentrics.
 #[inline(always)]
 pub(crate) fn complete<F: Float>(
     patch: &Patch<F>,
     cl: &Clipped<F>,
     bracket: &refine::Bracket<F>,
     fin: &refine::Bracket<F>,
+    tau: F,
     t_min: F,
     t_max: F,
 ) -> Option<Crossing<F>> {
-    let tau = fin.estimate();
     let bary = bary_at(&patch.shape, cl.lray.at(tau));
     // Re-basing can round the hit an ulp outside the caller's range: clamp it.
     let t = (cl.t0 + tau).max(t_min).min(t_max);
