@@ -727,6 +727,12 @@ fn estimate(br: Bracket) -> f32 {
     return 0.5 * (br.a + br.b);
 }
 
+// Bracketing sample j of the shell interval: shell.a + j·stp, the last (j = SAMPLES + 1)
+// exactly shell.b.
+fn sample_at(shell: Span, stp: f32, j: u32) -> f32 {
+    return select(shell.a + stp * f32(j), shell.b, j >= SAMPLES + 1u);
+}
+
 // A sample (x, f(x)) beside a bracket, for the start estimate; `ok` false where there is none.
 struct Side {
     ok: bool,
@@ -842,7 +848,7 @@ fn smooth_crossing(id: u32, o: vec3<f32>, d: vec3<f32>, inv: vec3<f32>, t_min: f
     var before = Side(false, 0.0, 0.0);
     var at = 0u;
     for (var j = 0u; j < SAMPLES + 2u; j++) {
-        let x1 = select(shell.a + stp * f32(j), shell.b, j >= SAMPLES + 1u);
+        let x1 = sample_at(shell, stp, j);
         var f1 = f_at(pt, lo, lr, x1);
         if ((j == 0u || j == SAMPLES + 1u) && abs(f1) <= snap) {
             f1 = 0.0;
@@ -866,7 +872,7 @@ fn smooth_crossing(id: u32, o: vec3<f32>, d: vec3<f32>, inv: vec3<f32>, t_min: f
     // start estimate; none after the last.
     var after = Side(false, 0.0, 0.0);
     if (at < SAMPLES + 1u && br.fa != 0.0 && br.fb != 0.0) {
-        let x2 = select(shell.a + stp * f32(at + 1u), shell.b, at + 1u >= SAMPLES + 1u);
+        let x2 = sample_at(shell, stp, at + 1u);
         after = Side(true, x2, f_at(pt, lo, lr, x2));
     }
     let first = br;
@@ -967,7 +973,10 @@ fn smooth_crossing(id: u32, o: vec3<f32>, d: vec3<f32>, inv: vec3<f32>, t_min: f
         } else {
             br = Bracket(na, nb, fna, fnb);
         }
-        x = start_estimate(br, bef, aft);
+        // A bracket within `stop` ends the refinement and takes the regula falsi point below.
+        if (br.b - br.a > stop) {
+            x = start_estimate(br, bef, aft);
+        }
     }
     // The estimate inside the final bracket (the CPU's `refine` returns it with the bracket):
     // regula falsi once the bracket is within `stop`, where the samples are rounding noise.

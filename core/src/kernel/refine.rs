@@ -47,7 +47,8 @@ pub const UNIFORM_POINTS: usize = 4;
 /// The guaranteed shrink factor of the bracket per refinement step: `UNIFORM_POINTS + 1`.
 pub const WORST_SHRINK: usize = UNIFORM_POINTS + 1;
 /// The inner radius around a step's estimate, as a fraction of its distance `e` to regula
-/// falsi's (at least half the early-stop width, so a caught root ends the refinement).
+/// falsi's (at least [`INNER_OF_STOP`] times the early-stop width, so a caught root ends the
+/// refinement).
 pub const INNER_OF_SPREAD: f64 = 1.0 / 64.0;
 /// The smallest inner radius, as a fraction of the early-stop width: a root caught within it
 /// ends the refinement (below one half, so that the bracket's rounding cannot take it over).
@@ -259,7 +260,7 @@ pub(crate) fn refine<F: Float, const N: usize>(
     f8: &mut impl FnMut([F; LANES]) -> [F; LANES],
 ) -> (Bracket<F>, F) {
     let fifth = F::ONE / F::from_f64(WORST_SHRINK as f64);
-    let half = F::from_f64(INNER_OF_STOP);
+    let inner_of_stop = F::from_f64(INNER_OF_STOP);
     let mut x = start;
     for _ in 0..N {
         if br.fa == F::ZERO || br.fb == F::ZERO || !(br.b - br.a > stop) {
@@ -270,7 +271,7 @@ pub(crate) fn refine<F: Float, const N: usize>(
         // estimate's error, a bound on the higher-order one's where `f` is smooth at the scale
         // of the bracket); regula falsi itself (no neighbour qualified) has `e = 0`.
         let e = (x - br.estimate()).abs();
-        let r_in = (e * F::from_f64(INNER_OF_SPREAD)).max(stop * half);
+        let r_in = (e * F::from_f64(INNER_OF_SPREAD)).max(stop * inner_of_stop);
         let r_in = if e > F::ZERO {
             r_in
         } else {
@@ -330,7 +331,11 @@ pub(crate) fn refine<F: Float, const N: usize>(
                 fb: fnb,
             }
         };
-        x = start_estimate(&br, before, after);
+        // A bracket within `stop` ends the refinement and takes the regula falsi point below:
+        // no estimate to interpolate for it.
+        if br.b - br.a > stop {
+            x = start_estimate(&br, before, after);
+        }
     }
     // Within the early-stop width the samples' values are rounding noise, which interpolation
     // through four of them amplifies (sphere hits in f32 land 3× farther from the analytic
