@@ -603,8 +603,8 @@ impl<'a, F: Float> Bvh<'a, F> {
         t_max: F,
     ) -> Option<(u32, Crossing<F>)> {
         let mut stats = KernelStats::default();
-        self.traverse(ray, t_min, t_max, false, &mut |_, p, a, b| {
-            kernel::crossing::<F, DEFAULT_SAMPLES, N>(p, ray, a, b, &mut stats)
+        self.traverse(ray, t_min, t_max, false, &mut |_, p, a, b, beyond| {
+            kernel::crossing::<F, DEFAULT_SAMPLES, N>(p, ray, a, b, beyond, &mut stats)
         })
         .ok()?
     }
@@ -615,8 +615,8 @@ impl<'a, F: Float> Bvh<'a, F> {
     /// Never.
     pub fn any_hit<const N: usize>(&self, ray: &Ray<F>, t_min: F, t_max: F) -> bool {
         let mut stats = KernelStats::default();
-        let first = self.traverse(ray, t_min, t_max, true, &mut |_, p, a, b| {
-            kernel::crossing::<F, DEFAULT_SAMPLES, N>(p, ray, a, b, &mut stats)
+        let first = self.traverse(ray, t_min, t_max, true, &mut |_, p, a, b, _| {
+            kernel::crossing::<F, DEFAULT_SAMPLES, N>(p, ray, a, b, None, &mut stats)
         });
         matches!(first, Ok(Some(_)))
     }
@@ -636,21 +636,27 @@ impl<'a, F: Float> Bvh<'a, F> {
         t_max: F,
         mut test: impl FnMut(u32, &Patch<F>, F, F) -> Option<Hit<F>>,
     ) -> Option<Hit<F>> {
-        let (id, mut h) = self.traverse(ray, t_min, t_max, false, &mut test).ok()??;
+        let (id, mut h) = self
+            .traverse(ray, t_min, t_max, false, &mut |id, p, a, b, _| {
+                test(id, p, a, b)
+            })
+            .ok()??;
         h.patch = id;
         Some(h)
     }
 
     /// Visits the leaves whose boxes the ray enters, nearest box first, testing each patch with
     /// `test` over the caller's range; returns the candidate with the smallest `t` and its
-    /// patch index (with `any`, the first candidate found).
+    /// patch index (with `any`, the first candidate found). The test's last argument is the
+    /// best candidate's `t` once there is one: a candidate at or beyond it is discarded, so
+    /// the test may skip a patch whose crossings all lie there.
     fn traverse<C: Candidate<F>>(
         &self,
         ray: &Ray<F>,
         t_min: F,
         t_max: F,
         any: bool,
-        test: &mut impl FnMut(u32, &Patch<F>, F, F) -> Option<C>,
+        test: &mut impl FnMut(u32, &Patch<F>, F, F, Option<F>) -> Option<C>,
     ) -> Result<Option<(u32, C)>, BvhError> {
         let o = F::from_glam(ray.origin);
         let d = F::from_glam(ray.dir);
@@ -690,7 +696,8 @@ impl<'a, F: Float> Bvh<'a, F> {
                     // Each patch is tested over the caller's whole range, then compared with the
                     // best so far: the kernel's first sign change depends on its interval, so
                     // shortening it to the best `t` could skip a closer crossing pair.
-                    if let Some(h) = test(id, p, t_min, t_max)
+                    let beyond = best.as_ref().map(|_| tmax);
+                    if let Some(h) = test(id, p, t_min, t_max, beyond)
                         && (best.is_none() || h.t() < tmax)
                     {
                         tmax = h.t();

@@ -142,7 +142,7 @@ fn intersect_impl<F: Float, const K: usize, const N: usize>(
     t_max: F,
     stats: &mut KernelStats,
 ) -> Option<Hit<F>> {
-    let c = crossing::<F, K, N>(patch, ray, t_min, t_max, stats)?;
+    let c = crossing::<F, K, N>(patch, ray, t_min, t_max, None, stats)?;
     stats.normal_evals += 1;
     let hit = finish(patch, ray, &c)?;
     stats.rounding = c.rounding.to_f64();
@@ -151,14 +151,22 @@ fn intersect_impl<F: Float, const K: usize, const N: usize>(
 
 /// Clips a world ray to the patch's box, slab and shell: the local ray re-based at `t0`
 /// (the middle of the box interval) and the interval `[a, b]` of `τ = t − t0` to search, or
-/// `None` when the ray misses the shell (or is degenerate).
+/// `None` when the ray misses the shell (or is degenerate), or when the interval starts beyond
+/// `beyond` (`t0 + a > beyond`: every crossing the kernel could return lies there, see
+/// [`crossing`]).
 #[inline(always)]
 pub(crate) fn clip_ray<F: Float>(
     patch: &Patch<F>,
     ray: &Ray<F>,
     t_min: F,
     t_max: F,
+    beyond: Option<F>,
 ) -> Option<Clipped<F>> {
+    // Every `τ` the search reaches is at least the interval's start `a`, which starts as
+    // `ta − t0` and only grows, and rounding is monotone: a crossing's `t` is at least
+    // `t0 + a` (before the clamp to `[t_min, t_max]`, which keeps it at least `beyond` when
+    // `beyond ≤ t_max`).
+    let past = |t0: F, a: F| matches!(beyond, Some(c) if t0 + a > c);
     let o = F::from_glam(ray.origin);
     let d = F::from_glam(ray.dir);
     if !o.all_finite() || !d.all_finite() || d.length2() == F::ZERO {
@@ -170,6 +178,9 @@ pub(crate) fn clip_ray<F: Float>(
     let (ta, tb) = patch.bbox.ray_interval(o, d, t_min, t_max)?;
     // Local ray re-based at the middle of the box interval.
     let t0 = F::from_f64(0.5) * (ta + tb);
+    if past(t0, ta - t0) {
+        return None;
+    }
     let lray = LocalRay {
         o: patch.frame.world_to_local(o + d * t0),
         r: patch.frame.world_dir_to_local(d),
@@ -191,6 +202,9 @@ pub(crate) fn clip_ray<F: Float>(
     }
     let scale = rounding_scale(patch);
     let (a, b) = shell_interval(&patch.shape, &lray, a, b, wall_margins(patch, scale))?;
+    if past(t0, a) {
+        return None;
+    }
     Some(Clipped {
         t0,
         lray,
@@ -202,15 +216,21 @@ pub(crate) fn clip_ray<F: Float>(
 
 /// The search part of the kernel (clip, bracket, refine) without the normal: where the ray
 /// crosses the patch, or `None`. At most [`max_lane_calls`]`(K, N)` lane calls.
+///
+/// `beyond`, when given, is a ray parameter at or after which the caller discards crossings
+/// (the closest one found so far, `≤ t_max`): a patch whose shell interval starts after it is
+/// not searched (`None`, no lane call), which returns `None` exactly where the search would
+/// have returned a crossing the caller discards.
 #[inline(always)]
 pub(crate) fn crossing<F: Float, const K: usize, const N: usize>(
     patch: &Patch<F>,
     ray: &Ray<F>,
     t_min: F,
     t_max: F,
+    beyond: Option<F>,
     stats: &mut KernelStats,
 ) -> Option<Crossing<F>> {
-    let cl = clip_ray(patch, ray, t_min, t_max)?;
+    let cl = clip_ray(patch, ray, t_min, t_max, beyond)?;
     let (a, b) = (cl.a, cl.b);
     stats.shell_width = (b - a).to_f64();
     let prep = Prepared::new(&patch.shape);
