@@ -12,7 +12,7 @@ use crate::aabb::Aabb;
 use crate::num::real::{Float, Real};
 use crate::num::vec::V3;
 
-/// The stored geometry of one [`Patch`](crate::Patch), in plain arrays (`repr(C)`, 54 scalars).
+/// The stored geometry of one [`Patch`](crate::Patch), in plain arrays (`repr(C)`, 60 scalars).
 ///
 /// Invariants of an accepted patch (checked by [`Patch::new`](crate::Patch::new)): every value
 /// finite, `axes` orthonormal and right-handed, `p[0] = 0`, `p[1].y = p[1].z = p[2].z = 0`,
@@ -44,6 +44,15 @@ pub struct PatchData<F: Float> {
     /// rounding margin, in barycentric units ([`close_cracks`](crate::mesh::cracks::close_cracks);
     /// zeros unless measured).
     pub reach: [F; 3],
+    /// The band's fit `[c0, c1, c2]`: `q(β) = c0·β1β2 + c1·β2β0 + c2·β0β1` over the
+    /// barycentrics `β` of a local point's `(x, y)` in the triangle (length units; docs/METHOD.md
+    /// §8, "Culling").
+    pub band_fit: [F; 3],
+    /// The band `[lo, hi, per_reach]`: every surface point's `z − q(β)` lies in
+    /// `[lo − w, hi + w]` with `w = per_reach · max(reach)` (the reach plus the kernel's wall margin);
+    /// `[F::MIN, F::MAX, 0]` (nothing culled) for patches with a vertex normal more than 45°
+    /// off the face normal.
+    pub band: [F; 3],
 }
 
 /// A triangle's local orthonormal frame: origin `P0`, `x` along `P1 − P0`, `z` along the face
@@ -171,7 +180,7 @@ impl<F: Copy> Shape<F> {
 /// and three vertex normals (any positive length). The surface interpolates the vertices with
 /// the given normals, passes through the edge conjugation lines, and reproduces spheres exactly.
 ///
-/// Memory: `size_of::<Patch<f32>>()` is 228 bytes, `Patch<f64>` 456 bytes (checked by a test).
+/// Memory: `size_of::<Patch<f32>>()` is 252 bytes, `Patch<f64>` 504 bytes (checked by a test).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Patch<F: Float = f32> {
     /// The local frame (origin `P0`, axes) and its maps to world coordinates.
@@ -189,6 +198,8 @@ pub struct Patch<F: Float = f32> {
     /// kernel's rounding margin, in barycentric units: 0 unless
     /// [`close_cracks`](crate::mesh::cracks::close_cracks) measured a gap to the neighbour there.
     pub(crate) reach: [F; 3],
+    /// The band that culls rays before sampling ([`crate::surface::band`]).
+    pub(crate) band: crate::surface::band::Band<F>,
 }
 
 /// A placeholder for caller storage (e.g. the slots of a
@@ -203,6 +214,7 @@ impl<F: Float> Default for Patch<F> {
             bbox: Aabb::EMPTY,
             remedy: 0,
             reach: [F::ZERO; 3],
+            band: crate::surface::band::Band::UNBOUNDED,
         }
     }
 }

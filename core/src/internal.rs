@@ -11,4 +11,17 @@ pub use crate::kernel::{ROUNDING_ULPS, WALL_MARGIN_ULPS};
 pub use crate::mesh::cracks::{CRACK_REACH, CRACK_SAMPLES, MAX_CRACK_REACH};
 pub use crate::mesh::seams::{FIT_SAMPLES, TWIST_TERMS};
 pub use crate::num::real::LANES;
+pub use crate::surface::band::BAND_MIN_NORMAL_COS;
 pub use crate::surface::field::SECTION_NEWTON_STEPS;
+
+/// `patch` with an unbounded band ([`crate::surface::band`]): the kernel then samples every ray
+/// that enters its shell. For tests that compare the cull with no cull.
+///
+/// # Panics
+/// Never.
+pub fn without_band<F: crate::Float>(patch: &crate::Patch<F>) -> crate::Patch<F> {
+    crate::Patch {
+        band: crate::surface::band::Band::UNBOUNDED,
+        ..*patch
+    }
+}

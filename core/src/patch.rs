@@ -14,6 +14,7 @@ use crate::kernel::{self, DEFAULT_SAMPLES, KernelStats};
 use crate::num::real::Float;
 use crate::num::vec::V3;
 use crate::ray::{Hit, Ray};
+use crate::surface::band::{self, Band};
 use crate::surface::edge;
 use crate::surface::field::LineField;
 use crate::surface::scalar::{self, project_bary};
@@ -175,21 +176,31 @@ impl<F: Float> Patch<F> {
             d: dl,
             k: edge::sphere_curvatures(pl, nl),
         };
-        let sigma = shell::height_bounds(&shape);
+        let heights = shell::samples(&shape);
+        let sigma = shell::bounds_of(&shape, &heights);
         if !shell::is_valid(&shape, sigma) {
             return Err(PatchError::InvalidShell);
         }
         let frame = Frame { origin: p0, axes };
         let reach = [F::ZERO; 3];
         let bbox = shell::aabb(&shape, sigma, &frame, reach);
-        let patch = Patch {
+        let mut patch = Patch {
             frame,
             shape,
             sigma,
             bbox,
             remedy: 0,
             reach,
+            band: Band::UNBOUNDED,
         };
+        let snap = kernel::end_snap(kernel::rounding_scale(&patch));
+        patch.band = band::fit(
+            &shape,
+            &heights,
+            sigma,
+            snap,
+            F::from_f64(kernel::MAX_CRACK_REACH),
+        );
         if !patch.all_finite() {
             return Err(PatchError::OutOfRange);
         }
@@ -543,6 +554,8 @@ impl<F: Float> Patch<F> {
             bbox_min: a(self.bbox.lo),
             bbox_max: a(self.bbox.hi),
             reach: self.reach,
+            band_fit: self.band.c,
+            band: [self.band.lo, self.band.hi, self.band.per_reach],
         }
     }
 
@@ -557,6 +570,6 @@ impl<F: Float> Patch<F> {
         let k = V3::new(k0 + k1, k2 + k3, k4 + k5) + V3::new(s0, s1, F::ZERO);
         let a = z(self.frame.origin) + z(ex) + z(ey) + z(ez) + z(k);
         let b = zs(&self.shape.p) + zs(&self.shape.n) + zs(&self.shape.d);
-        a + b == F::ZERO && self.bbox.is_finite()
+        a + b == F::ZERO && self.bbox.is_finite() && self.band.is_finite()
     }
 }

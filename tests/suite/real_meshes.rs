@@ -6,11 +6,12 @@
 //! point the wrong way. Each build's counts are pinned; rays through each model hit with
 //! finite, certified results and unit shading normals; across every edge the seams join
 //! (clamped and steep patches included) the shading normal's jump is within `SEAM_JUMP_DEG`,
-//! with the creases (split normals) and the edges left without a seam counted and pinned.
+//! with the creases (split normals) and the edges left without a seam counted and pinned; and
+//! the band's cull changes no patch test's result on the way.
 
 use glam::DVec3;
 use smoothtri::accuracy::SEAM_JUMP_DEG;
-use smoothtri::{BuildOptions, LineField, OwnedScene, Ray, Vertices};
+use smoothtri::{BuildOptions, DEFAULT_SAMPLES, LineField, OwnedScene, Ray, Vertices};
 use smoothtri_demo::tracer::RayonExecutor;
 
 /// `(file under /usr/share/assimp/models, triangles, rejected, remedied)`.
@@ -78,6 +79,7 @@ fn real_meshes_build_and_trace() {
         let (lo, hi) = m.bounds();
         let (c, size) = ((lo + hi) * 0.5, (hi - lo).length());
         let (mut hits, mut rays) = (0usize, 0usize);
+        let (mut missed, mut culled) = (0usize, 0usize);
         for dir in [DVec3::new(1.0, 0.6, 0.3), DVec3::new(-0.4, -1.0, 0.5)] {
             let d = dir.normalize();
             let (u, v) = (d.any_orthonormal_pair().0, d.any_orthonormal_pair().1);
@@ -87,6 +89,20 @@ fn real_meshes_build_and_trace() {
                     let o = c - d * size + (u * s(i) + v * s(j)) * size * 0.8;
                     let ray = Ray::new(o.as_vec3(), d.as_vec3());
                     rays += 1;
+                    // The band's cull changes no patch's result on the way (every patch the
+                    // traversal tests, against the same patch without its band).
+                    let bvh = scene.bvh();
+                    bvh.closest_with(&ray, 0.0, f32::INFINITY, |_, p, a, b| {
+                        let (h, st) = p.intersect_stats::<DEFAULT_SAMPLES, 4>(&ray, a, b);
+                        let unbounded = smoothtri::internal::without_band(p);
+                        let (hu, su) = unbounded.intersect_stats::<DEFAULT_SAMPLES, 4>(&ray, a, b);
+                        assert_eq!(h, hu, "{file}: the band changed a result");
+                        if su.height_evals > 0 && hu.is_none() {
+                            missed += 1;
+                            culled += usize::from(st.height_evals == 0);
+                        }
+                        h
+                    });
                     let Some(h) = scene.closest_hit::<4>(&ray, 0.0, f32::INFINITY) else {
                         continue;
                     };
@@ -105,7 +121,8 @@ fn real_meshes_build_and_trace() {
         eprintln!(
             "{file}: {triangles} triangles, {} patches, {rejected} rejected, {remedied} \
              remedied; {} shared edges ({} open, widest gap {:.2e}), {fitted} fitted; built in \
-             {seconds:.2} s on {} threads (dev profile); {hits} of {rays} rays hit",
+             {seconds:.2} s on {} threads (dev profile); {hits} of {rays} rays hit; the band \
+             culled {culled} of {missed} patch tests that entered a shell and found no crossing",
             r.patches,
             r.cracks.shared_edges,
             r.cracks.open_edges,

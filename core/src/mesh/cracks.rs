@@ -39,19 +39,7 @@ use crate::patch::Patch;
 /// none on any mesh whose reach stays below [`MAX_CRACK_REACH`].
 pub const CRACK_REACH: f64 = 4.0;
 
-/// The largest reach, as a fraction of the wall's altitude (barycentric units).
-///
-/// The kernel samples the whole widened interval with the same `K` points, so a reach comparable
-/// with the triangle itself coarsens the bracketing until rays that graze an edge lose their
-/// crossing there (measured: the cube with one inverted normal, whose curves part by a fifth of
-/// the diagonal, reaches 1.6 altitudes without a cap and then misses one ray aimed at a curve).
-/// A quarter keeps the interval within 1.5 times the triangle's and closes the cracks of the
-/// test meshes except where the gap exceeds it: on that cube and at the teapot's edges next to
-/// patches the remedy clamped hard, a few rays aimed between the curves still pass (README,
-/// "Shared edges"; `gpu/tests/parity.rs` checks that every ray that passes there does so at a
-/// capped edge). A cap of ½ lets 2 instead of 7 of 17 472 such teapot rays pass but loses one
-/// ray aimed at a curve of that cube.
-pub const MAX_CRACK_REACH: f64 = 0.25;
+pub use crate::kernel::MAX_CRACK_REACH;
 
 /// Points per shared edge at which [`close_cracks`] measures the gap: the 16 Chebyshev nodes
 /// `t_s = (1 − cos((2s + 1)π / 32)) / 2` that the seam fit samples too

@@ -829,16 +829,16 @@ pub(crate) mod tests {
     use glam::DVec3;
 
     /// SplitMix64, for reproducible random patches without extra dependencies.
-    struct Rng(u64);
+    pub(crate) struct Rng(pub(crate) u64);
     impl Rng {
-        fn unit(&mut self) -> f64 {
+        pub(crate) fn unit(&mut self) -> f64 {
             self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
             let mut z = self.0;
             z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
             z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
             ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
         }
-        fn vec(&mut self) -> DVec3 {
+        pub(crate) fn vec(&mut self) -> DVec3 {
             DVec3::new(self.unit(), self.unit(), self.unit()) * 2.0 - DVec3::ONE
         }
     }

@@ -36,7 +36,9 @@ pub const MARGIN_REL: f64 = 0.5;
 pub const MARGIN_ABS: f64 = 1e-4;
 
 /// Edge parameters `t` of the edge samples (on each of the three edges).
-const EDGE_T: [f64; 5] = [0.1, 0.25, 0.5, 0.75, 0.9];
+const EDGE_T: [f64; EDGE_SAMPLES] = [0.1, 0.25, 0.5, 0.75, 0.9];
+/// Samples per edge: [`samples`]' first `3 · EDGE_SAMPLES` are on the edges.
+pub(crate) const EDGE_SAMPLES: usize = 5;
 /// Barycentrics of the interior samples: towards each vertex, and the centroid.
 const INTERIOR: [[f64; 3]; 4] = [
     [2.0 / 3.0, 1.0 / 6.0, 1.0 / 6.0],
@@ -54,11 +56,12 @@ fn lanes<F: Float>(f: impl Fn(usize) -> F) -> F::L8 {
     F::L8::from_array(core::array::from_fn(f))
 }
 
-/// Conservative `[σmin, σmax]` of the surface of `shape`: the range of [`samples`], widened.
-pub(crate) fn height_bounds<F: Float>(shape: &Shape<F>) -> [F; 2] {
+/// Conservative `[σmin, σmax]` of the surface of `shape` from its [`samples`]' `heights`: their
+/// range, widened.
+pub(crate) fn bounds_of<F: Float>(shape: &Shape<F>, heights: &[F; SAMPLES]) -> [F; 2] {
     let mut lo = F::ZERO;
     let mut hi = F::ZERO;
-    for h in samples(shape) {
+    for &h in heights {
         lo = lo.min(h);
         hi = hi.max(h);
     }
@@ -103,6 +106,28 @@ pub(crate) fn samples<F: Float>(shape: &Shape<F>) -> [F; SAMPLES] {
         }
     }
     out
+}
+
+/// The barycentrics of sample `i` of [`samples`]: edge `j`'s points at `(1 − t)·Pj + t·Pj+1`,
+/// then the interior points (anything past the last means the last).
+pub(crate) fn sample_bary<F: Float>(i: usize) -> [F; 3] {
+    let n = EDGE_T.len();
+    let x = match i.checked_sub(3 * n) {
+        None => {
+            let t = EDGE_T.get(i % n).copied().unwrap_or(0.5);
+            match i / n {
+                0 => [1.0 - t, t, 0.0],
+                1 => [0.0, 1.0 - t, t],
+                _ => [t, 0.0, 1.0 - t],
+            }
+        }
+        Some(k) => INTERIOR
+            .get(k)
+            .or(INTERIOR.last())
+            .copied()
+            .unwrap_or([1.0 / 3.0; 3]),
+    };
+    x.map(F::from_f64)
 }
 
 /// Sample `i` of [`samples`] by the generic (scalar) evaluation: the edge point's height
@@ -270,7 +295,7 @@ mod tests {
                 worst32 = worst32.max(worst_sample_difference(&p32.shape, size));
             }
             // The sampled range is the scalar samples' range.
-            let [lo, hi] = height_bounds(&patch.shape);
+            let [lo, hi] = bounds_of(&patch.shape, &samples(&patch.shape));
             let (mut slo, mut shi) = (0.0f64, 0.0f64);
             for i in 0..SAMPLES {
                 let h = sample_scalar(&patch.shape, i);
