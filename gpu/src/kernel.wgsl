@@ -45,7 +45,7 @@ const EMPTY_SLOT: u32 = 0xffffffffu;
 // f32 machine epsilon.
 const EPS: f32 = 1.1920929e-7;
 // vec4s per smooth patch record and per flat triangle record (see lib.rs, `PATCH_VEC4`).
-const PATCH_VEC4: u32 = 25u;
+const PATCH_VEC4: u32 = 27u;
 const FLAT_VEC4: u32 = 3u;
 // Refinement parameters (the CPU's kernel/refine.rs).
 const INNER_OF_SPREAD: f32 = 0.015625;
@@ -626,6 +626,55 @@ fn ruled_crossings(pt: Patch, m3: vec3<f32>, k: u32, o: vec3<f32>, r: vec3<f32>)
 
 // [τa, τb]: the hull of the sub-intervals of [τ_lo, τ_hi] inside all three walls (at most 8
 // breakpoints, a fixed sorting network, 7 midpoint tests).
+// The walls Xk = −margin (core/src/kernel/mod.rs `wall_margin`): the margin's world width
+// WALL_MARGIN_ULPS·ε·L over the triangle's smallest altitude 2·area / longest edge; each wall
+// also moves out by its crack reach (`wall_margins`).
+fn wall_margins(pt: Patch) -> vec3<f32> {
+    let longest = sqrt(max(max(pt.p1x * pt.p1x, pt.p2x * pt.p2x + pt.p2y * pt.p2y),
+        (pt.p2x - pt.p1x) * (pt.p2x - pt.p1x) + pt.p2y * pt.p2y));
+    var margin = WALL_MARGIN_ULPS * EPS * pt.scale * longest / (pt.p1x * pt.p2y);
+    if (!fin(margin)) {
+        margin = 0.0;
+    }
+    return pt.reach + vec3<f32>(margin, margin, margin);
+}
+
+// The barycentrics of the local (x, y) in the triangle; `lin` for a direction (core
+// band.rs `bary_xy`).
+fn band_bary(pt: Patch, xy: vec2<f32>, lin: bool) -> vec3<f32> {
+    let b2 = xy.y / pt.p2y;
+    let b1 = (xy.x - pt.p2x * b2) / pt.p1x;
+    let b0 = select(1.0 - b1 - b2, -b1 - b2, lin);
+    return vec3<f32>(b0, b1, b2);
+}
+
+// q(β) = c0·β1β2 + c1·β2β0 + c2·β0β1 (core band.rs `q`).
+fn band_q(c: vec3<f32>, x: vec3<f32>) -> f32 {
+    return c.x * (x.y * x.z) + c.y * (x.z * x.x) + c.z * (x.x * x.y);
+}
+
+// Whether the local ray o + τ·r, τ in [a, b], misses the patch's band (core/src/surface/band.rs
+// `misses`): h(τ) = z − q(β) stays above hi or below lo, widened by per_reach times the largest
+// wall offset. The band rides in the record's last two vec4s: (c0, c1, c2, lo), (hi, per_reach).
+fn band_misses(pt: Patch, base: u32, o: vec3<f32>, r: vec3<f32>, a: f32, b: f32) -> bool {
+    let v0 = patches[base + 25u];
+    let v1 = patches[base + 26u];
+    let m = wall_margins(pt);
+    let widen = v1.y * max(max(m.x, m.y), m.z);
+    let lo = v0.w - widen;
+    let hi = v1.x + widen;
+    let bo = band_bary(pt, o.xy, false);
+    let br = band_bary(pt, r.xy, true);
+    let ha = o.z + r.z * a - band_q(v0.xyz, bo + br * a);
+    let hb = o.z + r.z * b - band_q(v0.xyz, bo + br * b);
+    let h2 = -band_q(v0.xyz, br);
+    let w = b - a;
+    let bow = h2 * w * w * 0.25;
+    let hmin = min(ha, hb) - max(bow, 0.0);
+    let hmax = max(ha, hb) - min(bow, 0.0);
+    return fin(hmin) && fin(hmax) && ((hmin > hi) || (hmax < lo));
+}
+
 fn shell_interval(pt: Patch, o: vec3<f32>, r: vec3<f32>, tau_lo: f32, tau_hi: f32) -> Span {
     // a_i(τ) − q(τ) = (p_i + o.z·d_i − o) + τ (r.z·d_i − r), in the xy-plane.
     let u0 = vec2<f32>(0.0, 0.0) + pt.d0 * o.z - o.xy;
@@ -637,17 +686,8 @@ fn shell_interval(pt: Patch, o: vec3<f32>, r: vec3<f32>, tau_lo: f32, tau_hi: f3
     let w0 = cross2_poly(u1, v1, u2, v2);
     let w1 = cross2_poly(u2, v2, u0, v0);
     let w2 = cross2_poly(u0, v0, u1, v1);
-    // The walls Xk = −margin (core/src/kernel/mod.rs `wall_margin`): the margin's world width
-    // WALL_MARGIN_ULPS·ε·L over the triangle's smallest altitude 2·area / longest edge.
-    let longest = sqrt(max(max(pt.p1x * pt.p1x, pt.p2x * pt.p2x + pt.p2y * pt.p2y),
-        (pt.p2x - pt.p1x) * (pt.p2x - pt.p1x) + pt.p2y * pt.p2y));
-    var margin = WALL_MARGIN_ULPS * EPS * pt.scale * longest / (pt.p1x * pt.p2y);
-    if (!fin(margin)) {
-        margin = 0.0;
-    }
     let sum = w0 + w1 + w2;
-    // Each wall also moves out by its crack reach (core/src/kernel/mod.rs `wall_margins`).
-    let m = pt.reach + vec3<f32>(margin, margin, margin);
+    let m = wall_margins(pt);
     let polys = array<vec3<f32>, 3>(w0 + m.x * sum, w1 + m.y * sum, w2 + m.z * sum);
     var brk = array<f32, 8>(tau_lo, tau_hi, tau_hi, tau_hi, tau_hi, tau_hi, tau_hi, tau_hi);
     var count = 1u;
@@ -834,6 +874,10 @@ fn smooth_crossing(id: u32, o: vec3<f32>, d: vec3<f32>, inv: vec3<f32>, t_min: f
     }
     let shell = shell_interval(pt, lo, lr, a, bb);
     if (!shell.ok || !(shell.b >= shell.a)) {
+        return no_crossing();
+    }
+    // The band: no surface point on the interval, nothing to sample.
+    if (band_misses(pt, b, lo, lr, shell.a, shell.b)) {
         return no_crossing();
     }
     // Bracketing: the ends and SAMPLES interior points, the first sign change.

@@ -77,9 +77,9 @@ pub const STACK: usize = smoothtri::BVH_STACK;
 pub const DEFAULT_ITERATIONS: usize = 4;
 /// Largest refinement budget a pipeline is built for.
 pub const MAX_ITERATIONS: usize = 64;
-/// `vec4<f32>` per smooth patch record: 400 bytes (the patch data of
-/// [`PatchData`] and the CPU kernel's per-patch precomputation).
-pub const PATCH_VEC4: usize = 25;
+/// `vec4<f32>` per smooth patch record: 432 bytes (the patch data of
+/// [`PatchData`], the CPU kernel's per-patch precomputation and the culling band).
+pub const PATCH_VEC4: usize = 27;
 /// `vec4<f32>` per flat triangle record (the three world vertices).
 pub const FLAT_VEC4: usize = 3;
 /// Bytes per ray uploaded (`origin, t_min, dir, t_max`).
@@ -633,7 +633,11 @@ pub fn smooth_record(pd: &PatchData<f32>) -> [f32; PATCH_VEC4 * 4] {
             [dot(da, nb), dot(gd, nb), dot(e, nb), da[2]],
         ];
     }
-    let all = head.iter().chain(edges.iter().flatten());
+    // The culling band (core/src/surface/band.rs), in the last two vec4s.
+    let [c0, c1, c2] = pd.band_fit;
+    let [lo, hi, per_reach] = pd.band;
+    let band = [[c0, c1, c2, lo], [hi, per_reach, 0.0, 0.0]];
+    let all = head.iter().chain(edges.iter().flatten()).chain(band.iter());
     for (dst, src) in r.chunks_exact_mut(4).zip(all) {
         dst.copy_from_slice(src);
     }
