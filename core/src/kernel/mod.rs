@@ -222,21 +222,19 @@ pub(crate) fn clip_ray<F: Float>(
     }
     let scale = rounding_scale(patch);
     let margins = wall_margins(patch, scale);
+    let [m0, m1, m2] = margins;
+    let reach = m0.max(m1).max(m2);
+    // The band, first over the slab's interval (a ray that misses it there misses it on the
+    // shell's interval inside, and the wall quadratics are not solved), then over the shell's:
+    // no surface point on [a, b], nothing to sample.
+    if band::misses(&patch.band, &patch.shape, lray.o, lray.r, a, b, reach) {
+        return None;
+    }
     let (a, b) = shell_interval(&patch.shape, &lray, a, b, margins)?;
     if past(t0, a) {
         return None;
     }
-    // The band: no surface point on [a, b] (nothing to sample).
-    let [m0, m1, m2] = margins;
-    if band::misses(
-        &patch.band,
-        &patch.shape,
-        lray.o,
-        lray.r,
-        a,
-        b,
-        m0.max(m1).max(m2),
-    ) {
+    if band::misses(&patch.band, &patch.shape, lray.o, lray.r, a, b, reach) {
         return None;
     }
     Some(Clipped {
