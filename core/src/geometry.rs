@@ -111,6 +111,45 @@ pub(crate) struct Shape<F> {
     pub(crate) k: [[F; 2]; 3],
 }
 
+/// A patch's culling band (`crate::surface::band`, which computes and applies it): `lo ≤ z − q(β) ≤ hi` with `q(β) = c0·β1β2 + c1·β2β0 + c2·β0β1`,
+/// widened by `per_reach` times the largest wall reach at the time of the test.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Band<F> {
+    /// `[c0, c1, c2]`: the fit's coefficient of the product of the two barycentrics other
+    /// than `βk` (length units).
+    pub(crate) c: [F; 3],
+    /// Least and greatest residual `z − q(β)` of a surface point (length units); `∓F::MAX`
+    /// for an unbounded band.
+    pub(crate) lo: F,
+    /// See [`Band::lo`].
+    pub(crate) hi: F,
+    /// How much both bounds move out per unit of barycentric reach (length units).
+    pub(crate) per_reach: F,
+}
+
+impl<F: Float> Default for Band<F> {
+    fn default() -> Self {
+        Band::UNBOUNDED
+    }
+}
+
+impl<F: Float> Band<F> {
+    /// The band that culls nothing.
+    pub(crate) const UNBOUNDED: Band<F> = Band {
+        c: [F::ZERO; 3],
+        lo: F::MIN,
+        hi: F::MAX,
+        per_reach: F::ZERO,
+    };
+
+    /// Whether every value is finite.
+    pub(crate) fn is_finite(&self) -> bool {
+        let [c0, c1, c2] = self.c;
+        let z = c0 * F::ZERO + c1 * F::ZERO + c2 * F::ZERO + self.per_reach * F::ZERO;
+        z == F::ZERO && self.lo.is_fin() && self.hi.is_fin()
+    }
+}
+
 /// The data of one edge of a [`Shape`] (edge `j` runs from `Pj` to `Pj+1`).
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct EdgeView<F> {
@@ -199,7 +238,7 @@ pub struct Patch<F: Float = f32> {
     /// [`close_cracks`](crate::mesh::cracks::close_cracks) measured a gap to the neighbour there.
     pub(crate) reach: [F; 3],
     /// The band that culls rays before sampling ([`crate::surface::band`]).
-    pub(crate) band: crate::surface::band::Band<F>,
+    pub(crate) band: Band<F>,
 }
 
 /// A placeholder for caller storage (e.g. the slots of a
@@ -214,7 +253,7 @@ impl<F: Float> Default for Patch<F> {
             bbox: Aabb::EMPTY,
             remedy: 0,
             reach: [F::ZERO; 3],
-            band: crate::surface::band::Band::UNBOUNDED,
+            band: Band::UNBOUNDED,
         }
     }
 }

@@ -21,7 +21,7 @@ pub use crate::surface::field::SECTION_NEWTON_STEPS;
 /// Never.
 pub fn without_band<F: crate::Float>(patch: &crate::Patch<F>) -> crate::Patch<F> {
     crate::Patch {
-        band: crate::surface::band::Band::UNBOUNDED,
+        band: crate::geometry::Band::UNBOUNDED,
         ..*patch
     }
 }

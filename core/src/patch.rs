@@ -9,12 +9,12 @@
 use crate::aabb::Aabb;
 use crate::error::PatchError;
 pub use crate::geometry::Patch;
-use crate::geometry::{Frame, PatchData, Shape};
+use crate::geometry::{Band, Frame, PatchData, Shape};
 use crate::kernel::{self, DEFAULT_SAMPLES, KernelStats};
 use crate::num::real::Float;
 use crate::num::vec::V3;
 use crate::ray::{Hit, Ray};
-use crate::surface::band::{self, Band};
+use crate::surface::band;
 use crate::surface::edge;
 use crate::surface::field::LineField;
 use crate::surface::scalar::{self, project_bary};

@@ -35,7 +35,7 @@
 //! patch within 45° clear by a sixth of its width); such patches get an unbounded band and are
 //! never culled.
 
-use crate::geometry::Shape;
+use crate::geometry::{Band, Shape};
 use crate::num::real::Float;
 use crate::num::vec::V3;
 use crate::surface::scalar::point_from_height;
@@ -46,45 +46,6 @@ use crate::surface::shell::{
 /// The least cosine of the angle between a vertex normal and the face normal of a patch that
 /// gets a bounded band (45°); steeper patches are never culled (see the module docs).
 pub const BAND_MIN_NORMAL_COS: f64 = core::f64::consts::FRAC_1_SQRT_2;
-
-/// A patch's band (module docs): `lo ≤ z − q(β) ≤ hi` with `q(β) = c0·β1β2 + c1·β2β0 + c2·β0β1`,
-/// widened by `per_reach` times the largest wall reach at the time of the test.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) struct Band<F> {
-    /// `[c0, c1, c2]`: the fit's coefficient of the product of the two barycentrics other
-    /// than `βk` (length units).
-    pub(crate) c: [F; 3],
-    /// Least and greatest residual `z − q(β)` of a surface point (length units); `∓F::MAX`
-    /// for an unbounded band.
-    pub(crate) lo: F,
-    /// See [`Band::lo`].
-    pub(crate) hi: F,
-    /// How much both bounds move out per unit of barycentric reach (length units).
-    pub(crate) per_reach: F,
-}
-
-impl<F: Float> Default for Band<F> {
-    fn default() -> Self {
-        Band::UNBOUNDED
-    }
-}
-
-impl<F: Float> Band<F> {
-    /// The band that culls nothing.
-    pub(crate) const UNBOUNDED: Band<F> = Band {
-        c: [F::ZERO; 3],
-        lo: F::MIN,
-        hi: F::MAX,
-        per_reach: F::ZERO,
-    };
-
-    /// Whether every value is finite.
-    pub(crate) fn is_finite(&self) -> bool {
-        let [c0, c1, c2] = self.c;
-        let z = c0 * F::ZERO + c1 * F::ZERO + c2 * F::ZERO + self.per_reach * F::ZERO;
-        z == F::ZERO && self.lo.is_fin() && self.hi.is_fin()
-    }
-}
 
 /// Barycentrics `β` of the local point `(x, y)` in the triangle (`P0 = 0`, `P1 = (p1x, 0)`,
 /// `P2 = (p2x, p2y)`), with the affine map's linear part applied to a direction as `lin`.
