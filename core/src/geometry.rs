@@ -111,8 +111,9 @@ pub(crate) struct Shape<F> {
     pub(crate) k: [[F; 2]; 3],
 }
 
-/// A patch's culling band (`crate::surface::band`, which computes and applies it): `lo ≤ z − q(β) ≤ hi` with `q(β) = c0·β1β2 + c1·β2β0 + c2·β0β1`,
-/// widened by `per_reach` times the largest wall reach at the time of the test.
+/// A patch's culling band (`crate::surface::band` computes and applies it): every surface
+/// point has `lo ≤ z − q(β) ≤ hi` with `q(β) = c0·β1β2 + c1·β2β0 + c2·β0β1`, widened by
+/// `per_reach` times the largest wall reach at the time of the test.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct Band<F> {
     /// `[c0, c1, c2]`: the fit's coefficient of the product of the two barycentrics other

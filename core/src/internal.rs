@@ -14,7 +14,7 @@ pub use crate::num::real::LANES;
 pub use crate::surface::band::BAND_MIN_NORMAL_COS;
 pub use crate::surface::field::SECTION_NEWTON_STEPS;
 
-/// `patch` with an unbounded band ([`crate::surface::band`]): the kernel then samples every ray
+/// `patch` with an unbounded band (`core/src/surface/band.rs`): the kernel then samples every ray
 /// that enters its shell. For tests that compare the cull with no cull.
 ///
 /// # Panics

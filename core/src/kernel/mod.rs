@@ -96,7 +96,7 @@ pub const WALL_MARGIN_ULPS: f64 = 8.0;
 
 /// The largest reach of a wall that [`close_cracks`](crate::mesh::cracks::close_cracks) sets, as a
 /// fraction of the wall's altitude (barycentric units); the patch's band
-/// ([`crate::surface::band`]) is widened for continuations up to it.
+/// (`core/src/surface/band.rs`) is widened for continuations up to it.
 ///
 /// The kernel samples the whole widened interval with the same `K` points, so a reach comparable
 /// with the triangle itself coarsens the bracketing until rays that graze an edge lose their
