@@ -872,6 +872,10 @@ fn smooth_crossing(id: u32, o: vec3<f32>, d: vec3<f32>, inv: vec3<f32>, t_min: f
     if (!(a <= bb) || !fin(a) || !fin(bb)) {
         return no_crossing();
     }
+    // The band, first over the slab's interval (before the wall quadratics), as on the CPU.
+    if (band_misses(pt, b, lo, lr, a, bb)) {
+        return no_crossing();
+    }
     let shell = shell_interval(pt, lo, lr, a, bb);
     if (!shell.ok || !(shell.b >= shell.a)) {
         return no_crossing();
