@@ -171,7 +171,7 @@ pub const FASTF32_HIT: f64 = 1e-3;
 /// edge, every shared edge: curves that part, clamped and folded patches included): 0 in
 /// `f64` on every mesh of the suite; in `f32` 2e-5° on the 8×8 torus (the geometric normal:
 /// 5.83°), 2.7e-4° on the built-in teapot (45 clamped and 6 folded patches; the geometric normal
-/// up to 119°), 2.3e-4° on the 8×8 teapot, 7e-5° on the stress meshes; on real files (f64, 9
+/// up to 119°), 2.2e-4° on the 8×8 teapot, 7e-5° on the stress meshes; on real files (f64, 9
 /// points between the vertices) 1e-4° on a 3.7k-triangle animal with 219 edges next to clamped
 /// patches and below 1e-4° on a 121k-triangle CAD model. Asserted by `tests/suite/seam.rs` and
 /// `tests/suite/real_meshes.rs`.

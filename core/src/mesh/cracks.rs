@@ -60,7 +60,8 @@ pub struct CrackReport {
 }
 
 /// Measures, for every edge shared by two patches, the gap between the two neighbours' edge
-/// curves at `CRACK_SAMPLES` = 16 points (in `f64` whatever `F`), and sets each neighbour's
+/// curves at `CRACK_SAMPLES` = 16 points (heights evaluated in `F` as the kernel evaluates them,
+/// world points placed in `f64`), and sets each neighbour's
 /// reach across that edge to [`CRACK_REACH`] times the widest gap (over the wall's altitude,
 /// in barycentric units, at most [`MAX_CRACK_REACH`]); the patches' bounding boxes grow to
 /// match. Reaches of boundary edges, non-manifold edges and lone triangles are reset to 0, so

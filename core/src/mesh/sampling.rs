@@ -41,23 +41,31 @@ impl Nodes {
     }
 }
 
-/// One neighbour of a shared edge, widened to `f64`: its frame, shape and height
-/// precomputation, and which of its edges is shared (run backwards by the second side, so that
-/// both sides' samples `s` are the same points of the edge).
-pub(crate) struct Side {
+/// One neighbour of a shared edge: its frame and shape widened to `f64` (for the world points
+/// and the fit), its own shape and height precomputation in the scene's precision `F` (for the
+/// surface evaluations, as the kernel evaluates it), and which of its edges is shared (run
+/// backwards by the second side, so that both sides' samples `s` are the same points of the
+/// edge).
+pub(crate) struct Side<F: Float> {
     pub(crate) frame: Frame<f64>,
     pub(crate) shape: Shape<f64>,
-    prepared: Prepared<f64>,
+    own: Shape<F>,
+    prepared: Prepared<F>,
     pub(crate) edge: usize,
     backwards: bool,
 }
 
-impl Side {
+/// Nodes per surface evaluation (four lanes of [`Float::L4`]).
+const CHUNK: usize = 4;
+const _: () = assert!(EDGE_SAMPLES.is_multiple_of(CHUNK));
+
+impl<F: Float> Side<F> {
     /// Edge `edge` of `patch`, forwards (the first side) or `backwards` (the second).
-    pub(crate) fn new<F: Float>(patch: &Patch<F>, edge: usize, backwards: bool) -> Self {
+    pub(crate) fn new(patch: &Patch<F>, edge: usize, backwards: bool) -> Self {
         let (frame, shape) = patch.widened();
         Side {
-            prepared: Prepared::new(&shape),
+            prepared: Prepared::new(&patch.shape),
+            own: patch.shape,
             frame,
             shape,
             edge,
@@ -71,20 +79,31 @@ impl Side {
         if self.backwards { 1.0 - t } else { t }
     }
 
-    /// World surface points at the nodes.
+    /// The barycentrics of nodes `4k..4k + 4`, in `f64` and rounded to `F`.
+    #[inline(always)]
+    fn chunk(&self, nodes: &Nodes, k: usize) -> ([[f64; 3]; CHUNK], [[F; 3]; CHUNK]) {
+        let xs: [[f64; 3]; CHUNK] = core::array::from_fn(|i| self.bary(nodes.t(CHUNK * k + i)));
+        (xs, xs.map(|x| x.map(F::from_f64)))
+    }
+
+    /// World surface points at the nodes: the heights evaluated in `F` (four nodes per
+    /// evaluation, [`height::heights_x4`]), placed in `f64` over the `f64` barycentrics, so that
+    /// two sides differ only by their surfaces' heights and the frames' rounding.
     pub(crate) fn points(&self, nodes: &Nodes) -> [V3<f64>; EDGE_SAMPLES] {
         let mut out = [V3::zero(); EDGE_SAMPLES];
-        for (k, o) in out.chunks_exact_mut(2).enumerate() {
-            let xs = [self.bary(nodes.t(2 * k)), self.bary(nodes.t(2 * k + 1))];
-            for ((o, x), h) in o.iter_mut().zip(xs).zip(heights(&self.prepared, xs)) {
-                *o = self.world(x, h);
+        for (k, o) in out.chunks_exact_mut(CHUNK).enumerate() {
+            let (xs, xf) = self.chunk(nodes, k);
+            let hs = heights(&self.prepared, xf);
+            for ((o, x), h) in o.iter_mut().zip(xs).zip(hs) {
+                *o = self.world(x, h.to_f64());
             }
         }
         out
     }
 
     /// World surface points (bit for bit [`Side::points`]) and local-frame unit geometric
-    /// normals at the nodes (one height evaluation over jets each, as the kernel's hit normal).
+    /// normals at the nodes (the heights' jets in `F`, four nodes per evaluation, as the
+    /// kernel's hit normal; the normal from the widened derivatives).
     pub(crate) fn points_normals(
         &self,
         nodes: &Nodes,
@@ -92,15 +111,15 @@ impl Side {
         let mut pts = [V3::zero(); EDGE_SAMPLES];
         let mut nrm = [V3::zero(); EDGE_SAMPLES];
         for (k, (p, n)) in pts
-            .chunks_exact_mut(2)
-            .zip(nrm.chunks_exact_mut(2))
+            .chunks_exact_mut(CHUNK)
+            .zip(nrm.chunks_exact_mut(CHUNK))
             .enumerate()
         {
-            let xs = [self.bary(nodes.t(2 * k)), self.bary(nodes.t(2 * k + 1))];
-            let hn = heights_normals(&self.shape, &self.prepared, xs);
-            for (((p, n), x), (h, normal)) in p.iter_mut().zip(n).zip(xs).zip(hn) {
-                *p = self.world(x, h);
-                *n = normal;
+            let (xs, xf) = self.chunk(nodes, k);
+            let hd = heights_derivatives(&self.own, &self.prepared, xf);
+            for (((p, n), x), (h, [d1, d2])) in p.iter_mut().zip(n).zip(xs).zip(hd) {
+                *p = self.world(x, h.to_f64());
+                *n = scalar::normal_local(&self.shape, x, widen(d1), widen(d2));
             }
         }
         (pts, nrm)
@@ -120,34 +139,29 @@ impl Side {
     }
 }
 
-/// The heights at two barycentric triples (the kernel's height over two `f64` lanes: the same
-/// operations as one point's, lane by lane). Not inlined and not generic: one copy in the
-/// crate, called in a loop.
-#[inline(never)]
-fn heights(pr: &Prepared<f64>, xs: [[f64; 3]; 2]) -> [f64; 2] {
-    let [a, b] = xs;
-    let lane = |k: usize| {
-        wide::f64x2::new([
-            a.get(k).copied().unwrap_or(0.0),
-            b.get(k).copied().unwrap_or(0.0),
-        ])
-    };
-    height::height_at(pr, [lane(0), lane(1), lane(2)]).to_array()
+/// `v` in `f64`.
+#[inline(always)]
+fn widen<F: Float>(v: V3<F>) -> V3<f64> {
+    V3::new(v.x.to_f64(), v.y.to_f64(), v.z.to_f64())
 }
 
-/// The heights (bit for bit [`heights`]') and the local-frame unit geometric normals at
-/// two barycentric triples (height jets over two lanes). Not inlined and not generic, as
-/// [`heights`].
+/// The heights at four barycentric triples ([`height::heights_x4`]). Not inlined: one copy per
+/// precision, called in a loop.
 #[inline(never)]
-fn heights_normals(
-    shape: &Shape<f64>,
-    pr: &Prepared<f64>,
-    xs: [[f64; 3]; 2],
-) -> [(f64, V3<f64>); 2] {
-    let [a, b] = height::height_derivatives_x2(shape, pr, xs);
-    let [xa, xb] = xs;
-    let normal = |x: [f64; 3], [d1, d2]: [V3<f64>; 2]| scalar::normal_local(shape, x, d1, d2);
-    [(a.0, normal(xa, a.1)), (b.0, normal(xb, b.1))]
+fn heights<F: Float>(pr: &Prepared<F>, xs: [[F; 3]; CHUNK]) -> [F; CHUNK] {
+    height::heights_x4(pr, xs)
+}
+
+/// The heights (bit for bit [`heights`]') and the local-frame surface derivatives at four
+/// barycentric triples ([`height::height_derivatives_x4`], jets over four lanes). Not inlined,
+/// as [`heights`].
+#[inline(never)]
+fn heights_derivatives<F: Float>(
+    shape: &Shape<F>,
+    pr: &Prepared<F>,
+    xs: [[F; 3]; CHUNK],
+) -> [(F, [V3<F>; 2]); CHUNK] {
+    height::height_derivatives_x4(shape, pr, xs)
 }
 
 /// The widest distance between corresponding samples, `+∞` when one is not finite.

@@ -63,7 +63,8 @@ pub struct Seam<F: Float> {
 
 /// Fits the [`Seam`]s of a mesh's patches: for every edge shared by exactly two triangles that
 /// traverse it in opposite directions, the common normal's two tilts for both sides (least
-/// squares on [`FIT_SAMPLES`] points, [`TWIST_TERMS`] terms, in `f64` whatever `F`), or, where
+/// squares on [`FIT_SAMPLES`] points, [`TWIST_TERMS`] terms; the surface sampled in `F` as the kernel evaluates
+/// it, the fit in `f64`), or, where
 /// the two sides' vertex normals differ at an end, each side's copy of the other's
 /// ([`Seam::free`]). Non-manifold edges are not joined: three or more sheets meeting at an
 /// edge (a fin, a T-junction) have no common normal.
@@ -259,9 +260,9 @@ fn twist_of(v: V3<f64>, n: V3<f64>, b: V3<f64>) -> Option<f64> {
 /// endpoints do not coincide, or a sample or the result is not finite.
 pub(crate) fn fit_sides<F: Float>(
     fit: &FitMatrix,
-    a: &Side,
+    a: &Side<F>,
     na: &[V3<f64>; FIT_SAMPLES],
-    b: &Side,
+    b: &Side<F>,
     nb: &[V3<f64>; FIT_SAMPLES],
 ) -> Option<(EdgeFit<F>, EdgeFit<F>)> {
     let (fa, fb) = (&a.frame, &b.frame);

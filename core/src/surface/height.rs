@@ -743,13 +743,20 @@ pub(crate) fn derivatives_x4<F: Float>(
     pr: &Prepared<F>,
     xs: [[F; 3]; 4],
 ) -> [[V3<F>; 2]; 4] {
+    height_derivatives_x4(shape, pr, xs).map(|(_, d)| d)
+}
+
+/// [`derivatives_x4`] with the heights `σS` themselves: bit for bit four calls of
+/// [`height_derivatives`] (so the heights are bit for bit [`heights_x4`]'s).
+#[inline(always)]
+pub(crate) fn height_derivatives_x4<F: Float>(
+    shape: &Shape<F>,
+    pr: &Prepared<F>,
+    xs: [[F; 3]; 4],
+) -> [(F, [V3<F>; 2]); 4] {
     use crate::num::real::Lane4;
     if <F::L4 as Lane4>::POINTS < 4 {
-        let mut out = [[V3::zero(); 2]; 4];
-        for (o, x) in out.iter_mut().zip(xs) {
-            *o = derivatives(shape, pr, x);
-        }
-        return out;
+        return xs.map(|x| height_derivatives(shape, pr, x));
     }
     let lane = |k: usize| F::L4::from_array4(xs.map(|x| x.get(k).copied().unwrap_or(F::ZERO)));
     let sp = <F::L4 as LaneOps>::splat;
@@ -769,54 +776,23 @@ pub(crate) fn derivatives_x4<F: Float>(
     let [s1, s2] = s.d;
     let (v, s1, s2) = (s.v.to_array4(), s1.to_array4(), s2.to_array4());
     let par = pr.section.parallel;
-    let mut out = [[V3::zero(); 2]; 4];
+    let mut out = [(F::ZERO, [V3::zero(); 2]); 4];
     for ((((o, x), v), a), b) in out.iter_mut().zip(xs).zip(v).zip(s1).zip(s2) {
-        *o = assemble(shape, par, x, v, [a, b]);
+        *o = (v, assemble(shape, par, x, v, [a, b]));
     }
     out
 }
 
-/// [`height_derivatives`] at two barycentric triples at once, over jets of two `f64` lanes
-/// (one SSE2 or NEON register): the same operations lane by lane, so bit for bit the scalar's
-/// results (IEEE arithmetic and square roots per lane; the selects pick what the branches
-/// would).
+/// The heights `σS` at four barycentric triples, over [`Float::L4`] (as
+/// [`height_derivatives_x4`]: bit for bit four one-point evaluations of [`height_at`]).
 #[inline(always)]
-pub(crate) fn height_derivatives_x2(
-    shape: &Shape<f64>,
-    pr: &Prepared<f64>,
-    xs: [[f64; 3]; 2],
-) -> [(f64, [V3<f64>; 2]); 2] {
-    use wide::f64x2;
-    let [xa, xb] = xs;
-    let lane = |k: usize| {
-        f64x2::new([
-            xa.get(k).copied().unwrap_or(0.0),
-            xb.get(k).copied().unwrap_or(0.0),
-        ])
-    };
-    let sp = f64x2::splat;
-    let j = |v: f64x2, a: f64, b: f64| Jet {
-        v,
-        d: [sp(a), sp(b)],
-    };
-    let s = height_at(
-        pr,
-        [
-            j(lane(0), -1.0, -1.0),
-            j(lane(1), 1.0, 0.0),
-            j(lane(2), 0.0, 1.0),
-        ],
-    );
-    let [s1, s2] = s.d;
-    let (v, s1, s2) = (s.v.to_array(), s1.to_array(), s2.to_array());
-    let [v0, v1] = v;
-    let [a0, a1] = s1;
-    let [b0, b1] = s2;
-    let par = pr.section.parallel;
-    [
-        (v0, assemble(shape, par, xa, v0, [a0, b0])),
-        (v1, assemble(shape, par, xb, v1, [a1, b1])),
-    ]
+pub(crate) fn heights_x4<F: Float>(pr: &Prepared<F>, xs: [[F; 3]; 4]) -> [F; 4] {
+    use crate::num::real::Lane4;
+    if <F::L4 as Lane4>::POINTS < 4 {
+        return xs.map(|[x0, x1, x2]| height_at(pr, [One(x0), One(x1), One(x2)]).0);
+    }
+    let lane = |k: usize| F::L4::from_array4(xs.map(|x| x.get(k).copied().unwrap_or(F::ZERO)));
+    height_at(pr, [lane(0), lane(1), lane(2)]).to_array4()
 }
 
 #[cfg(test)]
