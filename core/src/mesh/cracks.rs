@@ -60,11 +60,10 @@ pub struct CrackReport {
 }
 
 /// Measures, for every edge shared by two patches, the gap between the two neighbours' edge
-/// curves at `CRACK_SAMPLES` = 16 points (heights evaluated in `F` as the kernel evaluates them,
-/// world points placed in `f64`), and sets each neighbour's
-/// reach across that edge to [`CRACK_REACH`] times the widest gap (over the wall's altitude,
-/// in barycentric units, at most [`MAX_CRACK_REACH`]); the patches' bounding boxes grow to
-/// match. Reaches of boundary edges, non-manifold edges and lone triangles are reset to 0, so
+/// curves at `CRACK_SAMPLES` = 16 points (heights evaluated in `F` as the kernel evaluates
+/// them, world points placed in `f64`), and sets each neighbour's reach across that edge to
+/// [`CRACK_REACH`] times the widest gap (over the wall's altitude, in barycentric units, at
+/// most [`MAX_CRACK_REACH`]); the patches' bounding boxes grow to match. Reaches of boundary edges, non-manifold edges and lone triangles are reset to 0, so
 /// calling it again gives the same patches.
 ///
 /// `patches[i]` must be the patch of triangle `triangles[i]` (vertex indices in the patch's

@@ -63,10 +63,9 @@ pub struct Seam<F: Float> {
 
 /// Fits the [`Seam`]s of a mesh's patches: for every edge shared by exactly two triangles that
 /// traverse it in opposite directions, the common normal's two tilts for both sides (least
-/// squares on [`FIT_SAMPLES`] points, [`TWIST_TERMS`] terms; the surface sampled in `F` as the kernel evaluates
-/// it, the fit in `f64`), or, where
-/// the two sides' vertex normals differ at an end, each side's copy of the other's
-/// ([`Seam::free`]). Non-manifold edges are not joined: three or more sheets meeting at an
+/// squares on [`FIT_SAMPLES`] points, [`TWIST_TERMS`] terms; the surface sampled in `F` as
+/// the kernel evaluates it, the fit in `f64`), or, where the two sides' vertex normals differ
+/// at an end, each side's copy of the other's ([`Seam::free`]). Non-manifold edges are not joined: three or more sheets meeting at an
 /// edge (a fin, a T-junction) have no common normal.
 ///
 /// `patches[i]` must be the patch of triangle `triangles[i]` (vertex indices in the patch's

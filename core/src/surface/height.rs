@@ -758,21 +758,14 @@ pub(crate) fn height_derivatives_x4<F: Float>(
     if <F::L4 as Lane4>::POINTS < 4 {
         return xs.map(|x| height_derivatives(shape, pr, x));
     }
-    let lane = |k: usize| F::L4::from_array4(xs.map(|x| x.get(k).copied().unwrap_or(F::ZERO)));
+    let [x0, x1, x2] = columns4(xs);
     let sp = <F::L4 as LaneOps>::splat;
     let (one, zero) = (F::ONE, F::ZERO);
     let j = |v: F::L4, a: F, b: F| Jet {
         v,
         d: [sp(a), sp(b)],
     };
-    let s = height_at(
-        pr,
-        [
-            j(lane(0), -one, -one),
-            j(lane(1), one, zero),
-            j(lane(2), zero, one),
-        ],
-    );
+    let s = height_at(pr, [j(x0, -one, -one), j(x1, one, zero), j(x2, zero, one)]);
     let [s1, s2] = s.d;
     let (v, s1, s2) = (s.v.to_array4(), s1.to_array4(), s2.to_array4());
     let par = pr.section.parallel;
@@ -791,8 +784,14 @@ pub(crate) fn heights_x4<F: Float>(pr: &Prepared<F>, xs: [[F; 3]; 4]) -> [F; 4] 
     if <F::L4 as Lane4>::POINTS < 4 {
         return xs.map(|[x0, x1, x2]| height_at(pr, [One(x0), One(x1), One(x2)]).0);
     }
-    let lane = |k: usize| F::L4::from_array4(xs.map(|x| x.get(k).copied().unwrap_or(F::ZERO)));
-    height_at(pr, [lane(0), lane(1), lane(2)]).to_array4()
+    height_at(pr, columns4(xs)).to_array4()
+}
+
+/// Four barycentric triples as three [`Float::L4`] columns (lane `k` holds triple `k`).
+#[inline(always)]
+fn columns4<F: Float>(xs: [[F; 3]; 4]) -> [F::L4; 3] {
+    use crate::num::real::Lane4;
+    core::array::from_fn(|k| F::L4::from_array4(xs.map(|x| x.get(k).copied().unwrap_or(F::ZERO))))
 }
 
 #[cfg(test)]
@@ -911,8 +910,10 @@ pub(crate) mod tests {
         assert!(worst < 1e-9, "worst {worst:e}");
     }
 
-    /// The four-lane jets ([`derivatives_x4`], the seamless shading normal's) equal four
-    /// one-point evaluations ([`derivatives`], the kernel's hit normal) bit for bit, in `f64`
+    /// The four-lane jets ([`derivatives_x4`], the seamless shading normal's;
+    /// [`height_derivatives_x4`], the builder's edge samples) and the four-lane heights
+    /// ([`heights_x4`]) equal four one-point evaluations ([`derivatives`], the kernel's hit
+    /// normal; [`height_at`] over [`One`]) bit for bit, in `f64`
     /// and `f32`, on both line fields, at grid points, on the edges and at the vertices; a lane
     /// whose input is not finite leaves the other lanes alone.
     #[test]
@@ -934,13 +935,23 @@ pub(crate) mod tests {
                 let four: [[F; 3]; 4] =
                     core::array::from_fn(|k| chunk.get(k).copied().unwrap_or([nan; 3]));
                 let lanes = derivatives_x4(shape, &pr, four);
-                for (x, got) in four.iter().zip(lanes).take(chunk.len()) {
+                let jets = height_derivatives_x4(shape, &pr, four);
+                let heights = heights_x4(&pr, four);
+                let rows = four.iter().zip(lanes).zip(jets).zip(heights);
+                for (((x, got), (jet_h, jet_d)), h) in rows.take(chunk.len()) {
                     let want = derivatives(shape, &pr, *x);
                     let bits = |d: [V3<F>; 2]| d.map(|v| [v.x, v.y, v.z].map(F::to_f64));
                     let (g, w) = (bits(got), bits(want));
                     for (a, b) in g.iter().flatten().zip(w.iter().flatten()) {
                         assert_eq!(a.to_bits(), b.to_bits(), "{x:?}");
                     }
+                    assert_eq!(bits(jet_d), w, "{x:?}");
+                    let [x0, x1, x2] = *x;
+                    let one = height_at(&pr, [One(x0), One(x1), One(x2)]).0.to_f64();
+                    let want_h = height_derivatives(shape, &pr, *x).0.to_f64();
+                    assert_eq!(one.to_bits(), want_h.to_bits(), "{x:?}");
+                    assert_eq!(h.to_f64().to_bits(), one.to_bits(), "{x:?}");
+                    assert_eq!(jet_h.to_f64().to_bits(), one.to_bits(), "{x:?}");
                     same += 1;
                 }
             }
