@@ -124,7 +124,7 @@ pub use bvh::{BVH_EMPTY_SLOT, BVH_STACK, BVH_WIDTH, Bvh, BvhError, BvhNode, MAX_
 pub use error::PatchError;
 pub use geometry::PatchData;
 pub use kernel::flat::{flat_hit, moller_trumbore};
-pub use kernel::{DEFAULT_SAMPLES, KernelStats, max_lane_calls};
+pub use kernel::{DEFAULT_SAMPLES, KernelStats, max_height_evals, max_lane_calls};
 #[cfg(feature = "alloc")]
 pub use mesh::OwnedScene;
 pub use mesh::{

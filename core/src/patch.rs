@@ -452,7 +452,8 @@ impl<F: Float> Patch<F> {
     /// reported as misses.
     /// # Panics
     /// Never. Work is bounded: at most [`max_lane_calls`](kernel::max_lane_calls)`(K, N)` lane
-    /// calls (eight height evaluations each) and one normal evaluation.
+    /// calls (eight height evaluations each), one call of four and one normal evaluation
+    /// ([`max_height_evals`](kernel::max_height_evals)).
     #[inline]
     pub fn intersect<const N: usize>(&self, ray: &Ray<F>, t_min: F, t_max: F) -> Option<Hit<F>> {
         self.intersect_stats::<DEFAULT_SAMPLES, N>(ray, t_min, t_max)

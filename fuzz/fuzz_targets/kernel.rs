@@ -4,7 +4,7 @@
 //! (`point`, `point_normal`, `height`, `derivatives`, `edge_point_normal`, `bounds`,
 //! `height_range`) must be finite with unit normals, and every kernel answer must be `None` or a
 //! fully finite hit (`t` in range, `t_error ≥ 0`, finite point, unit normal, barycentrics in
-//! `[0, 1]`) computed with at most `max_lane_calls(K, N)` lane calls of eight height evaluations. Any panic is a bug.
+//! `[0, 1]`) computed with at most `max_height_evals(K, N)` height evaluations (`max_lane_calls(K, N)` lane calls of eight and one step of four). Any panic is a bug.
 //!
 //! Two input modes per precision: raw coordinates (anything, including NaN and ±inf), and
 //! "structured" coordinates that map the fuzzer's floats onto a triangle of bounded shape and
@@ -150,7 +150,7 @@ fn check_hit<F: Float>(h: &Hit<F>, t_min: F, t_max: F, reach: f64, utol: f64) {
 }
 
 fn check_stats(s: KernelStats, k: u32, n: u32) {
-    let bound = 8 * smoothtri::max_lane_calls(k as usize, n as usize) as u32;
+    let bound = smoothtri::max_height_evals(k as usize, n as usize) as u32;
     assert!(
         s.height_evals <= bound,
         "{} height evaluations, bound {bound}",

@@ -2,12 +2,13 @@
 // BVH traversal with a fixed-size stack. The mathematics is the CPU kernel's (docs/METHOD.md
 // §2–§8; core/src/kernel/): clip to the patch's box, re-base the ray at the box interval's
 // middle, local ray, slab and shell clip (exact wall quadratics), bracketing at 8 points,
-// at most ITERATIONS refinement steps of 8 points each (early stop at rounding), the rounding allowance 16 ε L / |f′|,
+// at most ITERATIONS refinement steps of 8 points each and one estimate step of 4 (early stop at
+// rounding), the rounding allowance 16 ε L / |f′|,
 // then the exact surface normal once for the closest hit (forward-mode derivatives written out
 // below: value and two partials for the surface, value and two t-derivatives for the edge
 // curves; no finite differences).
 //
-// Work per patch test is fixed by WGSL constants: 8 + 8·ITERATIONS height evaluations at most,
+// Work per patch test is fixed by WGSL constants: 8 + 8·ITERATIONS + 4 height evaluations at most,
 // every loop of the kernel has a constant trip count (a loop may stop early, never run longer).
 // The traversal visits each node at most once (a budget of node_count visits), tests each index
 // of `order` at most once (a budget of order_count tests) and keeps at most STACK pending nodes;
@@ -935,9 +936,12 @@ fn smooth_crossing(id: u32, o: vec3<f32>, d: vec3<f32>, inv: vec3<f32>, t_min: f
         }
     }
     // Refinement: at most ITERATIONS steps of 8 points (fewer once the bracket has collapsed
-    // onto an exact zero or is within `stop`).
+    // onto an exact zero or is within `stop`) and at most one estimate step of the 4 points
+    // around a trusted estimate (the CPU's `refine::refine`, "Estimate steps").
     var x = start_estimate(br, before, after);
-    for (var it = 0u; it < ITERATIONS; it++) {
+    var estimate_step = true;
+    var steps = 0u;
+    for (var it = 0u; it < ITERATIONS + 1u; it++) {
         if (br.fa == 0.0 || br.fb == 0.0 || !(br.b - br.a > stop)) {
             break;
         }
@@ -950,12 +954,30 @@ fn smooth_crossing(id: u32, o: vec3<f32>, d: vec3<f32>, inv: vec3<f32>, t_min: f
             r_in = max(r_in, wd * (OUTER_OF_WIDTH / OUTER_OF_INNER));
         }
         let r_out = max(max(e * OUTER_OF_SPREAD, r_in * OUTER_OF_INNER), wd * OUTER_OF_WIDTH);
+        // Trusted: a root caught within r_in ends the refinement; then only the 4 points
+        // around the estimate (once), else a uniform step (at most ITERATIONS of them).
+        var first_k = 0u;
+        if (estimate_step && e > 0.0 && r_in + r_in <= stop) {
+            estimate_step = false;
+            first_k = 4u;
+        } else {
+            if (steps == ITERATIONS) {
+                break;
+            }
+            steps++;
+        }
         let neg_a = br.fa < 0.0;
         var nb = br.b;
         var fnb = br.fb;
         var xs: array<f32, 8>;
         var fs: array<f32, 8>;
         for (var k = 0u; k < 8u; k++) {
+            if (k < first_k) {
+                // Not evaluated: a copy of the bracket's start, which no search below takes.
+                xs[k] = br.a;
+                fs[k] = br.fa;
+                continue;
+            }
             var xk: f32;
             switch k {
                 case 0u, 1u, 2u, 3u: {

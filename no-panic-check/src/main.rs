@@ -23,7 +23,7 @@ use smoothtri::{
     Aabb, BuildError, BuildOptions, Bvh, BvhError, BvhNode, DEFAULT_SAMPLES, EdgeWork, FastF32,
     Float, Hit,
     KernelStats, LineField, Patch, PatchError, Ray, Scene, SceneSizes, SceneStorage, Vertices,
-    flat_hit, max_lane_calls, moller_trumbore,
+    flat_hit, max_height_evals, max_lane_calls, moller_trumbore,
 };
 
 unsafe extern "C" {
@@ -91,6 +91,7 @@ fn scalars<F: Float>() -> u32 {
         + f.is_nan() as u32
         + (w.x > 0.0) as u32
         + max_lane_calls(black_box(DEFAULT_SAMPLES), black_box(8)) as u32
+        + max_height_evals(black_box(DEFAULT_SAMPLES), black_box(8)) as u32
 }
 
 fn exercise<F: Float>() -> u32 {

@@ -7,8 +7,8 @@ use crate::common::*;
 use glam::{DVec3, Vec3};
 use smoothtri::accuracy::*;
 use smoothtri::internal::{EARLY_STOP, WORST_SHRINK};
-use smoothtri::max_lane_calls;
 use smoothtri::{DEFAULT_SAMPLES, DPatch, DRay, Float, Patch, Ray};
+use smoothtri::{max_height_evals, max_lane_calls};
 use smoothtri_demo::scenes::{Mesh, cube, icosphere, torus};
 
 fn patches64(m: &Mesh) -> Vec<DPatch> {
@@ -246,8 +246,9 @@ fn precision_versus_iterations_is_certified() {
     }
 }
 
-/// The work bound: at most `max_lane_calls(K, N)` lane calls (eight height evaluations each)
-/// per patch test, hits and misses alike, and the bound is reached. Refinement stops early
+/// The work bound: at most `max_height_evals(K, N)` height evaluations per patch test
+/// (`max_lane_calls(K, N)` lane calls of eight and one estimate step of four), hits and misses
+/// alike, and the lane calls' bound is reached. Refinement stops early
 /// once the bracket is below the rounding allowance ([`EARLY_STOP`]), and the estimated steps
 /// reach it within three steps in `f32` and six in `f64` on the torus (at most 32 and 56 of the
 /// 72 evaluations at N = 8), so the bound is asserted reached at N = 2 in `f32` and N = 4 in
@@ -258,7 +259,7 @@ fn work_per_ray_is_bounded() {
         ps: &[Patch<F>],
         rays: &[Ray<F>],
     ) -> (u32, f64) {
-        let bound = 8 * max_lane_calls(K, N) as u32;
+        let bound = max_height_evals(K, N) as u32;
         let (mut max_evals, mut sum, mut tests) = (0u32, 0u64, 0u64);
         for ray in rays {
             for p in ps {
@@ -296,11 +297,12 @@ fn work_per_ray_is_bounded() {
         .collect();
     assert_eq!(max_lane_calls(DEFAULT_SAMPLES, 8), 1 + 8);
     assert_eq!(max_lane_calls(10, 3), 2 + 3);
+    assert_eq!(max_height_evals(DEFAULT_SAMPLES, 8), 8 * (1 + 8) + 4);
     let reached = |(max, _): (u32, f64), k: usize, n: usize| {
-        assert_eq!(
-            max,
-            8 * max_lane_calls(k, n) as u32,
-            "K={k} N={n}: the bound should be reached by some ray, or the test is too easy"
+        assert!(
+            max >= 8 * max_lane_calls(k, n) as u32,
+            "K={k} N={n}: {max}: the lane calls' bound should be reached by some ray, or the \
+             test is too easy"
         );
     };
     reached(

@@ -13,12 +13,15 @@
 //!    crossings are at least `(tb − ta)/(K + 1)` apart);
 //! 3. refines that bracket with at most `N` steps of eight points each ([`refine`]: at least
 //!    5× narrower per step, superlinear near a simple root; it stops early once the bracket
-//!    is within [`EARLY_STOP`](refine::EARLY_STOP) of the rounding allowance);
+//!    is within [`EARLY_STOP`](refine::EARLY_STOP) of the rounding allowance), and at most one
+//!    step of four points around a trusted estimate (over [`Float::L4`]: where the estimate
+//!    is good enough, the step that ends the refinement costs half a lane call);
 //! 4. evaluates the exact surface normal once at the estimate.
 //!
 //! `f` is evaluated at eight parameters per call, in the lanes of [`Float::L8`]
 //! ([`crate::num::lanes`]). Work per ray is at most [`max_lane_calls`]`(K, N) = ⌈(K + 2)/8⌉ + N`
-//! lane calls plus one normal evaluation, whatever the input: every loop has a compile-time
+//! lane calls, one four-point call and one normal evaluation ([`max_height_evals`] height
+//! evaluations in all), whatever the input: every loop has a compile-time
 //! trip count (a loop may stop early when it has its answer, never run longer). The final
 //! bracket's width plus a rounding allowance is returned as [`Hit::t_error`].
 
@@ -37,7 +40,7 @@ use crate::surface::field::Section;
 use crate::surface::height::{self, Prepared, f_lanes};
 use crate::surface::scalar::{normal_local, project_bary};
 use clip::{LocalRay, bary_numerators, shell_interval};
-use refine::{first_sign_change, refine};
+use refine::{ESTIMATE_POINTS, first_sign_change, refine};
 
 /// Default number `K` of interior bracketing samples used by [`Patch::intersect`]: with the two
 /// ends, eight points, one lane call.
@@ -111,7 +114,9 @@ pub const WALL_MARGIN_ULPS: f64 = 8.0;
 pub const MAX_CRACK_REACH: f64 = 0.25;
 
 /// The most lane calls (eight height evaluations each) that one patch test
-/// with `k` bracketing samples and `n` refinement steps makes: `⌈(k + 2)/8⌉ + n`.
+/// with `k` bracketing samples and `n` refinement steps makes: `⌈(k + 2)/8⌉ + n`. Besides
+/// these, a test makes at most one call of [`refine::ESTIMATE_POINTS`] evaluations (the
+/// estimate step, [`refine`]); [`max_height_evals`] counts both.
 ///
 /// # Panics
 /// Never.
@@ -119,11 +124,22 @@ pub const fn max_lane_calls(k: usize, n: usize) -> usize {
     (k + 2).div_ceil(crate::num::lanes::LANES) + n
 }
 
+/// The most height evaluations `σS` that one patch test with `k` bracketing samples and `n`
+/// refinement steps makes: eight per lane call of [`max_lane_calls`]`(k, n)` plus the four
+/// of the estimate step ([`refine::ESTIMATE_POINTS`]). [`KernelStats::height_evals`] never
+/// exceeds it.
+///
+/// # Panics
+/// Never.
+pub const fn max_height_evals(k: usize, n: usize) -> usize {
+    crate::num::lanes::LANES * max_lane_calls(k, n) + refine::ESTIMATE_POINTS
+}
+
 /// Statistics of one kernel call, for tests and studies.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct KernelStats {
-    /// Number of height evaluations `σS` performed, eight per lane call (at most
-    /// `8 ·` [`max_lane_calls`]`(K, N)`).
+    /// Number of height evaluations `σS` performed, eight per lane call and four in the
+    /// estimate step (at most [`max_height_evals`]`(K, N)`).
     pub height_evals: u32,
     /// Number of full point-and-normal evaluations (0 or 1).
     pub normal_evals: u32,
@@ -247,7 +263,8 @@ pub(crate) fn clip_ray<F: Float>(
 }
 
 /// The search part of the kernel (clip, bracket, refine) without the normal: where the ray
-/// crosses the patch, or `None`. At most [`max_lane_calls`]`(K, N)` lane calls.
+/// crosses the patch, or `None`. At most [`max_lane_calls`]`(K, N)` lane calls and one
+/// four-point call ([`max_height_evals`]).
 ///
 /// `beyond`, when given, is a ray parameter at or after which the caller discards crossings
 /// (the closest one found so far, `≤ t_max`): a patch whose shell interval starts after it is
@@ -269,17 +286,53 @@ pub(crate) fn crossing<F: Float, const K: usize, const N: usize>(
     let sp = <F::L8 as crate::num::lanes::LaneOps>::splat;
     let (o, r) = (cl.lray.o, cl.lray.r);
     let (o8, r8) = ([sp(o.x), sp(o.y), sp(o.z)], [sp(r.x), sp(r.y), sp(r.z)]);
+    let evals = core::cell::Cell::new(0u32);
+    let count = |n: usize| evals.set(evals.get().saturating_add(n as u32));
     let mut f = |taus: [F; crate::num::lanes::LANES]| {
-        stats.height_evals += crate::num::lanes::LANES as u32;
+        count(crate::num::lanes::LANES);
         f_lanes(&prep, o8, r8, <F::L8 as Lane>::from_array(taus)).to_array()
     };
-    let (bracket, start) = first_sign_change::<F, K>(a, b, end_snap(cl.scale), &mut f)?;
+    let found = first_sign_change::<F, K>(a, b, end_snap(cl.scale), &mut f);
+    let Some((bracket, start)) = found else {
+        stats.height_evals += evals.get();
+        return None;
+    };
     // The allowance of `complete` is at least the one from the sampling bracket's secant
     // (it takes the flatter of two secants): a bracket below a fraction of it is converged.
     let floor = rounding_allowance(cl.scale, secant(&bracket));
     let stop = floor * F::from_f64(refine::EARLY_STOP);
-    let (fin, tau) = refine::<F, N>(bracket, start, stop, &mut f);
+    let mut f4 = |taus: [F; ESTIMATE_POINTS]| {
+        count(ESTIMATE_POINTS);
+        four_points(&prep, o, r, taus)
+    };
+    let (fin, tau) = refine::<F, N>(bracket, start, stop, &mut f, &mut f4);
+    stats.height_evals += evals.get();
     complete(patch, &cl, &bracket, &fin, tau, t_min, t_max)
+}
+
+/// `f` at four parameters of the local ray `o + τ·r` ([`refine`]'s estimate step): one call
+/// over [`Float::L4`] where it holds four lanes (bit for bit the same lanes of an eight-lane
+/// call: the same operations per lane), else one eight-lane call.
+#[inline(always)]
+fn four_points<F: Float>(
+    prep: &Prepared<F>,
+    o: V3<F>,
+    r: V3<F>,
+    taus: [F; ESTIMATE_POINTS],
+) -> [F; ESTIMATE_POINTS] {
+    use crate::num::lanes::LaneOps;
+    use crate::num::real::Lane4;
+    if <F::L4 as Lane4>::POINTS == ESTIMATE_POINTS {
+        let sp = <F::L4 as LaneOps>::splat;
+        let (o4, r4) = ([sp(o.x), sp(o.y), sp(o.z)], [sp(r.x), sp(r.y), sp(r.z)]);
+        return f_lanes(prep, o4, r4, F::L4::from_array4(taus)).to_array4();
+    }
+    let sp = <F::L8 as LaneOps>::splat;
+    let (o8, r8) = ([sp(o.x), sp(o.y), sp(o.z)], [sp(r.x), sp(r.y), sp(r.z)]);
+    let [a, b, c, d] = taus;
+    let taus8 = [a, b, c, d, d, d, d, d];
+    let [fa, fb, fc, fd, ..] = f_lanes(prep, o8, r8, <F::L8 as Lane>::from_array(taus8)).to_array();
+    [fa, fb, fc, fd]
 }
 
 /// `|f(b) − f(a)| / (b − a)` of a bracket (`+∞` or NaN when it has zero width).

@@ -35,6 +35,16 @@
 //! plus an allowance at least that large, so further steps could shrink `t_error` by at most a
 //! fifth while each costs a full lane call.
 //!
+//! **Estimate steps.** Where the step's estimate is trusted to the early stop (`e > 0` and
+//! `2·r_in ≤ stop`: a root caught within `r_in` ends the refinement), the step evaluates only
+//! the [`ESTIMATE_POINTS`] points around it, one call over four lanes (half an eight-point
+//! call's work with SSE2 or NEON halves, and on the GPU four evaluations instead of eight).
+//! When the root is caught the result is the bracket the eight-point step would have left
+//! (unless one of its uniform points fell inside `x̂ ± r_in`); when it is not, the step has
+//! still narrowed the bracket or left it as it was, and the eight-point steps go on. At most
+//! one such step per test, on top of the `N`, so the bound below is unchanged and the work
+//! bound grows by four evaluations (`crate::kernel::max_height_evals`).
+//!
 //! Bound: after bracketing and `N` steps the bracket is at most
 //! `max((b − a) / ((K + 1)·5^N), EARLY_STOP · allowance)` for the shell interval `[a, b]` (up
 //! to one ulp of the parameters per step, where the points collapse onto each other).
@@ -46,6 +56,9 @@ use crate::num::real::Float;
 pub const UNIFORM_POINTS: usize = 4;
 /// The guaranteed shrink factor of the bracket per refinement step: `UNIFORM_POINTS + 1`.
 pub const WORST_SHRINK: usize = UNIFORM_POINTS + 1;
+/// Points of the estimate step (module docs, "Estimate steps"): `x̂ ± r_in` and `x̂ ± r_out`,
+/// without the uniform points; at most one per patch test, on top of the `N` steps.
+pub const ESTIMATE_POINTS: usize = 4;
 /// The inner radius around a step's estimate, as a fraction of its distance `e` to regula
 /// falsi's (at least [`INNER_OF_STOP`] times the early-stop width, so a caught root ends the
 /// refinement).
@@ -244,25 +257,33 @@ fn inverse_interpolation<F: Float, const M: usize>(points: [(F, F); M]) -> F {
     x
 }
 
-/// Refines `br` with at most `N` steps of eight evaluations: fewer when the bracket has
-/// collapsed to an exact zero or is at most `stop` wide ([`EARLY_STOP`] times the rounding
-/// allowance's lower bound; 0 never stops early). `start` is the first step's estimate
-/// ([`first_sign_change`]); later steps take theirs from the previous step's samples
-/// ([`start_estimate`]). Returns the final bracket and the estimate of the root inside it
-/// (the inverse interpolation through its ends and the last step's samples beside it, as the
-/// next step would have started from, or regula falsi once the bracket is within `stop`;
-/// within the bracket, so within its width of the root).
+/// Refines `br` with at most `N` steps of eight evaluations (`f8`) and at most one step of
+/// [`ESTIMATE_POINTS`] (`f4`): fewer when the bracket has collapsed to an exact zero or is at
+/// most `stop` wide ([`EARLY_STOP`] times the rounding allowance's lower bound; 0 never stops
+/// early). `start` is the first step's estimate ([`first_sign_change`]); later steps take
+/// theirs from the previous step's samples ([`start_estimate`]). Returns the final bracket and
+/// the estimate of the root inside it (the inverse interpolation through its ends and the
+/// last step's samples beside it, as the next step would have started from, or regula falsi
+/// once the bracket is within `stop`; within the bracket, so within its width of the root).
+///
+/// The four-point step (module docs, "Estimate steps") is taken once, at the first step whose
+/// estimate is trusted to the early stop; it is not one of the `N`, which keep their
+/// guaranteed shrink.
 #[inline(always)]
 pub(crate) fn refine<F: Float, const N: usize>(
     mut br: Bracket<F>,
     start: F,
     stop: F,
     f8: &mut impl FnMut([F; LANES]) -> [F; LANES],
+    f4: &mut impl FnMut([F; ESTIMATE_POINTS]) -> [F; ESTIMATE_POINTS],
 ) -> (Bracket<F>, F) {
     let fifth = F::ONE / F::from_f64(WORST_SHRINK as f64);
     let inner_of_stop = F::from_f64(INNER_OF_STOP);
     let mut x = start;
-    for _ in 0..N {
+    let mut estimate_step = true;
+    let mut steps = 0usize;
+    // `N` uniform steps and at most one estimate step.
+    for _ in 0..N + 1 {
         if br.fa == F::ZERO || br.fb == F::ZERO || !(br.b - br.a > stop) {
             break;
         }
@@ -281,56 +302,29 @@ pub(crate) fn refine<F: Float, const N: usize>(
             .max(r_in * F::from_f64(OUTER_OF_INNER))
             .max(w * F::from_f64(OUTER_OF_WIDTH));
         let clamp = |v: F| v.max(br.a).min(br.b);
-        let u = |j: f64| br.a + w * (fifth * F::from_f64(j));
-        let xs = [
-            u(1.0),
-            u(2.0),
-            u(3.0),
-            u(4.0),
+        let around = [
             clamp(x - r_out),
             clamp(x - r_in),
             clamp(x + r_in),
             clamp(x + r_out),
         ];
-        let fs = f8(xs);
-        let neg_a = br.fa < F::ZERO;
-        // b′: the smallest point whose sign differs from f(a)'s (or is zero).
-        let (mut nb, mut fnb) = (br.b, br.fb);
-        for (xi, fi) in xs.into_iter().zip(fs) {
-            let other = fi == F::ZERO || (fi < F::ZERO) != neg_a;
-            if other && xi < nb {
-                (nb, fnb) = (xi, fi);
-            }
-        }
-        // a′: the largest point below b′ (all of them have f(a)'s sign).
-        let (mut na, mut fna) = (br.a, br.fa);
-        for (xi, fi) in xs.into_iter().zip(fs) {
-            if xi < nb && xi > na {
-                (na, fna) = (xi, fi);
-            }
-        }
-        // The nearest samples outside the new bracket, for the next estimate.
-        let mut before: Option<(F, F)> = None;
-        let mut after: Option<(F, F)> = None;
-        let all = xs.into_iter().zip(fs).chain([(br.a, br.fa), (br.b, br.fb)]);
-        for (xi, fi) in all {
-            if xi < na && before.is_none_or(|(xb, _)| xi > xb) {
-                before = Some((xi, fi));
-            }
-            if xi > nb && after.is_none_or(|(xa, _)| xi < xa) {
-                after = Some((xi, fi));
-            }
-        }
-        br = if fnb == F::ZERO {
-            Bracket::at(nb, fnb)
+        // Trusted: a root caught within `r_in` of the estimate ends the refinement (the
+        // bracket `2·r_in` is within `stop`), where the uniform points would not be needed.
+        let trusted = e > F::ZERO && r_in + r_in <= stop;
+        let (next, before, after) = if estimate_step && trusted {
+            estimate_step = false;
+            narrow(&br, &around, &f4(around))
         } else {
-            Bracket {
-                a: na,
-                b: nb,
-                fa: fna,
-                fb: fnb,
+            if steps == N {
+                break;
             }
+            steps += 1;
+            let u = |j: f64| br.a + w * (fifth * F::from_f64(j));
+            let [o0, i0, i1, o1] = around;
+            let xs = [u(1.0), u(2.0), u(3.0), u(4.0), o0, i0, i1, o1];
+            narrow(&br, &xs, &f8(xs))
         };
+        br = next;
         // A bracket within `stop` ends the refinement and takes the regula falsi point below:
         // no estimate to interpolate for it.
         if br.b - br.a > stop {
@@ -346,6 +340,61 @@ pub(crate) fn refine<F: Float, const N: usize>(
     (br, x)
 }
 
+/// The bracket after sampling `f` at the points `xs` inside `br` (values `fs`): the first sign
+/// change among them and `br`'s ends, and the nearest samples outside it on either side (for
+/// the next estimate).
+#[inline(always)]
+#[allow(clippy::type_complexity)]
+fn narrow<F: Float, const M: usize>(
+    br: &Bracket<F>,
+    xs: &[F; M],
+    fs: &[F; M],
+) -> (Bracket<F>, Option<(F, F)>, Option<(F, F)>) {
+    let neg_a = br.fa < F::ZERO;
+    // b′: the smallest point whose sign differs from f(a)'s (or is zero).
+    let (mut nb, mut fnb) = (br.b, br.fb);
+    for (&xi, &fi) in xs.iter().zip(fs) {
+        let other = fi == F::ZERO || (fi < F::ZERO) != neg_a;
+        if other && xi < nb {
+            (nb, fnb) = (xi, fi);
+        }
+    }
+    // a′: the largest point below b′ (all of them have f(a)'s sign).
+    let (mut na, mut fna) = (br.a, br.fa);
+    for (&xi, &fi) in xs.iter().zip(fs) {
+        if xi < nb && xi > na {
+            (na, fna) = (xi, fi);
+        }
+    }
+    // The nearest samples outside the new bracket, for the next estimate.
+    let mut before: Option<(F, F)> = None;
+    let mut after: Option<(F, F)> = None;
+    let all = xs
+        .iter()
+        .copied()
+        .zip(fs.iter().copied())
+        .chain([(br.a, br.fa), (br.b, br.fb)]);
+    for (xi, fi) in all {
+        if xi < na && before.is_none_or(|(xb, _)| xi > xb) {
+            before = Some((xi, fi));
+        }
+        if xi > nb && after.is_none_or(|(xa, _)| xi < xa) {
+            after = Some((xi, fi));
+        }
+    }
+    let next = if fnb == F::ZERO {
+        Bracket::at(nb, fnb)
+    } else {
+        Bracket {
+            a: na,
+            b: nb,
+            fa: fna,
+            fb: fnb,
+        }
+    };
+    (next, before, after)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -358,6 +407,17 @@ mod tests {
         calls: &'a Cell<usize>,
     ) -> impl FnMut([f64; LANES]) -> [f64; LANES] + 'a {
         move |xs: [f64; LANES]| {
+            calls.set(calls.get() + 1);
+            xs.map(&f)
+        }
+    }
+
+    /// `f` over the four points of an estimate step, counting calls.
+    fn four<'a>(
+        f: impl Fn(f64) -> f64 + 'a,
+        calls: &'a Cell<usize>,
+    ) -> impl FnMut([f64; ESTIMATE_POINTS]) -> [f64; ESTIMATE_POINTS] + 'a {
+        move |xs: [f64; ESTIMATE_POINTS]| {
             calls.set(calls.get() + 1);
             xs.map(&f)
         }
@@ -387,33 +447,41 @@ mod tests {
     }
 
     #[test]
-    fn a_smooth_root_takes_one_step_and_a_step_never_shrinks_less_than_five_times() {
+    fn a_smooth_root_takes_one_estimate_step_and_a_step_never_shrinks_less_than_five_times() {
         // Smooth: the bracketing samples' cubic lands within the early stop (at a ratio of
         // stop to bracket like the kernel's in f32, 1e-4 to 1e-3).
         let f = |x: f64| x * x * x + x - 0.3;
         let root = 0.2784179903218099; // x³ + x = 0.3
         let stop = 1e-5;
-        let calls = Cell::new(0);
+        let (calls, fours) = (Cell::new(0), Cell::new(0));
         let mut f8 = lanes(f, &calls);
+        let mut f4 = four(f, &fours);
         let found = first_sign_change::<f64, 6>(0.2, 0.4, 0.0, &mut f8);
         assert!(found.is_some(), "a sign change in [0.2, 0.4]");
         let Some((br, start)) = found else { return };
-        let (fin, x) = refine::<f64, 8>(br, start, stop, &mut f8);
+        let (fin, x) = refine::<f64, 8>(br, start, stop, &mut f8, &mut f4);
         assert!(fin.a <= x && x <= fin.b);
         assert!(
             fin.a <= root && root <= fin.b && fin.b - fin.a <= stop,
             "{fin:?}"
         );
-        assert_eq!(calls.get(), 2, "bracketing and one refinement step");
+        assert_eq!(
+            (calls.get(), fours.get()),
+            (1, 1),
+            "bracketing and one estimate step of four points"
+        );
+
         // A jump: the estimates are useless, the uniform points still shrink 5× per step.
         let jump = |x: f64| if x < 0.6180339887 { -1.0 } else { 1.0 };
-        let calls = Cell::new(0);
+        let (calls, fours) = (Cell::new(0), Cell::new(0));
         let mut f8 = lanes(jump, &calls);
+        let mut f4 = four(jump, &fours);
         let found = first_sign_change::<f64, 6>(0.0, 1.0, 0.0, &mut f8);
         assert!(found.is_some(), "a sign change in [0.0, 1.0]");
         let Some((br, start)) = found else { return };
         let w0 = br.b - br.a;
-        let (fin, _) = refine::<f64, 4>(br, start, 0.0, &mut f8);
+        let (fin, _) = refine::<f64, 4>(br, start, 0.0, &mut f8, &mut f4);
+        assert_eq!((calls.get(), fours.get()), (5, 0));
         assert!(fin.b - fin.a <= w0 / 625.0 * (1.0 + 1e-12), "{fin:?}");
         assert!(fin.a < 0.6180339887 && 0.6180339887 <= fin.b, "{fin:?}");
     }

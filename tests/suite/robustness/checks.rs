@@ -274,10 +274,10 @@ pub fn check_hit<F: Float>(
     Ok(())
 }
 
-/// The work bound: at most `max_lane_calls(K, N)` lane calls of eight height evaluations and
-/// one normal evaluation.
+/// The work bound: at most `max_height_evals(K, N)` height evaluations (`max_lane_calls(K, N)`
+/// lane calls of eight and one estimate step of four) and one normal evaluation.
 pub fn check_stats(s: KernelStats, k: u32, n: u32) -> Result<(), TestCaseError> {
-    let bound = 8 * smoothtri::max_lane_calls(k as usize, n as usize) as u32;
+    let bound = smoothtri::max_height_evals(k as usize, n as usize) as u32;
     prop_assert!(
         s.height_evals <= bound,
         "{} height evaluations, bound {bound}",
