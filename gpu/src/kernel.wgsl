@@ -8,8 +8,8 @@
 // below: value and two partials for the surface, value and two t-derivatives for the edge
 // curves; no finite differences).
 //
-// Work per patch test is fixed by WGSL constants: 8 + 8·ITERATIONS + 4 height evaluations at most,
-// every loop of the kernel has a constant trip count (a loop may stop early, never run longer).
+// Work per patch test is fixed by WGSL constants: 8 + 8·ITERATIONS height evaluations at most
+// (+ 4 when ITERATIONS ≥ 1), every loop of the kernel has a constant trip count (a loop may stop early, never run longer).
 // The traversal visits each node at most once (a budget of node_count visits), tests each index
 // of `order` at most once (a budget of order_count tests) and keeps at most STACK pending nodes;
 // anything else is reported through `status`, never a loop without end. Every buffer index is
@@ -957,7 +957,7 @@ fn smooth_crossing(id: u32, o: vec3<f32>, d: vec3<f32>, inv: vec3<f32>, t_min: f
         // Trusted: a root caught within r_in ends the refinement; then only the 4 points
         // around the estimate (once), else a uniform step (at most ITERATIONS of them).
         var first_k = 0u;
-        if (estimate_step && e > 0.0 && r_in + r_in <= stop) {
+        if (ITERATIONS > 0u && estimate_step && e > 0.0 && r_in + r_in <= stop) {
             estimate_step = false;
             first_k = 4u;
         } else {

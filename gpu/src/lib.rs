@@ -27,7 +27,7 @@
 //!
 //! # Bounded work
 //! Per patch test at most `8 + 8·N + 4` height evaluations ([`SAMPLES`]` + 2` bracketing
-//! points, `N` steps of 8 and one estimate step of 4, as the CPU's
+//! points, `N` steps of 8 and, for `N ≥ 1`, one estimate step of 4, as the CPU's
 //! `smoothtri::max_height_evals`), every loop of the kernel with a constant trip count; per ray at most one
 //! visit per BVH node, one test per index of the tree's order, and [`STACK`] pending nodes; per
 //! pixel of a frame two such rays (the camera ray and at most one shadow ray) and at most four

@@ -13,8 +13,8 @@
 //!    crossings are at least `(tb − ta)/(K + 1)` apart);
 //! 3. refines that bracket with at most `N` steps of eight points each ([`refine`]: at least
 //!    5× narrower per step, superlinear near a simple root; it stops early once the bracket
-//!    is within [`EARLY_STOP`](refine::EARLY_STOP) of the rounding allowance), and at most one
-//!    step of four points around a trusted estimate (over [`Float::L4`]: where the estimate
+//!    is within [`EARLY_STOP`](refine::EARLY_STOP) of the rounding allowance), and, for
+//!    `N ≥ 1`, at most one step of four points around a trusted estimate (over [`Float::L4`]: where the estimate
 //!    is good enough, the step that ends the refinement costs half a lane call);
 //! 4. evaluates the exact surface normal once at the estimate.
 //!
@@ -125,14 +125,15 @@ pub const fn max_lane_calls(k: usize, n: usize) -> usize {
 }
 
 /// The most height evaluations `σS` that one patch test with `k` bracketing samples and `n`
-/// refinement steps makes: eight per lane call of [`max_lane_calls`]`(k, n)` plus the four
-/// of the estimate step ([`refine::ESTIMATE_POINTS`]). [`KernelStats::height_evals`] never
-/// exceeds it.
+/// refinement steps makes: eight per lane call of [`max_lane_calls`]`(k, n)` plus, for
+/// `n ≥ 1`, the four of the estimate step ([`refine::ESTIMATE_POINTS`]; `n = 0` brackets
+/// only). [`KernelStats::height_evals`] never exceeds it.
 ///
 /// # Panics
 /// Never.
 pub const fn max_height_evals(k: usize, n: usize) -> usize {
-    crate::num::lanes::LANES * max_lane_calls(k, n) + refine::ESTIMATE_POINTS
+    let estimate = if n > 0 { refine::ESTIMATE_POINTS } else { 0 };
+    crate::num::lanes::LANES * max_lane_calls(k, n) + estimate
 }
 
 /// Statistics of one kernel call, for tests and studies.

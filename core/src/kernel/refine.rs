@@ -42,8 +42,9 @@
 //! When the root is caught the result is the bracket the eight-point step would have left
 //! (unless one of its uniform points fell inside `x̂ ± r_in`); when it is not, the step has
 //! still narrowed the bracket or left it as it was, and the eight-point steps go on. At most
-//! one such step per test, on top of the `N`, so the bound below is unchanged and the work
-//! bound grows by four evaluations (`crate::kernel::max_height_evals`).
+//! one such step per test, on top of the `N` (none at `N = 0`, which brackets only), so the
+//! bound below is unchanged and the work bound grows by four evaluations
+//! (`crate::kernel::max_height_evals`).
 //!
 //! Bound: after bracketing and `N` steps the bracket is at most
 //! `max((b − a) / ((K + 1)·5^N), EARLY_STOP · allowance)` for the shell interval `[a, b]` (up
@@ -267,8 +268,8 @@ fn inverse_interpolation<F: Float, const M: usize>(points: [(F, F); M]) -> F {
 /// once the bracket is within `stop`; within the bracket, so within its width of the root).
 ///
 /// The four-point step (module docs, "Estimate steps") is taken once, at the first step whose
-/// estimate is trusted to the early stop; it is not one of the `N`, which keep their
-/// guaranteed shrink.
+/// estimate is trusted to the early stop, when `N ≥ 1` (`N = 0` brackets only); it is not one
+/// of the `N`, which keep their guaranteed shrink.
 #[inline(always)]
 pub(crate) fn refine<F: Float, const N: usize>(
     mut br: Bracket<F>,
@@ -311,7 +312,7 @@ pub(crate) fn refine<F: Float, const N: usize>(
         // Trusted: a root caught within `r_in` of the estimate ends the refinement (the
         // bracket `2·r_in` is within `stop`), where the uniform points would not be needed.
         let trusted = e > F::ZERO && r_in + r_in <= stop;
-        let (next, before, after) = if estimate_step && trusted {
+        let (next, before, after) = if N > 0 && estimate_step && trusted {
             estimate_step = false;
             narrow(&br, &around, &f4(around))
         } else {
