@@ -115,8 +115,8 @@ pub const MAX_CRACK_REACH: f64 = 0.25;
 
 /// The most lane calls (eight height evaluations each) that one patch test
 /// with `k` bracketing samples and `n` refinement steps makes: `⌈(k + 2)/8⌉ + n`. Besides
-/// these, a test makes at most one call of [`refine::ESTIMATE_POINTS`] evaluations (the
-/// estimate step, [`refine`]); [`max_height_evals`] counts both.
+/// these, a test makes at most one call of `ESTIMATE_POINTS` = 4 evaluations (the
+/// estimate step around a trusted root estimate); [`max_height_evals`] counts both.
 ///
 /// # Panics
 /// Never.
@@ -126,7 +126,7 @@ pub const fn max_lane_calls(k: usize, n: usize) -> usize {
 
 /// The most height evaluations `σS` that one patch test with `k` bracketing samples and `n`
 /// refinement steps makes: eight per lane call of [`max_lane_calls`]`(k, n)` plus, for
-/// `n ≥ 1`, the four of the estimate step ([`refine::ESTIMATE_POINTS`]; `n = 0` brackets
+/// `n ≥ 1`, the four of the estimate step (`ESTIMATE_POINTS` = 4; `n = 0` brackets
 /// only). [`KernelStats::height_evals`] never exceeds it.
 ///
 /// # Panics
