@@ -402,23 +402,13 @@ mod tests {
 
     use core::cell::Cell;
 
-    /// `f` over eight points, counting calls.
-    fn lanes<'a>(
+    /// `f` over `M` points at once (eight for a lane call, four for an estimate step),
+    /// counting calls.
+    fn lanes<'a, const M: usize>(
         f: impl Fn(f64) -> f64 + 'a,
         calls: &'a Cell<usize>,
-    ) -> impl FnMut([f64; LANES]) -> [f64; LANES] + 'a {
-        move |xs: [f64; LANES]| {
-            calls.set(calls.get() + 1);
-            xs.map(&f)
-        }
-    }
-
-    /// `f` over the four points of an estimate step, counting calls.
-    fn four<'a>(
-        f: impl Fn(f64) -> f64 + 'a,
-        calls: &'a Cell<usize>,
-    ) -> impl FnMut([f64; ESTIMATE_POINTS]) -> [f64; ESTIMATE_POINTS] + 'a {
-        move |xs: [f64; ESTIMATE_POINTS]| {
+    ) -> impl FnMut([f64; M]) -> [f64; M] + 'a {
+        move |xs: [f64; M]| {
             calls.set(calls.get() + 1);
             xs.map(&f)
         }
@@ -456,7 +446,7 @@ mod tests {
         let stop = 1e-5;
         let (calls, fours) = (Cell::new(0), Cell::new(0));
         let mut f8 = lanes(f, &calls);
-        let mut f4 = four(f, &fours);
+        let mut f4 = lanes::<ESTIMATE_POINTS>(f, &fours);
         let found = first_sign_change::<f64, 6>(0.2, 0.4, 0.0, &mut f8);
         assert!(found.is_some(), "a sign change in [0.2, 0.4]");
         let Some((br, start)) = found else { return };
@@ -476,7 +466,7 @@ mod tests {
         let jump = |x: f64| if x < 0.6180339887 { -1.0 } else { 1.0 };
         let (calls, fours) = (Cell::new(0), Cell::new(0));
         let mut f8 = lanes(jump, &calls);
-        let mut f4 = four(jump, &fours);
+        let mut f4 = lanes::<ESTIMATE_POINTS>(jump, &fours);
         let found = first_sign_change::<f64, 6>(0.0, 1.0, 0.0, &mut f8);
         assert!(found.is_some(), "a sign change in [0.0, 1.0]");
         let Some((br, start)) = found else { return };

@@ -176,8 +176,14 @@ fn c<L: LaneOps>(x: f64) -> L {
 ///
 /// One accessor per group of fields, so that the splatting path splats each where it is used.
 trait EdgeLanes<L: LaneOps> {
-    /// Start vertex `A`, edge vector `e`, direction field at `A`, `gd = dB − dA` (index 0–3).
-    fn vector(&self, i: usize) -> L3<L>;
+    /// Start vertex `A`.
+    fn a(&self) -> L3<L>;
+    /// Edge vector `e = B − A`.
+    fn e(&self) -> L3<L>;
+    /// Direction field at `A`.
+    fn da(&self) -> L3<L>;
+    /// `gd = dB − dA`.
+    fn gd(&self) -> L3<L>;
     /// [`EdgePrep`]'s `k`.
     fn k(&self) -> [L; 2];
     /// [`EdgePrep`]'s `gg`.
@@ -192,13 +198,20 @@ trait EdgeLanes<L: LaneOps> {
 
 impl<L: LaneOps> EdgeLanes<L> for EdgePrep<L::F> {
     #[inline(always)]
-    fn vector(&self, i: usize) -> L3<L> {
-        L3::splat(match i {
-            0 => self.a,
-            1 => self.e,
-            2 => self.da,
-            _ => self.gd,
-        })
+    fn a(&self) -> L3<L> {
+        L3::splat(self.a)
+    }
+    #[inline(always)]
+    fn e(&self) -> L3<L> {
+        L3::splat(self.e)
+    }
+    #[inline(always)]
+    fn da(&self) -> L3<L> {
+        L3::splat(self.da)
+    }
+    #[inline(always)]
+    fn gd(&self) -> L3<L> {
+        L3::splat(self.gd)
     }
     #[inline(always)]
     fn k(&self) -> [L; 2] {
@@ -227,7 +240,10 @@ impl<L: LaneOps> EdgeLanes<L> for EdgePrep<L::F> {
 /// fourth lane repeats the first): the vertex terms of one point, one per lane.
 #[derive(Clone, Copy)]
 struct EdgeGathered<L> {
-    vectors: [L3<L>; 4],
+    a: L3<L>,
+    e: L3<L>,
+    da: L3<L>,
+    gd: L3<L>,
     k: [L; 2],
     gg: [L; 3],
     eg: [L; 2],
@@ -246,7 +262,10 @@ impl<L: crate::num::real::Lane4> EdgeGathered<L> {
             z: L::from_array4([f(a).z, f(b).z, f(cc).z, f(a).z]),
         };
         EdgeGathered {
-            vectors: [v(|e| e.a), v(|e| e.e), v(|e| e.da), v(|e| e.gd)],
+            a: v(|e| e.a),
+            e: v(|e| e.e),
+            da: v(|e| e.da),
+            gd: v(|e| e.gd),
             k: [g(|e| e.k[0]), g(|e| e.k[1])],
             gg: [g(|e| e.gg[0]), g(|e| e.gg[1]), g(|e| e.gg[2])],
             eg: [g(|e| e.eg[0]), g(|e| e.eg[1])],
@@ -259,22 +278,33 @@ impl<L: crate::num::real::Lane4> EdgeGathered<L> {
     }
 }
 
+/// `v` as jets without derivatives.
+#[inline(always)]
+fn constant3<L: LaneOps>(v: L3<L>) -> L3<Jet<L>> {
+    L3 {
+        x: Jet::constant(v.x),
+        y: Jet::constant(v.y),
+        z: Jet::constant(v.z),
+    }
+}
+
 /// Lanes without derivatives: the edge data are constants of the evaluation.
 impl<L: LaneOps> EdgeLanes<Jet<L>> for EdgeGathered<L> {
     #[inline(always)]
-    fn vector(&self, i: usize) -> L3<Jet<L>> {
-        let [a, e, da, gd] = self.vectors;
-        let v = match i {
-            0 => a,
-            1 => e,
-            2 => da,
-            _ => gd,
-        };
-        L3 {
-            x: Jet::constant(v.x),
-            y: Jet::constant(v.y),
-            z: Jet::constant(v.z),
-        }
+    fn a(&self) -> L3<Jet<L>> {
+        constant3(self.a)
+    }
+    #[inline(always)]
+    fn e(&self) -> L3<Jet<L>> {
+        constant3(self.e)
+    }
+    #[inline(always)]
+    fn da(&self) -> L3<Jet<L>> {
+        constant3(self.da)
+    }
+    #[inline(always)]
+    fn gd(&self) -> L3<Jet<L>> {
+        constant3(self.gd)
     }
     #[inline(always)]
     fn k(&self) -> [Jet<L>; 2] {
@@ -353,9 +383,9 @@ fn edge_point_normal<L: LaneOps>(ep: &impl EdgeLanes<L>, t: L) -> (L3<L>, L3<L>)
     let two = c::<L>(2.0);
     let zero = L::splat(L::F::ZERO);
     let u = t - one;
-    let e = ep.vector(1);
-    let gd = ep.vector(3);
-    let da = ep.vector(2);
+    let e = ep.e();
+    let gd = ep.gd();
+    let da = ep.da();
     let g = L3 {
         x: da.x + t * gd.x,
         y: da.y + t * gd.y,
@@ -393,7 +423,7 @@ fn edge_point_normal<L: LaneOps>(ep: &impl EdgeLanes<L>, t: L) -> (L3<L>, L3<L>)
     let ds2 = root_derivative(s2, q2, sq2, ok2, cb, dcb);
     let s = t * s2 - u * s1;
     let ds = t * ds2 - u * ds1 + (s2 - s1);
-    let cpt = ep.vector(0).add(e.scale(t)).add(g.scale(s));
+    let cpt = ep.a().add(e.scale(t)).add(g.scale(s));
     // c′ = e + g′·s + g·s′.
     let tan = e.add(gd.scale(s)).add(g.scale(ds));
     let tt = tan.dot(tan);
@@ -862,7 +892,7 @@ pub(crate) fn derivatives<F: Float>(shape: &Shape<F>, pr: &Prepared<F>, x: [F; 3
 /// In `f32` and `f64` the three vertex terms of eq. (5) run side by side in the lanes of
 /// [`Float::L4`] (one term per lane, over jets: the same operations as three one-point
 /// evaluations, summed in the same order), so the result is bit for bit
-/// [`height_derivatives_one`]'s at about a third of its cost; for other scalars it is that
+/// [`terms_in_turn`]'s at about a third of its cost; for other scalars it is that
 /// function.
 #[inline(always)]
 pub(crate) fn height_derivatives<F: Float>(
@@ -871,10 +901,11 @@ pub(crate) fn height_derivatives<F: Float>(
     x: [F; 3],
 ) -> (F, [V3<F>; 2]) {
     use crate::num::real::Lane4;
-    if <F::L4 as Lane4>::POINTS < 4 {
-        return height_derivatives_one(shape, pr, x);
-    }
-    let s = terms_in_lanes(pr, x);
+    let s = if <F::L4 as Lane4>::POINTS < 4 {
+        terms_in_turn(pr, x)
+    } else {
+        terms_in_lanes(pr, x)
+    };
     (s.v, assemble(shape, pr.section.parallel, x, s.v, s.d))
 }
 
@@ -960,20 +991,17 @@ fn terms_in_lanes<F: Float>(pr: &Prepared<F>, [x0, x1, x2]: [F; 3]) -> Jet<F> {
     }
 }
 
-/// [`height_derivatives`] over one-point jets (the three vertex terms in turn): the reference
-/// the lane version is tested against, and the path for scalars without four-lane vectors.
+/// The height jet of [`terms_in_lanes`] over one-point jets, the three vertex terms in turn
+/// ([`height_at`]): the reference the lane version is tested against, and the path for scalars
+/// without four-lane vectors.
 #[inline(always)]
-pub(crate) fn height_derivatives_one<F: Float>(
-    shape: &Shape<F>,
-    pr: &Prepared<F>,
-    x: [F; 3],
-) -> (F, [V3<F>; 2]) {
+fn terms_in_turn<F: Float>(pr: &Prepared<F>, x: [F; 3]) -> Jet<F> {
     let s = height_at(pr, seeds(x.map(One)));
     let [One(s1), One(s2)] = s.d;
-    (
-        s.v.0,
-        assemble(shape, pr.section.parallel, x, s.v.0, [s1, s2]),
-    )
+    Jet {
+        v: s.v.0,
+        d: [s1, s2],
+    }
 }
 
 /// [`derivatives`] at four barycentric triples, over jets of [`Float::L4`]: in `f32` and `f64`
@@ -1217,15 +1245,14 @@ pub(crate) mod tests {
         assert!(tested > 45 * 500, "{tested}");
     }
 
-    /// The one-point jets with the three vertex terms in lanes ([`height_derivatives`], the
+    /// The one-point jets with the three vertex terms in lanes ([`terms_in_lanes`], the
     /// kernel's hit normal) equal the one-point jets with the terms in turn
-    /// ([`height_derivatives_one`]) bit for bit, in `f64` and `f32`, on both line fields, at
+    /// ([`terms_in_turn`]) bit for bit, in `f64` and `f32`, on both line fields, at
     /// grid points, on the edges, at the vertices and at random points.
     #[test]
     fn terms_in_lanes_equal_terms_in_turn_bit_for_bit() {
         fn check<F: Float>(patch: &Patch<F>, rng: &mut Rng) -> usize {
-            let shape = &patch.shape;
-            let pr = Prepared::new(shape);
+            let pr = Prepared::new(&patch.shape);
             let c = F::from_f64;
             let grid = (0..=8).flat_map(|i| (0..=(8 - i)).map(move |j| (i as f64, j as f64)));
             let random = (0..20).map(|_| (rng.unit() * 8.0, rng.unit() * 8.0));
@@ -1233,11 +1260,9 @@ pub(crate) mod tests {
             for (i, j) in grid.chain(random) {
                 let (w1, w2) = (c(i / 8.0), c(j / 8.0));
                 let x = [F::ONE - w1 - w2, w1, w2];
-                let (h, [a1, a2]) = height_derivatives(shape, &pr, x);
-                let (g, [b1, b2]) = height_derivatives_one(shape, &pr, x);
-                let bits = |v: V3<F>| [v.x, v.y, v.z].map(|q| q.to_f64().to_bits());
-                assert_eq!(h.to_f64().to_bits(), g.to_f64().to_bits(), "{x:?}");
-                assert_eq!([bits(a1), bits(a2)], [bits(b1), bits(b2)], "{x:?}");
+                let bits = |j: Jet<F>| [j.v, j.d[0], j.d[1]].map(|q| q.to_f64().to_bits());
+                let (lanes, turn) = (terms_in_lanes(&pr, x), terms_in_turn(&pr, x));
+                assert_eq!(bits(lanes), bits(turn), "{x:?}");
                 same += 1;
             }
             same
