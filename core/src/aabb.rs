@@ -105,25 +105,32 @@ impl<F: Float> Aabb<F> {
     /// test), or `None` when the ray misses it or the interval is not finite.
     ///
     /// A zero direction component keeps the whole range when the origin lies between the
-    /// slabs of that axis, and rejects it otherwise.
+    /// slabs of that axis, and rejects it otherwise. `inv` holds `1 / d` per axis where `d` is
+    /// not zero (computed once per ray by the caller).
     #[inline(always)]
-    pub(crate) fn ray_interval(&self, o: V3<F>, d: V3<F>, t_min: F, t_max: F) -> Option<(F, F)> {
+    pub(crate) fn ray_interval(
+        &self,
+        o: V3<F>,
+        d: V3<F>,
+        inv: V3<F>,
+        t_min: F,
+        t_max: F,
+    ) -> Option<(F, F)> {
         let mut a = t_min;
         let mut b = t_max;
-        for (((oc, dc), l), h) in [o.x, o.y, o.z]
-            .into_iter()
-            .zip([d.x, d.y, d.z])
-            .zip([self.lo.x, self.lo.y, self.lo.z])
-            .zip([self.hi.x, self.hi.y, self.hi.z])
-        {
+        let axes = [
+            (o.x, d.x, inv.x, self.lo.x, self.hi.x),
+            (o.y, d.y, inv.y, self.lo.y, self.hi.y),
+            (o.z, d.z, inv.z, self.lo.z, self.hi.z),
+        ];
+        for (oc, dc, ic, l, h) in axes {
             if dc == F::ZERO {
                 if oc < l || oc > h {
                     return None;
                 }
             } else {
-                let inv = F::ONE / dc;
-                let t1 = (l - oc) * inv;
-                let t2 = (h - oc) * inv;
+                let t1 = (l - oc) * ic;
+                let t2 = (h - oc) * ic;
                 a = a.max(t1.min(t2));
                 b = b.min(t1.max(t2));
             }

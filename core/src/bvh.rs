@@ -18,7 +18,7 @@
 use heapless::Vec as HVec;
 
 use crate::aabb::Aabb;
-use crate::kernel::{self, Crossing, DEFAULT_SAMPLES, KernelStats};
+use crate::kernel::{self, Crossing, DEFAULT_SAMPLES, KernelStats, WorldRay};
 use crate::num::real::{Float, Lane4, LaneOps};
 use crate::num::vec::V3;
 use crate::patch::Patch;
@@ -603,8 +603,9 @@ impl<'a, F: Float> Bvh<'a, F> {
         t_max: F,
     ) -> Option<(u32, Crossing<F>)> {
         let mut stats = KernelStats::default();
+        let world = WorldRay::new(ray)?;
         self.traverse(ray, t_min, t_max, false, &mut |_, p, a, b, beyond| {
-            kernel::crossing::<F, DEFAULT_SAMPLES, N>(p, ray, a, b, beyond, &mut stats)
+            kernel::crossing::<F, DEFAULT_SAMPLES, N>(p, &world, a, b, beyond, &mut stats)
         })
         .ok()?
     }
@@ -615,8 +616,11 @@ impl<'a, F: Float> Bvh<'a, F> {
     /// Never.
     pub fn any_hit<const N: usize>(&self, ray: &Ray<F>, t_min: F, t_max: F) -> bool {
         let mut stats = KernelStats::default();
+        let Some(world) = WorldRay::new(ray) else {
+            return false;
+        };
         let first = self.traverse(ray, t_min, t_max, true, &mut |_, p, a, b, _| {
-            kernel::crossing::<F, DEFAULT_SAMPLES, N>(p, ray, a, b, None, &mut stats)
+            kernel::crossing::<F, DEFAULT_SAMPLES, N>(p, &world, a, b, None, &mut stats)
         });
         matches!(first, Ok(Some(_)))
     }

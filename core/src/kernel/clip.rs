@@ -165,7 +165,7 @@ const MAX_BREAKS: usize = 8;
 /// sub-intervals of `[τ_lo, τ_hi]` (already clipped to the slab) where all three walls, wall
 /// `k` moved outward by the barycentric `margin[k]` (`crate::kernel::wall_margins`), are
 /// satisfied.
-/// Fixed work: at most 8 breakpoints, sorted by a fixed network, 7 midpoint tests.
+/// Fixed work: at most 8 breakpoints, at most 21 compare-and-swaps, 7 midpoint tests.
 #[inline(always)]
 pub(crate) fn shell_interval<F: Float>(
     shape: &Shape<F>,
@@ -234,19 +234,22 @@ fn interval_of<F: Float>(
             count += 1;
         }
     }
-    // Fixed insertion sort network over all slots (unused slots hold τ_hi, which sorts last).
-    for i in 1..MAX_BREAKS {
-        for j in (1..=i).rev() {
-            if let (Some(&x), Some(&y)) = (brk.get(j - 1), brk.get(j))
-                && y < x
-            {
-                brk.swap(j - 1, j);
-            }
+    // Insertion sort of the filled slots (at most seven; τ_lo stays first, every root lying
+    // after it). The slots after them hold τ_hi, which every root precedes, so the array is
+    // sorted through the first unfilled slot: the pieces are the windows of `brk[..=count]`.
+    for i in 1..count.min(MAX_BREAKS) {
+        let mut j = i;
+        while let (Some(&x), Some(&y)) = (brk.get(j.wrapping_sub(1)), brk.get(j))
+            && y < x
+        {
+            brk.swap(j - 1, j);
+            j -= 1;
         }
     }
+    let filled = brk.get(..=count).unwrap_or(&brk);
     let mut first: Option<F> = None;
     let mut last: Option<F> = None;
-    for w in brk.windows(2) {
+    for w in filled.windows(2) {
         if let [a, b] = *w
             && b > a
             && inside(F::from_f64(0.5) * (a + b))

@@ -178,7 +178,7 @@ fn intersect_impl<F: Float, const K: usize, const N: usize>(
     t_max: F,
     stats: &mut KernelStats,
 ) -> Option<Hit<F>> {
-    let c = crossing::<F, K, N>(patch, ray, t_min, t_max, None, stats)?;
+    let c = crossing::<F, K, N>(patch, &WorldRay::new(ray)?, t_min, t_max, None, stats)?;
     stats.normal_evals += 1;
     let hit = finish(patch, ray, &c)?;
     stats.rounding = c.rounding.to_f64();
@@ -194,7 +194,7 @@ fn intersect_impl<F: Float, const K: usize, const N: usize>(
 #[inline(always)]
 pub(crate) fn clip_ray<F: Float>(
     patch: &Patch<F>,
-    ray: &Ray<F>,
+    ray: &WorldRay<F>,
     t_min: F,
     t_max: F,
     beyond: Option<F>,
@@ -204,15 +204,11 @@ pub(crate) fn clip_ray<F: Float>(
     // `t0 + a` (before the clamp to `[t_min, t_max]`, which keeps it at least `beyond` when
     // `beyond ≤ t_max`).
     let past = |t0: F, a: F| matches!(beyond, Some(c) if t0 + a > c);
-    let o = F::from_glam(ray.origin);
-    let d = F::from_glam(ray.dir);
-    if !o.all_finite() || !d.all_finite() || d.length2() == F::ZERO {
-        return None;
-    }
+    let (o, d) = (ray.o, ray.d);
     if t_min.is_nan() || t_max.is_nan() || t_max < t_min {
         return None;
     }
-    let (ta, tb) = patch.bbox.ray_interval(o, d, t_min, t_max)?;
+    let (ta, tb) = patch.bbox.ray_interval(o, d, ray.inv, t_min, t_max)?;
     // Local ray re-based at the middle of the box interval.
     let t0 = F::from_f64(0.5) * (ta + tb);
     if past(t0, ta - t0) {
@@ -274,7 +270,7 @@ pub(crate) fn clip_ray<F: Float>(
 #[inline(always)]
 pub(crate) fn crossing<F: Float, const K: usize, const N: usize>(
     patch: &Patch<F>,
-    ray: &Ray<F>,
+    ray: &WorldRay<F>,
     t_min: F,
     t_max: F,
     beyond: Option<F>,
@@ -473,6 +469,39 @@ pub(crate) fn finish_with<F: Float>(
         front_face: normal.dot(d) < F::ZERO,
         patch: 0,
     })
+}
+
+/// A world ray prepared once for all the patches it is tested against: origin and direction
+/// in the kernel's vectors and the direction's reciprocals for the box test
+/// ([`Aabb::ray_interval`](crate::aabb::Aabb::ray_interval)), the same values each patch test
+/// computed for itself before.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct WorldRay<F> {
+    /// Origin, world coordinates.
+    pub o: V3<F>,
+    /// Direction.
+    pub d: V3<F>,
+    /// `1 / d` per axis, 0 where `d` is 0 (that axis is then tested by the origin alone).
+    pub inv: V3<F>,
+}
+
+impl<F: Float> WorldRay<F> {
+    /// `ray` prepared, or `None` when its origin or direction is not finite or the direction
+    /// is zero (no patch test can hit such a ray).
+    #[inline(always)]
+    pub(crate) fn new(ray: &Ray<F>) -> Option<Self> {
+        let o = F::from_glam(ray.origin);
+        let d = F::from_glam(ray.dir);
+        if !o.all_finite() || !d.all_finite() || d.length2() == F::ZERO {
+            return None;
+        }
+        let inv = |c: F| if c == F::ZERO { F::ZERO } else { F::ONE / c };
+        Some(WorldRay {
+            o,
+            d,
+            inv: V3::new(inv(d.x), inv(d.y), inv(d.z)),
+        })
+    }
 }
 
 /// A ray clipped to a patch's shell ([`clip_ray`]).
