@@ -178,9 +178,14 @@ fn intersect_impl<F: Float, const K: usize, const N: usize>(
     t_max: F,
     stats: &mut KernelStats,
 ) -> Option<Hit<F>> {
-    let c = crossing::<F, K, N>(patch, &WorldRay::new(ray)?, t_min, t_max, None, stats)?;
+    // The normal is evaluated with the crossing's own height precomputation.
+    let mut hit = None;
+    let world = WorldRay::new(ray)?;
+    let c = crossing_then::<F, K, N>(patch, &world, t_min, t_max, None, stats, |c, prep| {
+        hit = finish_prepared(patch, ray, c, prep);
+    })?;
     stats.normal_evals += 1;
-    let hit = finish(patch, ray, &c)?;
+    let hit = hit?;
     stats.rounding = c.rounding.to_f64();
     Some(hit)
 }
@@ -276,6 +281,22 @@ pub(crate) fn crossing<F: Float, const K: usize, const N: usize>(
     beyond: Option<F>,
     stats: &mut KernelStats,
 ) -> Option<Crossing<F>> {
+    crossing_then::<F, K, N>(patch, ray, t_min, t_max, beyond, stats, |_, _| {})
+}
+
+/// [`crossing`], handing the crossing and the patch's height precomputation to `keep` when
+/// there is one, so that a caller who completes the crossing into a hit
+/// ([`finish_prepared`]) does not build the precomputation a second time.
+#[inline(always)]
+pub(crate) fn crossing_then<F: Float, const K: usize, const N: usize>(
+    patch: &Patch<F>,
+    ray: &WorldRay<F>,
+    t_min: F,
+    t_max: F,
+    beyond: Option<F>,
+    stats: &mut KernelStats,
+    keep: impl FnOnce(&Crossing<F>, &Prepared<F>),
+) -> Option<Crossing<F>> {
     let cl = clip_ray(patch, ray, t_min, t_max, beyond)?;
     let (a, b) = (cl.a, cl.b);
     stats.shell_width = (b - a).to_f64();
@@ -304,7 +325,9 @@ pub(crate) fn crossing<F: Float, const K: usize, const N: usize>(
     };
     let (fin, tau) = refine::<F, N>(bracket, start, stop, &mut f, &mut f4);
     stats.height_evals += evals.get();
-    complete(patch, &cl, &bracket, &fin, tau, t_min, t_max)
+    let c = complete(patch, &cl, &bracket, &fin, tau, t_min, t_max)?;
+    keep(&c, &prep);
+    Some(c)
 }
 
 /// `f` at four parameters of the local ray `o + τ·r` ([`refine`]'s estimate step): one call
@@ -438,8 +461,19 @@ pub(crate) fn complete<F: Float>(
 /// point. `None` if the normal is not finite (never for an accepted patch).
 #[inline(always)]
 pub(crate) fn finish<F: Float>(patch: &Patch<F>, ray: &Ray<F>, c: &Crossing<F>) -> Option<Hit<F>> {
+    finish_prepared(patch, ray, c, &Prepared::new(&patch.shape))
+}
+
+/// [`finish`] with the patch's height precomputation at hand (from [`crossing_then`]).
+#[inline(always)]
+pub(crate) fn finish_prepared<F: Float>(
+    patch: &Patch<F>,
+    ray: &Ray<F>,
+    c: &Crossing<F>,
+    prep: &Prepared<F>,
+) -> Option<Hit<F>> {
     let shape = &patch.shape;
-    let [du1, du2] = height::derivatives(shape, &Prepared::new(shape), c.bary);
+    let [du1, du2] = height::derivatives(shape, prep, c.bary);
     finish_with(patch, ray, c, normal_local(shape, c.bary, du1, du2))
 }
 
