@@ -106,13 +106,19 @@ impl<F: Float> Aabb<F> {
     ///
     /// A zero direction component keeps the whole range when the origin lies between the
     /// slabs of that axis, and rejects it otherwise. `inv` holds `1 / d` per axis where `d` is
-    /// not zero (computed once per ray by the caller).
+    /// not zero (computed once per ray by the caller); `inv_finite` tells that each of those
+    /// is finite (not so for a subnormal `d`).
+    ///
+    /// The slab products `(plane − o) · (1/d)` cannot be NaN when `inv` is finite and the box
+    /// has no NaN corner (a patch's box is finite, the empty box's corners are `±MAX`), so
+    /// comparisons order them (`minss`/`maxss` on x86) with the values of `min`/`max`; with an
+    /// infinite `1/d` a product can be NaN (`0 · ∞`), and `min`/`max` skip it.
     #[inline(always)]
     pub(crate) fn ray_interval(
         &self,
         o: V3<F>,
         d: V3<F>,
-        inv: V3<F>,
+        (inv, inv_finite): (V3<F>, bool),
         t_min: F,
         t_max: F,
     ) -> Option<(F, F)> {
@@ -131,8 +137,14 @@ impl<F: Float> Aabb<F> {
             } else {
                 let t1 = (l - oc) * ic;
                 let t2 = (h - oc) * ic;
-                a = a.max(t1.min(t2));
-                b = b.min(t1.max(t2));
+                if inv_finite {
+                    let (near, far) = if t2 < t1 { (t2, t1) } else { (t1, t2) };
+                    a = if near > a { near } else { a };
+                    b = if far < b { far } else { b };
+                } else {
+                    a = a.max(t1.min(t2));
+                    b = b.min(t1.max(t2));
+                }
             }
         }
         if a <= b && a.is_fin() && b.is_fin() {

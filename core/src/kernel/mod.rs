@@ -213,7 +213,9 @@ pub(crate) fn clip_ray<F: Float>(
     if t_min.is_nan() || t_max.is_nan() || t_max < t_min {
         return None;
     }
-    let (ta, tb) = patch.bbox.ray_interval(o, d, ray.inv, t_min, t_max)?;
+    let (ta, tb) = patch
+        .bbox
+        .ray_interval(o, d, (ray.inv, ray.inv_finite), t_min, t_max)?;
     // Local ray re-based at the middle of the box interval.
     let t0 = F::from_f64(0.5) * (ta + tb);
     if past(t0, ta - t0) {
@@ -517,6 +519,8 @@ pub(crate) struct WorldRay<F> {
     pub d: V3<F>,
     /// `1 / d` per axis, 0 where `d` is 0 (that axis is then tested by the origin alone).
     pub inv: V3<F>,
+    /// Whether every component of `inv` is finite (false for a subnormal component of `d`).
+    pub inv_finite: bool,
 }
 
 impl<F: Float> WorldRay<F> {
@@ -530,10 +534,12 @@ impl<F: Float> WorldRay<F> {
             return None;
         }
         let inv = |c: F| if c == F::ZERO { F::ZERO } else { F::ONE / c };
+        let inv = V3::new(inv(d.x), inv(d.y), inv(d.z));
         Some(WorldRay {
             o,
             d,
-            inv: V3::new(inv(d.x), inv(d.y), inv(d.z)),
+            inv,
+            inv_finite: inv.all_finite(),
         })
     }
 }
