@@ -170,3 +170,62 @@ fn vmin<F: Float>(a: V3<F>, b: V3<F>) -> V3<F> {
 fn vmax<F: Float>(a: V3<F>, b: V3<F>) -> V3<F> {
     V3::new(a.x.max(b.x), a.y.max(b.y), a.z.max(b.z))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The comparison path of [`Aabb::ray_interval`] (finite `1/d`) gives the values of the
+    /// `min`/`max` path, on random boxes and rays, with origins on the box's planes (ties,
+    /// zero products), axis-parallel directions and the empty box. (It fails when the
+    /// comparison path takes the wrong end of an axis.)
+    #[test]
+    fn comparisons_equal_min_max() {
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut next = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        };
+        let mut compared = 0;
+        for case in 0..20_000 {
+            let lo = V3::new(next() as f32, next() as f32, next() as f32);
+            let hi = lo
+                + V3::new(
+                    next().abs() as f32,
+                    next().abs() as f32,
+                    next().abs() as f32,
+                );
+            let bx = if case % 97 == 0 {
+                Aabb::EMPTY
+            } else {
+                Aabb { lo, hi }
+            };
+            let mut o = V3::new(next() as f32, next() as f32, next() as f32) * 3.0;
+            let mut d = V3::new(next() as f32, next() as f32, next() as f32);
+            match case % 5 {
+                1 => o.x = lo.x,
+                2 => o.y = hi.y,
+                3 => d.z = 0.0,
+                _ => {}
+            }
+            if d.length2() == 0.0 {
+                continue;
+            }
+            let inv = |c: f32| if c == 0.0 { 0.0 } else { 1.0 / c };
+            let inv = V3::new(inv(d.x), inv(d.y), inv(d.z));
+            assert!(inv.all_finite());
+            let (t_min, t_max) = if case % 3 == 0 {
+                (0.0, f32::MAX)
+            } else {
+                (-1.0, 2.0)
+            };
+            let fast = bx.ray_interval(o, d, (inv, true), t_min, t_max);
+            let exact = bx.ray_interval(o, d, (inv, false), t_min, t_max);
+            assert_eq!(fast, exact, "case {case}");
+            compared += usize::from(exact.is_some());
+        }
+        assert!(compared > 200, "{compared} rays entered their box");
+    }
+}
