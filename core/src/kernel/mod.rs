@@ -310,16 +310,6 @@ pub(crate) fn crossing_then<F: Float, const K: usize, const N: usize>(
     let count = |n: usize| evals.set(evals.get().saturating_add(n as u32));
     let mut f = |taus: [F; crate::num::lanes::LANES]| {
         count(crate::num::lanes::LANES);
-        // Without AVX (eight `f32` lanes in two SSE registers, eight `f64` in four), and where
-        // `Float::L4` holds four lanes: two calls over it, bit for bit the eight-lane call's
-        // values (the same operations per lane) with fewer register spills (SSE2: per `f32`
-        // camera ray of the torus −1.7 % instructions, per `f64` patch test −3.5 %).
-        if SPLIT_LANE_CALLS && <F::L4 as crate::num::real::Lane4>::POINTS == ESTIMATE_POINTS {
-            let [t0, t1, t2, t3, t4, t5, t6, t7] = taus;
-            let [f0, f1, f2, f3] = four_points(&prep, o, r, [t0, t1, t2, t3]);
-            let [f4, f5, f6, f7] = four_points(&prep, o, r, [t4, t5, t6, t7]);
-            return [f0, f1, f2, f3, f4, f5, f6, f7];
-        }
         f_lanes(&prep, o8, r8, <F::L8 as Lane>::from_array(taus)).to_array()
     };
     let found = first_sign_change::<F, K>(a, b, end_snap(cl.scale), &mut f);
@@ -341,10 +331,6 @@ pub(crate) fn crossing_then<F: Float, const K: usize, const N: usize>(
     keep(&c, &prep);
     Some(c)
 }
-
-/// Whether the kernel's eight-point calls run as two four-lane calls ([`crossing`]): on targets
-/// without AVX, where eight lanes take two or four registers each.
-const SPLIT_LANE_CALLS: bool = !cfg!(target_feature = "avx");
 
 /// `f` at four parameters of the local ray `o + τ·r` ([`refine`]'s estimate step): one call
 /// over [`Float::L4`] where it holds four lanes (bit for bit the same lanes of an eight-lane
