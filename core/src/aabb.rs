@@ -161,6 +161,16 @@ impl<F: Float> Aabb<F> {
     }
 }
 
+/// `1 / d` per axis, 0 where `d` is 0: the reciprocals of a ray direction for the slab tests
+/// of [`Aabb::ray_interval`] and the BVH's node test, which must agree on them (a node's test
+/// is conservative with respect to the kernel's box test because both form the same products
+/// `(plane − o) · (1/d)`).
+#[inline(always)]
+pub(crate) fn reciprocal<F: Float>(d: V3<F>) -> V3<F> {
+    let inv = |c: F| if c == F::ZERO { F::ZERO } else { F::ONE / c };
+    V3::new(inv(d.x), inv(d.y), inv(d.z))
+}
+
 #[inline(always)]
 fn vmin<F: Float>(a: V3<F>, b: V3<F>) -> V3<F> {
     V3::new(a.x.min(b.x), a.y.min(b.y), a.z.min(b.z))
@@ -213,8 +223,7 @@ mod tests {
             if d.length2() == 0.0 {
                 continue;
             }
-            let inv = |c: f32| if c == 0.0 { 0.0 } else { 1.0 / c };
-            let inv = V3::new(inv(d.x), inv(d.y), inv(d.z));
+            let inv = reciprocal(d);
             assert!(inv.all_finite());
             let (t_min, t_max) = if case % 3 == 0 {
                 (0.0, f32::MAX)

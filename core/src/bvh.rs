@@ -310,9 +310,8 @@ struct SlabRay<F: Float> {
 
 impl<F: Float> SlabRay<F> {
     fn new(o: V3<F>, d: V3<F>) -> Self {
-        let o = [o.x, o.y, o.z];
-        let d = [d.x, d.y, d.z];
-        let inv = d.map(|c| if c == F::ZERO { F::ZERO } else { F::ONE / c });
+        let inv = crate::aabb::reciprocal(d);
+        let (o, d, inv) = ([o.x, o.y, o.z], [d.x, d.y, d.z], [inv.x, inv.y, inv.z]);
         let mode = core::array::from_fn(|a| {
             let (c, i) = (d.get(a).copied(), inv.get(a).copied());
             match (c, i) {

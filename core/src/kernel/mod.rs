@@ -533,8 +533,7 @@ impl<F: Float> WorldRay<F> {
         if !o.all_finite() || !d.all_finite() || d.length2() == F::ZERO {
             return None;
         }
-        let inv = |c: F| if c == F::ZERO { F::ZERO } else { F::ONE / c };
-        let inv = V3::new(inv(d.x), inv(d.y), inv(d.z));
+        let inv = crate::aabb::reciprocal(d);
         Some(WorldRay {
             o,
             d,
