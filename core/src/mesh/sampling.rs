@@ -7,7 +7,7 @@ use crate::geometry::{Frame, Shape};
 use crate::num::real::Float;
 use crate::num::vec::V3;
 use crate::patch::Patch;
-use crate::surface::height::{self, Prepared};
+use crate::surface::height::{self, EdgeEnds, Prepared};
 use crate::surface::scalar;
 
 /// Samples per shared edge, at the Chebyshev nodes `t_s = (1 − cos((2s + 1)π / (2·16))) / 2`
@@ -102,21 +102,24 @@ impl<F: Float> Side<F> {
     }
 
     /// World surface points (bit for bit [`Side::points`]) and local-frame unit geometric
-    /// normals at the nodes (the heights' jets in `F`, four nodes per evaluation, as the
-    /// kernel's hit normal; the normal from the widened derivatives).
+    /// normals at the nodes (the heights' jets in `F`, four nodes per evaluation, the edge
+    /// curves at the edge's ends evaluated once per side: [`heights_derivatives`]; the normal
+    /// from the widened derivatives).
     pub(crate) fn points_normals(
         &self,
         nodes: &Nodes,
     ) -> ([V3<f64>; EDGE_SAMPLES], [V3<f64>; EDGE_SAMPLES]) {
         let mut pts = [V3::zero(); EDGE_SAMPLES];
         let mut nrm = [V3::zero(); EDGE_SAMPLES];
+        // The edge curves at the shared edge's ends, once for all nodes.
+        let ends = EdgeEnds::new(&self.prepared, self.edge);
         for (k, (p, n)) in pts
             .chunks_exact_mut(CHUNK)
             .zip(nrm.chunks_exact_mut(CHUNK))
             .enumerate()
         {
             let (xs, xf) = self.chunk(nodes, k);
-            let hd = heights_derivatives(&self.own, &self.prepared, xf);
+            let hd = heights_derivatives(&self.own, &self.prepared, &ends, xf);
             for (((p, n), x), (h, [d1, d2])) in p.iter_mut().zip(n).zip(xs).zip(hd) {
                 *p = self.world(x, h.to_f64());
                 *n = scalar::normal_local(&self.shape, x, widen(d1), widen(d2));
@@ -153,15 +156,16 @@ fn heights<F: Float>(pr: &Prepared<F>, xs: [[F; 3]; CHUNK]) -> [F; CHUNK] {
 }
 
 /// The heights (bit for bit [`heights`]') and the local-frame surface derivatives at four
-/// barycentric triples ([`height::height_derivatives_x4`], jets over four lanes). Not inlined,
-/// as [`heights`].
+/// points of the shared edge ([`height::height_derivatives_on_edge_x4`], jets over four
+/// lanes, the edge curves at the edge's ends taken from `ends`). Not inlined, as [`heights`].
 #[inline(never)]
 fn heights_derivatives<F: Float>(
     shape: &Shape<F>,
     pr: &Prepared<F>,
+    ends: &EdgeEnds<F>,
     xs: [[F; 3]; CHUNK],
 ) -> [(F, [V3<F>; 2]); CHUNK] {
-    height::height_derivatives_x4(shape, pr, xs)
+    height::height_derivatives_on_edge_x4(shape, pr, ends, xs)
 }
 
 /// The widest distance between corresponding samples, `+∞` when one is not finite.

@@ -456,12 +456,35 @@ fn vertex_term<L: LaneOps>(
     dir: L3<L>,
     dd: L,
 ) -> L {
+    let (cpt, nc) = edge_point_normal(ep, edge_param(xa, xb));
+    term_through(cpt, nc, pi, ni, xi, base, dir, dd)
+}
+
+/// The parameter `t = Xb / (Xa + Xb)` on the edge opposite a vertex of the point with the
+/// other two barycentrics `xa`, `xb` (½ where they vanish: the vertex itself).
+#[inline(always)]
+fn edge_param<L: LaneOps>(xa: L, xb: L) -> L {
+    let den = xa + xb;
+    L::select(den.gt(L::splat(L::F::EPSILON)), xb / den, c::<L>(0.5))
+}
+
+/// [`vertex_term`] from the conjugation point `cpt` and its normal `nc` (scaled) on the
+/// opposite edge.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+fn term_through<L: LaneOps>(
+    cpt: L3<L>,
+    nc: L3<L>,
+    pi: L3<L>,
+    ni: L3<L>,
+    xi: L,
+    base: L3<L>,
+    dir: L3<L>,
+    dd: L,
+) -> L {
     let zero = L::splat(L::F::ZERO);
     let one = c::<L>(1.0);
     let two = c::<L>(2.0);
-    let den = xa + xb;
-    let t = L::select(den.gt(L::splat(L::F::EPSILON)), xb / den, c::<L>(0.5));
-    let (cpt, nc) = edge_point_normal(ep, t);
     // Ŝ¹: anchor Pi, unit axis ni, through c; Ŝ²: anchor c, axis n* (scaled), through Pi.
     let wc = cpt.sub(pi);
     let l2 = wc.dot(wc);
@@ -630,7 +653,34 @@ pub(crate) fn f_lanes<L: LaneOps>(pr: &Prepared<L::F>, o: [L; 3], r: [L; 3], tau
 
 /// Height `σS(X)` at eight barycentric triples (summing to one, inside the triangle).
 #[inline(always)]
-pub(crate) fn height_at<L: LaneOps>(pr: &Prepared<L::F>, [x0, x1, x2]: [L; 3]) -> L {
+pub(crate) fn height_at<L: LaneOps>(pr: &Prepared<L::F>, x: [L; 3]) -> L {
+    height_with(pr, x, &Curves)
+}
+
+/// Where [`height_with`] takes the conjugation points and normals of the vertex terms from.
+trait EdgeCurves<L: LaneOps> {
+    /// The point and normal of [`edge_point_normal`] on edge `ep` at parameter `t`, for the
+    /// term of vertex `i` (`ep` is edge `i + 1`).
+    fn point_normal(&self, i: usize, ep: &EdgePrep<L::F>, t: L) -> (L3<L>, L3<L>);
+}
+
+/// The edge curves evaluated at every point.
+struct Curves;
+
+impl<L: LaneOps> EdgeCurves<L> for Curves {
+    #[inline(always)]
+    fn point_normal(&self, _: usize, ep: &EdgePrep<L::F>, t: L) -> (L3<L>, L3<L>) {
+        edge_point_normal(ep, t)
+    }
+}
+
+/// [`height_at`] with the conjugation points and normals of the vertex terms from `curves`.
+#[inline(always)]
+fn height_with<L: LaneOps>(
+    pr: &Prepared<L::F>,
+    [x0, x1, x2]: [L; 3],
+    curves: &impl EdgeCurves<L>,
+) -> L {
     let zero = L::splat(L::F::ZERO);
     let [p1x, p2x, p2y] = pr.p.map(L::splat);
     let (base, dir, dd) = line(pr, [x0, x1, x2]);
@@ -651,9 +701,12 @@ pub(crate) fn height_at<L: LaneOps>(pr: &Prepared<L::F>, [x0, x1, x2]: [L; 3]) -
         y: p2y,
         z: zero,
     };
-    vertex_term(e1, p0, n0, x0, x1, x2, base, dir, dd)
-        + vertex_term(e2, p1, n1, x1, x2, x0, base, dir, dd)
-        + vertex_term(e0, p2, n2, x2, x0, x1, base, dir, dd)
+    let (c0, m0) = curves.point_normal(0, e1, edge_param(x1, x2));
+    let s0 = term_through(c0, m0, p0, n0, x0, base, dir, dd);
+    let (c1, m1) = curves.point_normal(1, e2, edge_param(x2, x0));
+    let s1 = term_through(c1, m1, p1, n1, x1, base, dir, dd);
+    let (c2, m2) = curves.point_normal(2, e0, edge_param(x0, x1));
+    s0 + s1 + term_through(c2, m2, p2, n2, x2, base, dir, dd)
 }
 
 /// The line of the field through barycentrics `X`: its base point `Σ Xi·Pi`, its direction
@@ -1049,6 +1102,130 @@ pub(crate) fn height_derivatives_x4<F: Float>(
     out
 }
 
+/// The conjugation points and normals of the two vertex terms whose edge parameter is the
+/// same at every point of a triangle's edge `edge` (from `Pj` to `Pj+1`; the opposite
+/// barycentric `Xj+2` is 0): vertex `Pj`'s term meets its opposite edge `j + 1` at `t = 0`
+/// and vertex `Pj+1`'s meets edge `j + 2` at `t = 1`. Each with its derivative by `t`, so
+/// that [`height_derivatives_on_edge_x4`] takes the jets of both by the chain rule instead of
+/// evaluating the edge curves again at every point.
+#[derive(Clone, Copy)]
+pub(crate) struct EdgeEnds<F: Float> {
+    edge: usize,
+    /// `[vertex j's term, vertex j + 1's]`.
+    ends: [CurveAt<F>; 2],
+}
+
+/// A conjugation point and its normal with their derivatives by the edge parameter (value
+/// and `d/dt` in `d[0]` of one-point jets).
+type CurveAt<F> = (L3<Jet<One<F>>>, L3<Jet<One<F>>>);
+
+impl<F: Float> EdgeEnds<F> {
+    /// The two end terms of `pr`'s edge `edge` (taken modulo 3).
+    #[inline(always)]
+    pub(crate) fn new(pr: &Prepared<F>, edge: usize) -> Self {
+        let edge = edge % 3;
+        let [e0, e1, e2] = &pr.edges;
+        let at = |e: usize, t: F| {
+            let ep = match e % 3 {
+                0 => e0,
+                1 => e1,
+                _ => e2,
+            };
+            let (z, one) = (One(F::ZERO), One(F::ONE));
+            edge_point_normal(
+                ep,
+                Jet {
+                    v: One(t),
+                    d: [one, z],
+                },
+            )
+        };
+        EdgeEnds {
+            edge,
+            ends: [at(edge + 1, F::ZERO), at(edge + 2, F::ONE)],
+        }
+    }
+
+    /// The jets of end `k`'s point and normal at points whose edge-parameter jets are `t`.
+    #[inline(always)]
+    fn chained<L: crate::num::real::Lane4<F = F>>(
+        &self,
+        k: usize,
+        t: Jet<L>,
+    ) -> (L3<Jet<L>>, L3<Jet<L>>) {
+        let [a, b] = self.ends;
+        let (p, n) = if k == 0 { a } else { b };
+        let [t1, t2] = t.d;
+        let one = |q: Jet<One<F>>| {
+            let (v, dt) = (L::splat(q.v.0), L::splat(q.d[0].0));
+            Jet {
+                v,
+                d: [dt * t1, dt * t2],
+            }
+        };
+        let three = |q: L3<Jet<One<F>>>| L3 {
+            x: one(q.x),
+            y: one(q.y),
+            z: one(q.z),
+        };
+        (three(p), three(n))
+    }
+}
+
+impl<F: Float> EdgeCurves<Jet<F::L4>> for EdgeEnds<F> {
+    #[inline(always)]
+    fn point_normal(
+        &self,
+        i: usize,
+        ep: &EdgePrep<F>,
+        t: Jet<F::L4>,
+    ) -> (L3<Jet<F::L4>>, L3<Jet<F::L4>>) {
+        if i == self.edge {
+            self.chained(0, t)
+        } else if i == (self.edge + 1) % 3 {
+            self.chained(1, t)
+        } else {
+            edge_point_normal(ep, t)
+        }
+    }
+}
+
+/// [`height_derivatives_x4`] at four points of the edge of `ends` (the opposite barycentric
+/// exactly 0, the other two above `ε`: points strictly inside the edge, as the builder's
+/// edge samples): the heights bit for bit [`heights_x4`]'s, the derivatives the same within
+/// rounding (the two end terms' jets by the chain rule from [`EdgeEnds`], the third term's
+/// edge curve evaluated over jets), at about 60 % of the cost. For other scalars than `f32`
+/// and `f64`, [`height_derivatives_x4`] itself.
+#[inline(always)]
+pub(crate) fn height_derivatives_on_edge_x4<F: Float>(
+    shape: &Shape<F>,
+    pr: &Prepared<F>,
+    ends: &EdgeEnds<F>,
+    xs: [[F; 3]; 4],
+) -> [(F, [V3<F>; 2]); 4] {
+    use crate::num::real::Lane4;
+    if <F::L4 as Lane4>::POINTS < 4 {
+        return height_derivatives_x4(shape, pr, xs);
+    }
+    let [x0, x1, x2] = columns4(xs);
+    let sp = <F::L4 as LaneOps>::splat;
+    let (one, zero) = (F::ONE, F::ZERO);
+    let j = |v: F::L4, a: F, b: F| Jet {
+        v,
+        d: [sp(a), sp(b)],
+    };
+    let xj = [j(x0, -one, -one), j(x1, one, zero), j(x2, zero, one)];
+    let s = height_with(pr, xj, ends);
+    let [s1, s2] = s.d;
+    let (v, s1, s2) = (s.v.to_array4(), s1.to_array4(), s2.to_array4());
+    let par = pr.section.parallel;
+    let mut out = [(F::ZERO, [V3::zero(); 2]); 4];
+    for ((((o, x), v), a), b) in out.iter_mut().zip(xs).zip(v).zip(s1).zip(s2) {
+        *o = (v, assemble(shape, par, x, v, [a, b]));
+    }
+    out
+}
+
 /// The heights `σS` at four barycentric triples, over [`Float::L4`] (as
 /// [`height_derivatives_x4`]: bit for bit four one-point evaluations of [`height_at`]).
 #[inline(always)]
@@ -1243,6 +1420,56 @@ pub(crate) mod tests {
             }
         }
         assert!(tested > 45 * 500, "{tested}");
+    }
+
+    /// The jets at points of an edge with the end terms by the chain rule
+    /// ([`height_derivatives_on_edge_x4`], the builder's edge samples) against the jets over
+    /// the whole evaluation ([`height_derivatives_x4`]), on all three edges, both line fields,
+    /// `f64` and `f32`: the heights bit for bit, the derivatives within rounding of the
+    /// triangle's size (they differ only in the order of the derivative's products).
+    #[test]
+    fn on_edge_jets_equal_the_full_jets() {
+        fn check<F: Float>(patch: &Patch<F>, size: f64, worst: &mut f64) -> usize {
+            let shape = &patch.shape;
+            let pr = Prepared::new(shape);
+            let mut n = 0;
+            for edge in 0..3 {
+                let ends = EdgeEnds::new(&pr, edge);
+                for k in 0..4 {
+                    let xs: [[F; 3]; 4] = core::array::from_fn(|i| {
+                        let t = 0.0025 + (0.995 * (4 * k + i) as f64) / 15.0;
+                        crate::mesh::topology::edge_bary(edge, t).map(F::from_f64)
+                    });
+                    let got = height_derivatives_on_edge_x4(shape, &pr, &ends, xs);
+                    let want = height_derivatives_x4(shape, &pr, xs);
+                    for ((gh, gd), (wh, wd)) in got.into_iter().zip(want) {
+                        assert_eq!(gh.to_f64().to_bits(), wh.to_f64().to_bits());
+                        for (a, b) in gd.iter().zip(wd.iter()) {
+                            let d = *a - *b;
+                            let d = [d.x, d.y, d.z].map(|v| v.to_f64().abs());
+                            *worst = worst.max(d.into_iter().fold(0.0, f64::max) / size);
+                        }
+                        n += 1;
+                    }
+                }
+            }
+            n
+        }
+        let (mut w64, mut w32, mut tested) = (0.0f64, 0.0f64, 0);
+        for field in [LineField::Face, LineField::Vertex] {
+            for (patch, size) in random_patches_on(17, 200, field) {
+                tested += check(&patch, size, &mut w64);
+                let (v, n) = (patch.vertices(), patch.normals());
+                if let Ok(p32) =
+                    Patch::<f32>::with_field(v.map(|p| p.as_vec3()), n.map(|p| p.as_vec3()), field)
+                {
+                    tested += check(&p32, size, &mut w32);
+                }
+            }
+        }
+        assert!(tested > 48 * 500, "{tested}");
+        assert!(w64 < 1e-13, "f64 {w64:e}");
+        assert!(w32 < 1e-5, "f32 {w32:e}");
     }
 
     /// The one-point jets with the three vertex terms in lanes ([`terms_in_lanes`], the
