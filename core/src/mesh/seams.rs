@@ -82,7 +82,8 @@ pub struct Seam<F: Float> {
 /// scratch is too small, or an index is out of range or repeated within a triangle.
 ///
 /// Work: `2·FIT_SAMPLES` normal evaluations per shared edge (height evaluations over
-/// value-and-derivative jets, as the kernel's hit normal) and one
+/// value-and-derivative jets, as the kernel's hit normal, with the two edge curves that meet
+/// the shared edge's ends evaluated once per side) and one
 /// heapsort of the edges
 /// (`O(n log n)`, in place, no allocation).
 ///
