@@ -1084,22 +1084,7 @@ pub(crate) fn height_derivatives_x4<F: Float>(
     if <F::L4 as Lane4>::POINTS < 4 {
         return xs.map(|x| height_derivatives(shape, pr, x));
     }
-    let [x0, x1, x2] = columns4(xs);
-    let sp = <F::L4 as LaneOps>::splat;
-    let (one, zero) = (F::ONE, F::ZERO);
-    let j = |v: F::L4, a: F, b: F| Jet {
-        v,
-        d: [sp(a), sp(b)],
-    };
-    let s = height_at(pr, [j(x0, -one, -one), j(x1, one, zero), j(x2, zero, one)]);
-    let [s1, s2] = s.d;
-    let (v, s1, s2) = (s.v.to_array4(), s1.to_array4(), s2.to_array4());
-    let par = pr.section.parallel;
-    let mut out = [(F::ZERO, [V3::zero(); 2]); 4];
-    for ((((o, x), v), a), b) in out.iter_mut().zip(xs).zip(v).zip(s1).zip(s2) {
-        *o = (v, assemble(shape, par, x, v, [a, b]));
-    }
-    out
+    jets_x4(shape, pr, xs, &Curves)
 }
 
 /// The conjugation points and normals of the two vertex terms whose edge parameter is the
@@ -1207,6 +1192,20 @@ pub(crate) fn height_derivatives_on_edge_x4<F: Float>(
     if <F::L4 as Lane4>::POINTS < 4 {
         return height_derivatives_x4(shape, pr, xs);
     }
+    jets_x4(shape, pr, xs, ends)
+}
+
+/// The height jets at four barycentric triples over jets of [`Float::L4`], the vertex terms'
+/// edge curves from `curves`, and the surface derivatives assembled from them. Requires
+/// `Lane4::POINTS == 4`.
+#[inline(always)]
+fn jets_x4<F: Float>(
+    shape: &Shape<F>,
+    pr: &Prepared<F>,
+    xs: [[F; 3]; 4],
+    curves: &impl EdgeCurves<Jet<F::L4>>,
+) -> [(F, [V3<F>; 2]); 4] {
+    use crate::num::real::Lane4;
     let [x0, x1, x2] = columns4(xs);
     let sp = <F::L4 as LaneOps>::splat;
     let (one, zero) = (F::ONE, F::ZERO);
@@ -1214,8 +1213,11 @@ pub(crate) fn height_derivatives_on_edge_x4<F: Float>(
         v,
         d: [sp(a), sp(b)],
     };
-    let xj = [j(x0, -one, -one), j(x1, one, zero), j(x2, zero, one)];
-    let s = height_with(pr, xj, ends);
+    let s = height_with(
+        pr,
+        [j(x0, -one, -one), j(x1, one, zero), j(x2, zero, one)],
+        curves,
+    );
     let [s1, s2] = s.d;
     let (v, s1, s2) = (s.v.to_array4(), s1.to_array4(), s2.to_array4());
     let par = pr.section.parallel;
