@@ -1130,31 +1130,29 @@ impl<F: Float> EdgeEnds<F> {
             ends: [at(edge + 1, F::ZERO), at(edge + 2, F::ONE)],
         }
     }
+}
 
-    /// The jets of end `k`'s point and normal at points whose edge-parameter jets are `t`.
-    #[inline(always)]
-    fn chained<L: crate::num::real::Lane4<F = F>>(
-        &self,
-        k: usize,
-        t: Jet<L>,
-    ) -> (L3<Jet<L>>, L3<Jet<L>>) {
-        let [a, b] = self.ends;
-        let (p, n) = if k == 0 { a } else { b };
-        let [t1, t2] = t.d;
-        let one = |q: Jet<One<F>>| {
-            let (v, dt) = (L::splat(q.v.0), L::splat(q.d[0].0));
-            Jet {
-                v,
-                d: [dt * t1, dt * t2],
-            }
-        };
-        let three = |q: L3<Jet<One<F>>>| L3 {
-            x: one(q.x),
-            y: one(q.y),
-            z: one(q.z),
-        };
-        (three(p), three(n))
-    }
+/// The jets of an end's point and normal `(p, n)` at points whose edge-parameter jets are `t`:
+/// `∂q/∂Xk = (dq/dt)·(∂t/∂Xk)`.
+#[inline(always)]
+fn chained<F: Float, L: crate::num::real::Lane4<F = F>>(
+    (p, n): CurveAt<F>,
+    t: Jet<L>,
+) -> (L3<Jet<L>>, L3<Jet<L>>) {
+    let [t1, t2] = t.d;
+    let one = |q: Jet<One<F>>| {
+        let (v, dt) = (L::splat(q.v.0), L::splat(q.d[0].0));
+        Jet {
+            v,
+            d: [dt * t1, dt * t2],
+        }
+    };
+    let three = |q: L3<Jet<One<F>>>| L3 {
+        x: one(q.x),
+        y: one(q.y),
+        z: one(q.z),
+    };
+    (three(p), three(n))
 }
 
 impl<F: Float> EdgeCurves<Jet<F::L4>> for EdgeEnds<F> {
@@ -1165,10 +1163,11 @@ impl<F: Float> EdgeCurves<Jet<F::L4>> for EdgeEnds<F> {
         ep: &EdgePrep<F>,
         t: Jet<F::L4>,
     ) -> (L3<Jet<F::L4>>, L3<Jet<F::L4>>) {
+        let [first, second] = self.ends;
         if i == self.edge {
-            self.chained(0, t)
+            chained(first, t)
         } else if i == (self.edge + 1) % 3 {
-            self.chained(1, t)
+            chained(second, t)
         } else {
             edge_point_normal(ep, t)
         }
