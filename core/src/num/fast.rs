@@ -202,6 +202,7 @@ impl<F: Float> Lane for Lanes8<F> {
 impl<F: Float> LaneOps for Lanes8<F> {
     type F = F;
     type Mask = [bool; LANES];
+    crate::num::real::plain_lanes!();
     #[inline(always)]
     fn splat(x: F) -> Self {
         Lanes8([x; LANES])

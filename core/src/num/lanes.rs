@@ -20,6 +20,7 @@ macro_rules! impl_wide_ops {
         impl LaneOps for $l {
             type F = $f;
             type Mask = $l;
+            crate::num::real::plain_lanes!();
             #[inline(always)]
             fn splat(x: $f) -> Self {
                 <$l>::splat(x)
@@ -204,6 +205,7 @@ impl<F: Float> Lane4 for One<F> {
 impl<F: Float> LaneOps for One<F> {
     type F = F;
     type Mask = bool;
+    crate::num::real::plain_lanes!();
     #[inline(always)]
     fn splat(x: F) -> Self {
         One(x)

@@ -66,13 +66,63 @@ pub trait LaneOps:
     fn or(a: Self::Mask, b: Self::Mask) -> Self::Mask;
     /// Lane-wise not.
     fn not(a: Self::Mask) -> Self::Mask;
+    /// The same lanes without derivatives: `Self` for plain lanes, the value lanes of a jet.
+    /// Data of an evaluation (a patch's vertices, normals, edge coefficients, numeric
+    /// constants) enter the formulas as `Plain`, so that a jet multiplies them without the
+    /// products of their zero derivatives (which IEEE arithmetic cannot drop: `0·∞` is NaN).
+    type Plain: LaneOps<F = Self::F, Mask = Self::Mask>;
+    /// `p` as a value of `Self` (zero derivatives).
+    fn lift(p: Self::Plain) -> Self;
+    /// `self · p`: the value bit for bit `self * Self::lift(p)`'s.
+    fn mul_p(self, p: Self::Plain) -> Self;
+    /// `self + p` (the value bit for bit `self + Self::lift(p)`'s).
+    fn add_p(self, p: Self::Plain) -> Self;
+    /// `self − p` (the value bit for bit `self - Self::lift(p)`'s).
+    fn sub_p(self, p: Self::Plain) -> Self;
+    /// `p − self` (the value bit for bit `Self::lift(p) - self`'s).
+    fn rsub_p(self, p: Self::Plain) -> Self;
+    /// `p / self` (the value bit for bit `Self::lift(p) / self`'s).
+    fn rdiv_p(self, p: Self::Plain) -> Self;
 }
+
+/// The [`LaneOps`] items of a type without derivatives: its own `Plain`, the mixed operations
+/// its plain arithmetic.
+macro_rules! plain_lanes {
+    () => {
+        type Plain = Self;
+        #[inline(always)]
+        fn lift(p: Self) -> Self {
+            p
+        }
+        #[inline(always)]
+        fn mul_p(self, p: Self) -> Self {
+            self * p
+        }
+        #[inline(always)]
+        fn add_p(self, p: Self) -> Self {
+            self + p
+        }
+        #[inline(always)]
+        fn sub_p(self, p: Self) -> Self {
+            self - p
+        }
+        #[inline(always)]
+        fn rsub_p(self, p: Self) -> Self {
+            p - self
+        }
+        #[inline(always)]
+        fn rdiv_p(self, p: Self) -> Self {
+            p / self
+        }
+    };
+}
+pub(crate) use plain_lanes;
 
 /// An 8-wide vector of the scalar [`LaneOps::F`] (see the module documentation).
 ///
 /// # Panics
 /// No method panics.
-pub trait Lane: LaneOps {
+pub trait Lane: LaneOps<Plain = Self> {
     /// From the eight lane values.
     fn from_array(a: [Self::F; LANES]) -> Self;
     /// The eight lane values.
@@ -91,7 +141,7 @@ pub trait Lane: LaneOps {
 ///
 /// # Panics
 /// No method panics.
-pub trait Lane4: LaneOps {
+pub trait Lane4: LaneOps<Plain = Self> {
     /// How many of the four values one vector carries: 4, or 1 (the first).
     const POINTS: usize;
     /// From four values (the first [`Lane4::POINTS`] are kept).

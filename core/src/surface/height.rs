@@ -163,6 +163,29 @@ impl<L: LaneOps> L3<L> {
             z: L::select(m, a.z, b.z),
         }
     }
+    /// `self · o` for data `o` ([`LaneOps::mul_p`]).
+    #[inline(always)]
+    fn dot_p(self, o: L3<L::Plain>) -> L {
+        self.x.mul_p(o.x) + self.y.mul_p(o.y) + self.z.mul_p(o.z)
+    }
+    /// `self − o` for data `o`.
+    #[inline(always)]
+    fn sub_p(self, o: L3<L::Plain>) -> Self {
+        L3 {
+            x: self.x.sub_p(o.x),
+            y: self.y.sub_p(o.y),
+            z: self.z.sub_p(o.z),
+        }
+    }
+    /// `o + v·s` for data `o` and `v` (the value bit for bit `o + v.scale(s)`'s).
+    #[inline(always)]
+    fn along(o: L3<L::Plain>, v: L3<L::Plain>, s: L) -> Self {
+        L3 {
+            x: s.mul_p(v.x).add_p(o.x),
+            y: s.mul_p(v.y).add_p(o.y),
+            z: s.mul_p(v.z).add_p(o.z),
+        }
+    }
 }
 
 #[inline(always)]
@@ -175,64 +198,65 @@ fn c<L: LaneOps>(x: f64) -> L {
 /// ([`EdgeGathered`]: one vertex term per lane, [`height_derivatives`]).
 ///
 /// One accessor per group of fields, so that the splatting path splats each where it is used.
+/// The data are [`LaneOps::Plain`]: constants of the evaluation.
 trait EdgeLanes<L: LaneOps> {
     /// Start vertex `A`.
-    fn a(&self) -> L3<L>;
+    fn a(&self) -> L3<L::Plain>;
     /// Edge vector `e = B − A`.
-    fn e(&self) -> L3<L>;
+    fn e(&self) -> L3<L::Plain>;
     /// Direction field at `A`.
-    fn da(&self) -> L3<L>;
+    fn da(&self) -> L3<L::Plain>;
     /// `gd = dB − dA`.
-    fn gd(&self) -> L3<L>;
+    fn gd(&self) -> L3<L::Plain>;
     /// [`EdgePrep`]'s `k`.
-    fn k(&self) -> [L; 2];
+    fn k(&self) -> [L::Plain; 2];
     /// [`EdgePrep`]'s `gg`.
-    fn gg(&self) -> [L; 3];
+    fn gg(&self) -> [L::Plain; 3];
     /// [`EdgePrep`]'s `eg`.
-    fn eg(&self) -> [L; 2];
+    fn eg(&self) -> [L::Plain; 2];
     /// [`EdgePrep`]'s `ee`.
-    fn ee(&self) -> L;
+    fn ee(&self) -> L::Plain;
     /// [`EdgePrep`]'s `m[i]`.
-    fn m(&self, i: usize) -> [L; 3];
+    fn m(&self, i: usize) -> [L::Plain; 3];
 }
 
 impl<L: LaneOps> EdgeLanes<L> for EdgePrep<L::F> {
     #[inline(always)]
-    fn a(&self) -> L3<L> {
+    fn a(&self) -> L3<L::Plain> {
         L3::splat(self.a)
     }
     #[inline(always)]
-    fn e(&self) -> L3<L> {
+    fn e(&self) -> L3<L::Plain> {
         L3::splat(self.e)
     }
     #[inline(always)]
-    fn da(&self) -> L3<L> {
+    fn da(&self) -> L3<L::Plain> {
         L3::splat(self.da)
     }
     #[inline(always)]
-    fn gd(&self) -> L3<L> {
+    fn gd(&self) -> L3<L::Plain> {
         L3::splat(self.gd)
     }
     #[inline(always)]
-    fn k(&self) -> [L; 2] {
-        self.k.map(L::splat)
+    fn k(&self) -> [L::Plain; 2] {
+        self.k.map(L::Plain::splat)
     }
     #[inline(always)]
-    fn gg(&self) -> [L; 3] {
-        self.gg.map(L::splat)
+    fn gg(&self) -> [L::Plain; 3] {
+        self.gg.map(L::Plain::splat)
     }
     #[inline(always)]
-    fn eg(&self) -> [L; 2] {
-        self.eg.map(L::splat)
+    fn eg(&self) -> [L::Plain; 2] {
+        self.eg.map(L::Plain::splat)
     }
     #[inline(always)]
-    fn ee(&self) -> L {
-        L::splat(self.ee)
+    fn ee(&self) -> L::Plain {
+        L::Plain::splat(self.ee)
     }
     #[inline(always)]
-    fn m(&self, i: usize) -> [L; 3] {
+    fn m(&self, i: usize) -> [L::Plain; 3] {
         let [m0, m1] = self.m;
-        (if i == 0 { m0 } else { m1 }).map(L::splat)
+        (if i == 0 { m0 } else { m1 }).map(L::Plain::splat)
     }
 }
 
@@ -278,54 +302,44 @@ impl<L: crate::num::real::Lane4> EdgeGathered<L> {
     }
 }
 
-/// `v` as jets without derivatives.
-#[inline(always)]
-fn constant3<L: LaneOps>(v: L3<L>) -> L3<Jet<L>> {
-    L3 {
-        x: Jet::constant(v.x),
-        y: Jet::constant(v.y),
-        z: Jet::constant(v.z),
-    }
-}
-
-/// Lanes without derivatives: the edge data are constants of the evaluation.
-impl<L: LaneOps> EdgeLanes<Jet<L>> for EdgeGathered<L> {
+/// The gathered lanes are the jets' data (their [`LaneOps::Plain`]).
+impl<L: LaneOps<Plain = L>> EdgeLanes<Jet<L>> for EdgeGathered<L> {
     #[inline(always)]
-    fn a(&self) -> L3<Jet<L>> {
-        constant3(self.a)
+    fn a(&self) -> L3<L> {
+        self.a
     }
     #[inline(always)]
-    fn e(&self) -> L3<Jet<L>> {
-        constant3(self.e)
+    fn e(&self) -> L3<L> {
+        self.e
     }
     #[inline(always)]
-    fn da(&self) -> L3<Jet<L>> {
-        constant3(self.da)
+    fn da(&self) -> L3<L> {
+        self.da
     }
     #[inline(always)]
-    fn gd(&self) -> L3<Jet<L>> {
-        constant3(self.gd)
+    fn gd(&self) -> L3<L> {
+        self.gd
     }
     #[inline(always)]
-    fn k(&self) -> [Jet<L>; 2] {
-        self.k.map(Jet::constant)
+    fn k(&self) -> [L; 2] {
+        self.k
     }
     #[inline(always)]
-    fn gg(&self) -> [Jet<L>; 3] {
-        self.gg.map(Jet::constant)
+    fn gg(&self) -> [L; 3] {
+        self.gg
     }
     #[inline(always)]
-    fn eg(&self) -> [Jet<L>; 2] {
-        self.eg.map(Jet::constant)
+    fn eg(&self) -> [L; 2] {
+        self.eg
     }
     #[inline(always)]
-    fn ee(&self) -> Jet<L> {
-        Jet::constant(self.ee)
+    fn ee(&self) -> L {
+        self.ee
     }
     #[inline(always)]
-    fn m(&self, i: usize) -> [Jet<L>; 3] {
+    fn m(&self, i: usize) -> [L; 3] {
         let [m0, m1] = self.m;
-        (if i == 0 { m0 } else { m1 }).map(Jet::constant)
+        if i == 0 { m0 } else { m1 }
     }
 }
 
@@ -367,9 +381,9 @@ fn root_derivative<L: LaneOps>(
     [da, db, dc]: [L; 3],
 ) -> L {
     let zero = L::splat(L::F::ZERO);
-    let two = c::<L>(2.0);
-    let ddisc = two * qb * db - da * qc - qa * dc;
-    let dsq = L::select(sq.gt(zero), ddisc / (two * sq), zero);
+    let two = c::<L::Plain>(2.0);
+    let ddisc = qb.mul_p(two) * db - da * qc - qa * dc;
+    let dsq = L::select(sq.gt(zero), ddisc / sq.mul_p(two), zero);
     let dq = L::select(qb.lt(zero), dsq - db, -db - dsq);
     let ds = (dc - s * dq) / q;
     L::select(L::and(ok, ds.finite()), ds, zero)
@@ -379,53 +393,57 @@ fn root_derivative<L: LaneOps>(
 /// (eq. (3)), at eight edge parameters.
 #[inline(always)]
 fn edge_point_normal<L: LaneOps>(ep: &impl EdgeLanes<L>, t: L) -> (L3<L>, L3<L>) {
-    let one = c::<L>(1.0);
-    let two = c::<L>(2.0);
+    let one = c::<L::Plain>(1.0);
+    let two = c::<L::Plain>(2.0);
     let zero = L::splat(L::F::ZERO);
-    let u = t - one;
+    let u = t.sub_p(one);
     let e = ep.e();
     let gd = ep.gd();
-    let da = ep.da();
-    let g = L3 {
-        x: da.x + t * gd.x,
-        y: da.y + t * gd.y,
-        // 1 exactly for parallel sections (`da.z = 1`, `gd.z = 0`).
-        z: da.z + t * gd.z,
-    };
+    // g = da + t·gd (z: 1 exactly for parallel sections, `da.z = 1`, `gd.z = 0`).
+    let g = L3::along(ep.da(), gd, t);
     let [g0, g1, g2c] = ep.gg();
-    let gg = g0 + t * (g1 + t * g2c);
-    let dgg = g1 + two * t * g2c;
+    let gg = (t * t.mul_p(g2c).add_p(g1)).add_p(g0);
+    let dgg = t.mul_p(two).mul_p(g2c).add_p(g1);
     let [e0, e1] = ep.eg();
-    let eg = e0 + t * e1;
+    let eg = t.mul_p(e1).add_p(e0);
     let ee = ep.ee();
     let [k1, k2] = ep.k();
     // S¹: anchor A, w = t·e.
     let [m0, m1, m2] = ep.m(0);
-    let w2a = t * t * ee;
+    let w2a = (t * t).mul_p(ee);
     let ca = [
-        k1 * gg,
-        k1 * t * eg - (m0 + t * m1),
-        t * (k1 * t * ee - two * m2),
+        gg.mul_p(k1),
+        t.mul_p(k1) * eg - t.mul_p(m1).add_p(m0),
+        t * t.mul_p(k1).mul_p(ee).sub_p(two * m2),
     ];
-    let dca = [k1 * dgg, k1 * (eg + t * e1) - m1, two * (k1 * t * ee - m2)];
-    let (s1, q1, sq1, ok1) = root(ca[0], ca[1], ca[2], k1, w2a, gg, one);
+    let dca = [
+        dgg.mul_p(k1),
+        (eg + t.mul_p(e1)).mul_p(k1).sub_p(m1),
+        t.mul_p(k1).mul_p(ee).sub_p(m2).mul_p(two),
+    ];
+    let (lk1, lone) = (L::lift(k1), L::lift(one));
+    let (s1, q1, sq1, ok1) = root(ca[0], ca[1], ca[2], lk1, w2a, gg, lone);
     let ds1 = root_derivative(s1, q1, sq1, ok1, ca, dca);
     // S²: anchor B, w = (t − 1)·e.
     let [n0, n1, n2] = ep.m(1);
-    let w2b = u * u * ee;
+    let w2b = (u * u).mul_p(ee);
     let cb = [
-        k2 * gg,
-        k2 * u * eg - (n0 + t * n1),
-        u * (k2 * u * ee - two * n2),
+        gg.mul_p(k2),
+        u.mul_p(k2) * eg - t.mul_p(n1).add_p(n0),
+        u * u.mul_p(k2).mul_p(ee).sub_p(two * n2),
     ];
-    let dcb = [k2 * dgg, k2 * (eg + u * e1) - n1, two * (k2 * u * ee - n2)];
-    let (s2, q2, sq2, ok2) = root(cb[0], cb[1], cb[2], k2, w2b, gg, one);
+    let dcb = [
+        dgg.mul_p(k2),
+        (eg + u.mul_p(e1)).mul_p(k2).sub_p(n1),
+        u.mul_p(k2).mul_p(ee).sub_p(n2).mul_p(two),
+    ];
+    let (s2, q2, sq2, ok2) = root(cb[0], cb[1], cb[2], L::lift(k2), w2b, gg, lone);
     let ds2 = root_derivative(s2, q2, sq2, ok2, cb, dcb);
     let s = t * s2 - u * s1;
     let ds = t * ds2 - u * ds1 + (s2 - s1);
-    let cpt = ep.a().add(e.scale(t)).add(g.scale(s));
+    let cpt = L3::along(ep.a(), e, t).add(g.scale(s));
     // c′ = e + g′·s + g·s′.
-    let tan = e.add(gd.scale(s)).add(g.scale(ds));
+    let tan = L3::along(e, gd, s).add(g.scale(ds));
     let tt = tan.dot(tan);
     let n = g.scale(tt).sub(tan.scale(tan.dot(g)));
     // Where the tangent vanishes or is parallel to g (never for an accepted patch): g.
@@ -447,8 +465,8 @@ pub(crate) fn edge_height<L: LaneOps>(ep: &EdgePrep<L::F>, t: L) -> L {
 #[allow(clippy::too_many_arguments)]
 fn vertex_term<L: LaneOps>(
     ep: &impl EdgeLanes<L>,
-    pi: L3<L>,
-    ni: L3<L>,
+    pi: L3<L::Plain>,
+    ni: L3<L::Plain>,
     xi: L,
     xa: L,
     xb: L,
@@ -475,46 +493,46 @@ fn edge_param<L: LaneOps>(xa: L, xb: L) -> L {
 fn term_through<L: LaneOps>(
     cpt: L3<L>,
     nc: L3<L>,
-    pi: L3<L>,
-    ni: L3<L>,
+    pi: L3<L::Plain>,
+    ni: L3<L::Plain>,
     xi: L,
     base: L3<L>,
     dir: L3<L>,
     dd: L,
 ) -> L {
     let zero = L::splat(L::F::ZERO);
-    let one = c::<L>(1.0);
-    let two = c::<L>(2.0);
+    let one = c::<L::Plain>(1.0);
+    let two = c::<L::Plain>(2.0);
     // Ŝ¹: anchor Pi, unit axis ni, through c; Ŝ²: anchor c, axis n* (scaled), through Pi.
-    let wc = cpt.sub(pi);
+    let wc = cpt.sub_p(pi);
     let l2 = wc.dot(wc);
     let has = l2.gt(zero);
-    let inv = two / l2;
-    let k1 = L::select(has, wc.dot(ni) * inv, zero);
+    let inv = l2.rdiv_p(two);
+    let k1 = L::select(has, wc.dot_p(ni) * inv, zero);
     let k2 = L::select(has, -(wc.dot(nc) * inv), zero);
-    let w = base.sub(pi);
+    let w = base.sub_p(pi);
     let w2 = w.dot(w);
     let (s1, _, _, _) = root(
         k1 * dd,
-        k1 * w.dot(dir) - dir.dot(ni),
-        k1 * w2 - two * w.dot(ni),
+        k1 * w.dot(dir) - dir.dot_p(ni),
+        k1 * w2 - w.dot_p(ni).mul_p(two),
         k1,
         w2,
         dd,
-        one,
+        L::lift(one),
     );
     let w = base.sub(cpt);
     let w2 = w.dot(w);
     let (s2, _, _, _) = root(
         k2 * dd,
         k2 * w.dot(dir) - dir.dot(nc),
-        k2 * w2 - two * w.dot(nc),
+        k2 * w2 - w.dot(nc).mul_p(two),
         k2,
         w2,
         dd,
         nc.dot(nc),
     );
-    c::<L>(0.5) * xi * s1 + c::<L>(0.25) * (one - xi) * s2
+    xi.mul_p(c(0.5)) * s1 + xi.rsub_p(one).mul_p(c(0.25)) * s2
 }
 
 /// The line parameter `λ` of the section through each local point ([`Section::param`] over
@@ -681,11 +699,11 @@ fn height_with<L: LaneOps>(
     [x0, x1, x2]: [L; 3],
     curves: &impl EdgeCurves<L>,
 ) -> L {
-    let zero = L::splat(L::F::ZERO);
-    let [p1x, p2x, p2y] = pr.p.map(L::splat);
+    let zero = L::Plain::splat(L::F::ZERO);
+    let [p1x, p2x, p2y] = pr.p.map(L::Plain::splat);
     let (base, dir, dd) = line(pr, [x0, x1, x2]);
     let [e0, e1, e2] = &pr.edges;
-    let [n0, n1, n2] = pr.n.map(L3::splat);
+    let [n0, n1, n2] = pr.n.map(L3::<L::Plain>::splat);
     let p0 = L3 {
         x: zero,
         y: zero,
@@ -714,28 +732,29 @@ fn height_with<L: LaneOps>(
 #[inline(always)]
 fn line<L: LaneOps>(pr: &Prepared<L::F>, [x0, x1, x2]: [L; 3]) -> (L3<L>, L3<L>, L) {
     let zero = L::splat(L::F::ZERO);
-    let [p1x, p2x, p2y] = pr.p.map(L::splat);
+    let [p1x, p2x, p2y] = pr.p.map(L::Plain::splat);
     let [d0, d1, d2] = pr.d;
-    let sp = |v: L::F| L::splat(v);
+    let sp = |v: L::F| L::Plain::splat(v);
     let base = L3 {
-        x: x1 * p1x + x2 * p2x,
-        y: x2 * p2y,
+        x: x1.mul_p(p1x) + x2.mul_p(p2x),
+        y: x2.mul_p(p2y),
         z: zero,
     };
     let dir = L3 {
-        x: x0 * sp(d0.x) + x1 * sp(d1.x) + x2 * sp(d2.x),
-        y: x0 * sp(d0.y) + x1 * sp(d1.y) + x2 * sp(d2.y),
+        x: x0.mul_p(sp(d0.x)) + x1.mul_p(sp(d1.x)) + x2.mul_p(sp(d2.x)),
+        y: x0.mul_p(sp(d0.y)) + x1.mul_p(sp(d1.y)) + x2.mul_p(sp(d2.y)),
         z: x0 + x1 + x2,
     };
     // Unit height (`crate::surface::field::unit_height_dir`): parallel sections have `Vz = Σ Xi`.
     let dir = if pr.section.parallel {
         dir
     } else {
-        let inv = c::<L>(1.0) / (x0 * sp(d0.z) + x1 * sp(d1.z) + x2 * sp(d2.z));
+        let one = c::<L::Plain>(1.0);
+        let inv = (x0.mul_p(sp(d0.z)) + x1.mul_p(sp(d1.z)) + x2.mul_p(sp(d2.z))).rdiv_p(one);
         L3 {
             x: dir.x * inv,
             y: dir.y * inv,
-            z: c::<L>(1.0),
+            z: L::lift(one),
         }
     };
     (base, dir, dir.dot(dir))
@@ -833,9 +852,53 @@ impl<L: LaneOps> Jet<L> {
     }
 }
 
-impl<L: LaneOps> LaneOps for Jet<L> {
+impl<L: LaneOps<Plain = L>> LaneOps for Jet<L> {
     type F = L::F;
     type Mask = L::Mask;
+    type Plain = L;
+    #[inline(always)]
+    fn lift(p: L) -> Self {
+        Jet::constant(p)
+    }
+    #[inline(always)]
+    fn mul_p(self, p: L) -> Self {
+        let [a0, a1] = self.d;
+        Jet {
+            v: self.v * p,
+            d: [a0 * p, a1 * p],
+        }
+    }
+    #[inline(always)]
+    fn add_p(self, p: L) -> Self {
+        Jet {
+            v: self.v + p,
+            d: self.d,
+        }
+    }
+    #[inline(always)]
+    fn sub_p(self, p: L) -> Self {
+        Jet {
+            v: self.v - p,
+            d: self.d,
+        }
+    }
+    #[inline(always)]
+    fn rsub_p(self, p: L) -> Self {
+        let [a0, a1] = self.d;
+        Jet {
+            v: p - self.v,
+            d: [-a0, -a1],
+        }
+    }
+    #[inline(always)]
+    fn rdiv_p(self, p: L) -> Self {
+        let v = p / self.v;
+        let [a0, a1] = self.d;
+        Jet {
+            v,
+            d: [-(v * a0) / self.v, -(v * a1) / self.v],
+        }
+    }
     #[inline(always)]
     fn splat(x: L::F) -> Self {
         let z = L::splat(L::F::ZERO);
@@ -1018,7 +1081,7 @@ fn terms_in_lanes<F: Float>(pr: &Prepared<F>, [x0, x1, x2]: [F; 3]) -> Jet<F> {
     let (xi, xa, xb) = (perm([0, 1, 2]), perm([1, 2, 0]), perm([2, 0, 1]));
     let zero = F::ZERO;
     let [p1x, p2x, p2y] = pr.p;
-    let four = |a: F, b: F, cc: F| Jet::constant(F::L4::from_array4([a, b, cc, a]));
+    let four = |a: F, b: F, cc: F| F::L4::from_array4([a, b, cc, a]);
     let pi = L3 {
         x: four(zero, p1x, p2x),
         y: four(zero, zero, p2y),
