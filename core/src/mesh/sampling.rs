@@ -1,6 +1,6 @@
 //! The two neighbours' surfaces along a shared edge, sampled once at [`EDGE_SAMPLES`] nodes
-//! for both crack closure (the widest gap between the two surfaces' edges) and the seam fit
-//! (their geometric normals there).
+//! for both crack closure (the widest gap between the two surfaces' edges, at all of them)
+//! and the seam fit (their geometric normals, at the [`FIT_NODES`] among them).
 
 use super::topology::edge_bary;
 use crate::geometry::{Frame, Shape};
@@ -11,10 +11,31 @@ use crate::surface::height::{self, EdgeEnds, Prepared};
 use crate::surface::scalar;
 
 /// Samples per shared edge, at the Chebyshev nodes `t_s = (1 − cos((2s + 1)π / (2·16))) / 2`
-/// ([`Nodes`]); both [`CRACK_SAMPLES`](super::cracks::CRACK_SAMPLES) and
-/// [`FIT_SAMPLES`](super::seams::FIT_SAMPLES).
+/// ([`Nodes`]): [`CRACK_SAMPLES`](super::cracks::CRACK_SAMPLES).
 pub(crate) const EDGE_SAMPLES: usize = 16;
 const _: () = assert!(EDGE_SAMPLES.is_multiple_of(2));
+
+/// The nodes at which the seam fit takes the geometric normals
+/// ([`FIT_SAMPLES`](super::seams::FIT_SAMPLES) of them): every other node, the odd ones in the
+/// first half and the even ones in the second, so that the set is symmetric
+/// (`FIT_NODES[i] + FIT_NODES[7 − i] = 15`: the second side, which runs the edge backwards,
+/// samples the same points) and holds the two nodes nearest the middle.
+pub(crate) const FIT_NODES: [usize; 8] = [1, 3, 5, 7, 8, 10, 12, 14];
+
+/// The other nodes, where only the points are needed (the gap).
+const POINT_NODES: [usize; 8] = [0, 2, 4, 6, 9, 11, 13, 15];
+const _: () = {
+    let mut seen = [false; EDGE_SAMPLES];
+    let mut i = 0;
+    while i < 8 {
+        assert!(FIT_NODES[i] + FIT_NODES[7 - i] == EDGE_SAMPLES - 1);
+        assert!(i == 0 || FIT_NODES[i - 1] < FIT_NODES[i]);
+        assert!(!seen[FIT_NODES[i]] && !seen[POINT_NODES[i]] && FIT_NODES[i] != POINT_NODES[i]);
+        seen[FIT_NODES[i]] = true;
+        seen[POINT_NODES[i]] = true;
+        i += 1;
+    }
+};
 
 /// The edge parameters of the samples ([`EDGE_SAMPLES`] Chebyshev nodes, crowded toward the
 /// vertices; symmetric: `1 − t_s = t_{15−s}` to rounding).
@@ -38,6 +59,12 @@ impl Nodes {
     #[inline(always)]
     pub(crate) fn t(&self, s: usize) -> f64 {
         self.t.get(s).copied().unwrap_or(0.5)
+    }
+
+    /// The fit's sample `i`: node [`FIT_NODES`]`[i]` (0.5 out of range).
+    #[inline(always)]
+    pub(crate) fn fit_t(&self, i: usize) -> f64 {
+        self.t(FIT_NODES.get(i).copied().unwrap_or(usize::MAX))
     }
 }
 
@@ -79,10 +106,12 @@ impl<F: Float> Side<F> {
         if self.backwards { 1.0 - t } else { t }
     }
 
-    /// The barycentrics of nodes `4k..4k + 4`, in `f64` and rounded to `F`.
+    /// The barycentrics of nodes `group`, in `f64` and rounded to `F`.
     #[inline(always)]
-    fn chunk(&self, nodes: &Nodes, k: usize) -> ([[f64; 3]; CHUNK], [[F; 3]; CHUNK]) {
-        let xs: [[f64; 3]; CHUNK] = core::array::from_fn(|i| self.bary(nodes.t(CHUNK * k + i)));
+    fn chunk(&self, nodes: &Nodes, group: &[usize]) -> ([[f64; 3]; CHUNK], [[F; 3]; CHUNK]) {
+        let xs: [[f64; 3]; CHUNK] = core::array::from_fn(|i| {
+            self.bary(nodes.t(group.get(i).copied().unwrap_or(usize::MAX)))
+        });
         (xs, xs.map(|x| x.map(F::from_f64)))
     }
 
@@ -92,7 +121,8 @@ impl<F: Float> Side<F> {
     pub(crate) fn points(&self, nodes: &Nodes) -> [V3<f64>; EDGE_SAMPLES] {
         let mut out = [V3::zero(); EDGE_SAMPLES];
         for (k, o) in out.chunks_exact_mut(CHUNK).enumerate() {
-            let (xs, xf) = self.chunk(nodes, k);
+            let group: [usize; CHUNK] = core::array::from_fn(|i| CHUNK * k + i);
+            let (xs, xf) = self.chunk(nodes, &group);
             let hs = heights(&self.prepared, xf);
             for ((o, x), h) in o.iter_mut().zip(xs).zip(hs) {
                 *o = self.world(x, h.to_f64());
@@ -101,27 +131,41 @@ impl<F: Float> Side<F> {
         out
     }
 
-    /// World surface points (bit for bit [`Side::points`]) and local-frame unit geometric
-    /// normals at the nodes (the heights' jets in `F`, four nodes per evaluation, the edge
-    /// curves at the edge's ends evaluated once per side: [`heights_derivatives`]; the normal
-    /// from the widened derivatives).
+    /// The world surface points at the nodes `group` (four), into `out` (indexed by node).
+    #[inline(always)]
+    fn points_at(&self, nodes: &Nodes, group: &[usize], out: &mut [V3<f64>; EDGE_SAMPLES]) {
+        let (xs, xf) = self.chunk(nodes, group);
+        let hs = heights(&self.prepared, xf);
+        for ((&s, x), h) in group.iter().zip(xs).zip(hs) {
+            if let Some(o) = out.get_mut(s) {
+                *o = self.world(x, h.to_f64());
+            }
+        }
+    }
+
+    /// World surface points at all nodes (bit for bit [`Side::points`]) and local-frame unit
+    /// geometric normals at the [`FIT_NODES`] (there the heights' jets in `F`, four nodes per
+    /// evaluation, the edge curves at the edge's ends evaluated once per side:
+    /// [`heights_derivatives`]; the normal from the widened derivatives; elsewhere the heights
+    /// alone).
     pub(crate) fn points_normals(
         &self,
         nodes: &Nodes,
-    ) -> ([V3<f64>; EDGE_SAMPLES], [V3<f64>; EDGE_SAMPLES]) {
+    ) -> ([V3<f64>; EDGE_SAMPLES], [V3<f64>; FIT_NODES.len()]) {
         let mut pts = [V3::zero(); EDGE_SAMPLES];
-        let mut nrm = [V3::zero(); EDGE_SAMPLES];
+        let mut nrm = [V3::zero(); FIT_NODES.len()];
+        for group in POINT_NODES.chunks_exact(CHUNK) {
+            self.points_at(nodes, group, &mut pts);
+        }
         // The edge curves at the shared edge's ends, once for all nodes.
         let ends = EdgeEnds::new(&self.prepared, self.edge);
-        for (k, (p, n)) in pts
-            .chunks_exact_mut(CHUNK)
-            .zip(nrm.chunks_exact_mut(CHUNK))
-            .enumerate()
-        {
-            let (xs, xf) = self.chunk(nodes, k);
+        for (group, n) in FIT_NODES.chunks_exact(CHUNK).zip(nrm.chunks_exact_mut(CHUNK)) {
+            let (xs, xf) = self.chunk(nodes, group);
             let hd = heights_derivatives(&self.own, &self.prepared, &ends, xf);
-            for (((p, n), x), (h, [d1, d2])) in p.iter_mut().zip(n).zip(xs).zip(hd) {
-                *p = self.world(x, h.to_f64());
+            for (((&s, n), x), (h, [d1, d2])) in group.iter().zip(n).zip(xs).zip(hd) {
+                if let Some(p) = pts.get_mut(s) {
+                    *p = self.world(x, h.to_f64());
+                }
                 *n = scalar::normal_local(&self.shape, x, widen(d1), widen(d2));
             }
         }

@@ -1,7 +1,7 @@
 //! Seamless shading normals: the fit ([`fit_seams`]) and the correction ([`Seam`]); the
 //! formula is in the [mesh module](crate::mesh) documentation.
 
-use super::sampling::{EDGE_SAMPLES, Nodes, Side, widest_gap};
+use super::sampling::{FIT_NODES, Nodes, Side, widest_gap};
 use super::topology::{EdgePair, MeshError, SharedEdge, edge_pair, pair_shared_edges};
 use crate::geometry::{EdgeView, Shape};
 use crate::num::real::Float;
@@ -30,7 +30,7 @@ pub const TWIST_TERMS: usize = 6;
 /// [`fit_seams`] evaluates `2·FIT_SAMPLES` geometric normals per shared edge (the common normal
 /// is their average). The same nodes serve crack closure's gap, so the builder evaluates each
 /// neighbour there once.
-pub const FIT_SAMPLES: usize = EDGE_SAMPLES;
+pub const FIT_SAMPLES: usize = FIT_NODES.len();
 
 /// World distance between two unit vertex normals beyond which the two sides of an edge do not
 /// share the vertex normal (a per-patch clamp moved one; the same normal differs only by the
@@ -192,7 +192,7 @@ impl FitMatrix {
     }
 
     fn solve(nodes: &Nodes) -> [[f64; FIT_SAMPLES]; TWIST_TERMS] {
-        let sample_t = |s: usize| nodes.t(s);
+        let sample_t = |s: usize| nodes.fit_t(s);
         let mut q = [[0.0f64; FIT_SAMPLES]; TWIST_TERMS];
         let mut g = [[0.0f64; TWIST_TERMS]; TWIST_TERMS];
         for k in 0..TWIST_TERMS {
@@ -295,7 +295,7 @@ pub(crate) fn fit_sides<F: Float>(
     }
     let mut ys = [[0.0f64; FIT_SAMPLES]; 4];
     for (s, (&na, &nb)) in na.iter().zip(nb.iter()).enumerate() {
-        let t = fit.nodes.t(s);
+        let t = fit.nodes.fit_t(s);
         let tb = b.own_t(t);
         let (ga, ba, aa) = shared_frame(&ea, t)?;
         let (gb, bb, ab) = shared_frame(&eb, tb)?;
