@@ -866,24 +866,33 @@ fn sah_split<F: Float>(
     centroids: &Aabb<F>,
 ) -> Result<Option<usize>, BvhError> {
     let count = range.len();
-    // (cost, axis, first bin of the right side, cmin, scale)
-    let mut best: Option<(F, usize, usize, F, F)> = None;
-    for k in 0..3 {
+    // Per axis with extent: the centroids' minimum and the bins per unit.
+    let frames: [Option<(F, F)>; 3] = core::array::from_fn(|k| {
         let (cmin, cmax) = (axis(centroids.lo, k), axis(centroids.hi, k));
         let ext = cmax - cmin;
-        if !(ext > F::ZERO) {
+        (ext > F::ZERO).then(|| (cmin, F::from_f64(BINS as f64) / ext))
+    });
+    // All three axes' bins in one pass over the patches' boxes.
+    let mut bins = [[(0usize, Aabb::<F>::EMPTY); BINS]; 3];
+    for &i in range.iter() {
+        let b = patch_box(patches, i)?;
+        let center = b.center();
+        for (k, (frame, bins)) in frames.iter().zip(bins.iter_mut()).enumerate() {
+            if let Some((cmin, scale)) = *frame {
+                let (c, bb) = bins
+                    .get_mut(bin_of(axis(center, k), cmin, scale))
+                    .ok_or(BvhError::Internal)?;
+                *c += 1;
+                *bb = bb.union(&b);
+            }
+        }
+    }
+    // (cost, axis, first bin of the right side, cmin, scale)
+    let mut best: Option<(F, usize, usize, F, F)> = None;
+    for (k, (frame, bins)) in frames.iter().zip(bins.iter()).enumerate() {
+        let Some((cmin, scale)) = *frame else {
             continue;
-        }
-        let scale = F::from_f64(BINS as f64) / ext;
-        let mut bins = [(0usize, Aabb::<F>::EMPTY); BINS];
-        for &i in range.iter() {
-            let b = patch_box(patches, i)?;
-            let (c, bb) = bins
-                .get_mut(bin_of(axis(b.center(), k), cmin, scale))
-                .ok_or(BvhError::Internal)?;
-            *c += 1;
-            *bb = bb.union(&b);
-        }
+        };
         // Prefix sweep from the left: count and area of bins [0, s].
         let mut left = [(0usize, F::ZERO); BINS];
         let (mut n, mut acc) = (0usize, Aabb::<F>::EMPTY);
