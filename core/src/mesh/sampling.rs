@@ -116,14 +116,15 @@ impl<F: Float> Side<F> {
     }
 
     /// World surface points at the nodes: the heights evaluated in `F` (four nodes per
-    /// evaluation, [`height::heights_x4`]), placed in `f64` over the `f64` barycentrics, so that
+    /// evaluation, [`heights`]), placed in `f64` over the `f64` barycentrics, so that
     /// two sides differ only by their surfaces' heights and the frames' rounding.
     pub(crate) fn points(&self, nodes: &Nodes) -> [V3<f64>; EDGE_SAMPLES] {
         let mut out = [V3::zero(); EDGE_SAMPLES];
+        let ends = EdgeEnds::new(&self.prepared, self.edge);
         for (k, o) in out.chunks_exact_mut(CHUNK).enumerate() {
             let group: [usize; CHUNK] = core::array::from_fn(|i| CHUNK * k + i);
             let (xs, xf) = self.chunk(nodes, &group);
-            let hs = heights(&self.prepared, xf);
+            let hs = heights(&self.prepared, &ends, xf);
             for ((o, x), h) in o.iter_mut().zip(xs).zip(hs) {
                 *o = self.world(x, h.to_f64());
             }
@@ -133,9 +134,15 @@ impl<F: Float> Side<F> {
 
     /// The world surface points at the nodes `group` (four), into `out` (indexed by node).
     #[inline(always)]
-    fn points_at(&self, nodes: &Nodes, group: &[usize], out: &mut [V3<f64>; EDGE_SAMPLES]) {
+    fn points_at(
+        &self,
+        nodes: &Nodes,
+        ends: &EdgeEnds<F>,
+        group: &[usize],
+        out: &mut [V3<f64>; EDGE_SAMPLES],
+    ) {
         let (xs, xf) = self.chunk(nodes, group);
-        let hs = heights(&self.prepared, xf);
+        let hs = heights(&self.prepared, ends, xf);
         for ((&s, x), h) in group.iter().zip(xs).zip(hs) {
             if let Some(o) = out.get_mut(s) {
                 *o = self.world(x, h.to_f64());
@@ -154,12 +161,15 @@ impl<F: Float> Side<F> {
     ) -> ([V3<f64>; EDGE_SAMPLES], [V3<f64>; FIT_NODES.len()]) {
         let mut pts = [V3::zero(); EDGE_SAMPLES];
         let mut nrm = [V3::zero(); FIT_NODES.len()];
-        for group in POINT_NODES.chunks_exact(CHUNK) {
-            self.points_at(nodes, group, &mut pts);
-        }
         // The edge curves at the shared edge's ends, once for all nodes.
         let ends = EdgeEnds::new(&self.prepared, self.edge);
-        for (group, n) in FIT_NODES.chunks_exact(CHUNK).zip(nrm.chunks_exact_mut(CHUNK)) {
+        for group in POINT_NODES.chunks_exact(CHUNK) {
+            self.points_at(nodes, &ends, group, &mut pts);
+        }
+        for (group, n) in FIT_NODES
+            .chunks_exact(CHUNK)
+            .zip(nrm.chunks_exact_mut(CHUNK))
+        {
             let (xs, xf) = self.chunk(nodes, group);
             let hd = heights_derivatives(&self.own, &self.prepared, &ends, xf);
             for (((&s, n), x), (h, [d1, d2])) in group.iter().zip(n).zip(xs).zip(hd) {
@@ -192,11 +202,12 @@ fn widen<F: Float>(v: V3<F>) -> V3<f64> {
     V3::new(v.x.to_f64(), v.y.to_f64(), v.z.to_f64())
 }
 
-/// The heights at four barycentric triples ([`height::heights_x4`]). Not inlined: one copy per
-/// precision, called in a loop.
+/// The heights at four points of the shared edge ([`height::heights_on_edge_x4`]: bit for bit
+/// [`height::heights_x4`]'s, the edge curves at the edge's ends taken from `ends`). Not
+/// inlined: one copy per precision, called in a loop.
 #[inline(never)]
-fn heights<F: Float>(pr: &Prepared<F>, xs: [[F; 3]; CHUNK]) -> [F; CHUNK] {
-    height::heights_x4(pr, xs)
+fn heights<F: Float>(pr: &Prepared<F>, ends: &EdgeEnds<F>, xs: [[F; 3]; CHUNK]) -> [F; CHUNK] {
+    height::heights_on_edge_x4(pr, ends, xs)
 }
 
 /// The heights (bit for bit [`heights`]') and the local-frame surface derivatives at four

@@ -1168,30 +1168,62 @@ pub(crate) struct EdgeEnds<F: Float> {
 type CurveAt<F> = (L3<Jet<One<F>>>, L3<Jet<One<F>>>);
 
 impl<F: Float> EdgeEnds<F> {
-    /// The two end terms of `pr`'s edge `edge` (taken modulo 3).
+    /// The two end terms of `pr`'s edge `edge` (taken modulo 3): in `f32` and `f64` both in
+    /// one evaluation over four lanes (lanes 0 and 1), for other scalars in turn; the same
+    /// operations either way.
     #[inline(always)]
     pub(crate) fn new(pr: &Prepared<F>, edge: usize) -> Self {
+        use crate::num::real::Lane4;
         let edge = edge % 3;
         let [e0, e1, e2] = &pr.edges;
-        let at = |e: usize, t: F| {
-            let ep = match e % 3 {
-                0 => e0,
-                1 => e1,
-                _ => e2,
-            };
-            let (z, one) = (One(F::ZERO), One(F::ONE));
-            edge_point_normal(
-                ep,
-                Jet {
-                    v: One(t),
-                    d: [one, z],
-                },
-            )
+        let pick = |e: usize| match e % 3 {
+            0 => e0,
+            1 => e1,
+            _ => e2,
         };
-        EdgeEnds {
-            edge,
-            ends: [at(edge + 1, F::ZERO), at(edge + 2, F::ONE)],
+        // Vertex `Pj`'s term meets edge `j + 1` at t = 0, `Pj+1`'s meets edge `j + 2` at 1.
+        let (first, second) = (pick(edge + 1), pick(edge + 2));
+        let (zero, one) = (F::ZERO, F::ONE);
+        let ends = if <F::L4 as Lane4>::POINTS < 4 {
+            let at = |ep: &EdgePrep<F>, t: F| {
+                edge_point_normal(
+                    ep,
+                    Jet {
+                        v: One(t),
+                        d: [One(one), One(zero)],
+                    },
+                )
+            };
+            [at(first, zero), at(second, one)]
+        } else {
+            let sp = <F::L4 as LaneOps>::splat;
+            let t = Jet {
+                v: F::L4::from_array4([zero, one, zero, zero]),
+                d: [sp(one), sp(zero)],
+            };
+            let (p, n) = edge_point_normal(&EdgeGathered::new([first, second, first]), t);
+            [0, 1].map(|k| (lane_of(p, k), lane_of(n, k)))
+        };
+        EdgeEnds { edge, ends }
+    }
+}
+
+/// Lane `k` of jets over [`Float::L4`].
+#[inline(always)]
+fn lane_of<F: Float>(v: L3<Jet<F::L4>>, k: usize) -> L3<Jet<One<F>>> {
+    use crate::num::real::Lane4;
+    let one = |q: Jet<F::L4>| {
+        let at = |l: F::L4| One(l.to_array4().get(k).copied().unwrap_or(F::ZERO));
+        let [d0, d1] = q.d;
+        Jet {
+            v: at(q.v),
+            d: [at(d0), at(d1)],
         }
+    };
+    L3 {
+        x: one(v.x),
+        y: one(v.y),
+        z: one(v.z),
     }
 }
 
@@ -1235,6 +1267,43 @@ impl<F: Float> EdgeCurves<Jet<F::L4>> for EdgeEnds<F> {
             edge_point_normal(ep, t)
         }
     }
+}
+
+/// [`EdgeEnds`]' values alone, for the plain heights on the edge ([`heights_on_edge_x4`]).
+struct EndValues<'a, F: Float>(&'a EdgeEnds<F>);
+
+/// The end terms' points and normals splatted from their values.
+impl<F: Float> EdgeCurves<F::L4> for EndValues<'_, F> {
+    #[inline(always)]
+    fn point_normal(&self, i: usize, ep: &EdgePrep<F>, t: F::L4) -> (L3<F::L4>, L3<F::L4>) {
+        let EndValues(ends) = self;
+        let [first, second] = ends.ends;
+        let value = |q: L3<Jet<One<F>>>| L3::<F::L4>::splat(V3::new(q.x.v.0, q.y.v.0, q.z.v.0));
+        if i == ends.edge {
+            (value(first.0), value(first.1))
+        } else if i == (ends.edge + 1) % 3 {
+            (value(second.0), value(second.1))
+        } else {
+            edge_point_normal(ep, t)
+        }
+    }
+}
+
+/// [`heights_x4`] at four points of the edge of `ends` (as
+/// [`height_derivatives_on_edge_x4`]'s points), bit for bit, the two end terms' edge curves
+/// taken from [`EdgeEnds`] (their parameters are exactly 0 and 1 there). For other scalars
+/// than `f32` and `f64`, [`heights_x4`] itself.
+#[inline(always)]
+pub(crate) fn heights_on_edge_x4<F: Float>(
+    pr: &Prepared<F>,
+    ends: &EdgeEnds<F>,
+    xs: [[F; 3]; 4],
+) -> [F; 4] {
+    use crate::num::real::Lane4;
+    if <F::L4 as Lane4>::POINTS < 4 {
+        return heights_x4(pr, xs);
+    }
+    height_with(pr, columns4(xs), &EndValues(ends)).to_array4()
 }
 
 /// [`height_derivatives_x4`] at four points of the edge of `ends` (the opposite barycentric
@@ -1506,6 +1575,10 @@ pub(crate) mod tests {
                     });
                     let got = height_derivatives_on_edge_x4(shape, &pr, &ends, xs);
                     let want = height_derivatives_x4(shape, &pr, xs);
+                    let plain = heights_on_edge_x4(&pr, &ends, xs);
+                    for (a, b) in plain.into_iter().zip(heights_x4(&pr, xs)) {
+                        assert_eq!(a.to_f64().to_bits(), b.to_f64().to_bits());
+                    }
                     for ((gh, gd), (wh, wd)) in got.into_iter().zip(want) {
                         assert_eq!(gh.to_f64().to_bits(), wh.to_f64().to_bits());
                         for (a, b) in gd.iter().zip(wd.iter()) {
