@@ -156,9 +156,6 @@ pub(crate) fn normal_local<F: Float>(shape: &Shape<F>, x: [F; 3], du1: V3<F>, du
     let [x0, x1, x2] = x;
     let [n0, n1, n2] = shape.n;
     let phong = n0 * x0 + n1 * x1 + n2 * x2;
-    let fallback = phong
-        .try_normalize()
-        .unwrap_or(V3::new(F::ZERO, F::ZERO, F::ONE));
     let cr = du1.cross(du2);
     match cr.try_normalize() {
         Some(n) => {
@@ -168,7 +165,9 @@ pub(crate) fn normal_local<F: Float>(shape: &Shape<F>, x: [F; 3], du1: V3<F>, du
                 n
             }
         }
-        None => fallback,
+        None => phong
+            .try_normalize()
+            .unwrap_or(V3::new(F::ZERO, F::ZERO, F::ONE)),
     }
 }
 
