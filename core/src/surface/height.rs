@@ -303,7 +303,7 @@ impl<L: crate::num::real::Lane4> EdgeGathered<L> {
 }
 
 /// The gathered lanes are the jets' data (their [`LaneOps::Plain`]).
-impl<L: LaneOps<Plain = L>> EdgeLanes<Jet<L>> for EdgeGathered<L> {
+impl<L: LaneOps<Plain = L>, D: Partials<L>> EdgeLanes<Jet<L, D>> for EdgeGathered<L> {
     #[inline(always)]
     fn a(&self) -> L3<L> {
         self.a
@@ -760,99 +760,218 @@ fn line<L: LaneOps>(pr: &Prepared<L::F>, [x0, x1, x2]: [L; 3]) -> (L3<L>, L3<L>,
     (base, dir, dir.dot(dir))
 }
 
-/// A value with its two partial derivatives (forward mode), over a [`LaneOps`] type `L` (one
-/// point: [`One`]; eight-lane jets compile to functions too large to keep builds fast). The height evaluation over it gives `σS` and
+/// A value with its partial derivatives (forward mode), over a [`LaneOps`] type `L` (one
+/// point: [`One`]; eight-lane jets compile to functions too large to keep builds fast), and
+/// [`Partials`] `D`: two by default. The height evaluation over it gives `σS` and
 /// `∂σS/∂X1`, `∂σS/∂X2` for the exact normal, in one pass (no nested dual numbers: the edge
-/// tangents inside are already derivatives written out).
+/// tangents inside are already derivatives written out); with one partial (`[L; 1]`), an
+/// edge curve and its derivative by the edge parameter ([`EdgeEnds`]).
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct Jet<L> {
+pub(crate) struct Jet<L, D = [L; 2]> {
     /// Value.
     pub v: L,
     /// Partial derivatives.
-    pub d: [L; 2],
+    pub d: D,
 }
 
-impl<L: LaneOps> core::ops::Add for Jet<L> {
+/// The partial derivatives of a [`Jet`]: two (`[L; 2]`) or one (`[L; 1]`), each rule written
+/// out per count (loops over a const count made the jets' code compile several times slower).
+pub(crate) trait Partials<L: LaneOps>: Copy {
+    /// All zero.
+    fn zero() -> Self;
+    /// `a + b` per partial.
+    fn add(self, o: Self) -> Self;
+    /// `a − b` per partial.
+    fn sub(self, o: Self) -> Self;
+    /// `−a` per partial.
+    fn neg(self) -> Self;
+    /// `a·k` per partial.
+    fn scale(self, k: L) -> Self;
+    /// The product rule `a·ov + sv·b` per partial.
+    fn product(self, ov: L, sv: L, o: Self) -> Self;
+    /// The quotient rule `(a − v·b) / ov` per partial.
+    fn quotient(self, v: L, o: Self, ov: L) -> Self;
+    /// The reciprocal rule `−(v·a) / ov` per partial.
+    fn reciprocal(self, v: L, ov: L) -> Self;
+    /// `a` where `m`, else `b`, per partial.
+    fn pick(m: L::Mask, a: Self, b: Self) -> Self;
+    /// Whether every partial is finite, per lane.
+    fn finite(self) -> L::Mask;
+}
+
+impl<L: LaneOps> Partials<L> for [L; 2] {
+    #[inline(always)]
+    fn zero() -> Self {
+        let z = L::splat(L::F::ZERO);
+        [z, z]
+    }
+    #[inline(always)]
+    fn add(self, [b0, b1]: Self) -> Self {
+        let [a0, a1] = self;
+        [a0 + b0, a1 + b1]
+    }
+    #[inline(always)]
+    fn sub(self, [b0, b1]: Self) -> Self {
+        let [a0, a1] = self;
+        [a0 - b0, a1 - b1]
+    }
+    #[inline(always)]
+    fn neg(self) -> Self {
+        let [a0, a1] = self;
+        [-a0, -a1]
+    }
+    #[inline(always)]
+    fn scale(self, k: L) -> Self {
+        let [a0, a1] = self;
+        [a0 * k, a1 * k]
+    }
+    #[inline(always)]
+    fn product(self, ov: L, sv: L, [b0, b1]: Self) -> Self {
+        let [a0, a1] = self;
+        [a0 * ov + sv * b0, a1 * ov + sv * b1]
+    }
+    #[inline(always)]
+    fn quotient(self, v: L, [b0, b1]: Self, ov: L) -> Self {
+        let [a0, a1] = self;
+        [(a0 - v * b0) / ov, (a1 - v * b1) / ov]
+    }
+    #[inline(always)]
+    fn reciprocal(self, v: L, ov: L) -> Self {
+        let [a0, a1] = self;
+        [-(v * a0) / ov, -(v * a1) / ov]
+    }
+    #[inline(always)]
+    fn pick(m: L::Mask, [a0, a1]: Self, [b0, b1]: Self) -> Self {
+        [L::select(m, a0, b0), L::select(m, a1, b1)]
+    }
+    #[inline(always)]
+    fn finite(self) -> L::Mask {
+        let [a0, a1] = self;
+        L::and(a0.finite(), a1.finite())
+    }
+}
+
+impl<L: LaneOps> Partials<L> for [L; 1] {
+    #[inline(always)]
+    fn zero() -> Self {
+        [L::splat(L::F::ZERO)]
+    }
+    #[inline(always)]
+    fn add(self, [b]: Self) -> Self {
+        let [a] = self;
+        [a + b]
+    }
+    #[inline(always)]
+    fn sub(self, [b]: Self) -> Self {
+        let [a] = self;
+        [a - b]
+    }
+    #[inline(always)]
+    fn neg(self) -> Self {
+        let [a] = self;
+        [-a]
+    }
+    #[inline(always)]
+    fn scale(self, k: L) -> Self {
+        let [a] = self;
+        [a * k]
+    }
+    #[inline(always)]
+    fn product(self, ov: L, sv: L, [b]: Self) -> Self {
+        let [a] = self;
+        [a * ov + sv * b]
+    }
+    #[inline(always)]
+    fn quotient(self, v: L, [b]: Self, ov: L) -> Self {
+        let [a] = self;
+        [(a - v * b) / ov]
+    }
+    #[inline(always)]
+    fn reciprocal(self, v: L, ov: L) -> Self {
+        let [a] = self;
+        [-(v * a) / ov]
+    }
+    #[inline(always)]
+    fn pick(m: L::Mask, [a]: Self, [b]: Self) -> Self {
+        [L::select(m, a, b)]
+    }
+    #[inline(always)]
+    fn finite(self) -> L::Mask {
+        let [a] = self;
+        a.finite()
+    }
+}
+
+impl<L: LaneOps, D: Partials<L>> core::ops::Add for Jet<L, D> {
     type Output = Self;
     #[inline(always)]
     fn add(self, o: Self) -> Self {
-        let [a0, a1] = self.d;
-        let [b0, b1] = o.d;
         Jet {
             v: self.v + o.v,
-            d: [a0 + b0, a1 + b1],
+            d: self.d.add(o.d),
         }
     }
 }
-impl<L: LaneOps> core::ops::Sub for Jet<L> {
+impl<L: LaneOps, D: Partials<L>> core::ops::Sub for Jet<L, D> {
     type Output = Self;
     #[inline(always)]
     fn sub(self, o: Self) -> Self {
-        let [a0, a1] = self.d;
-        let [b0, b1] = o.d;
         Jet {
             v: self.v - o.v,
-            d: [a0 - b0, a1 - b1],
+            d: self.d.sub(o.d),
         }
     }
 }
-impl<L: LaneOps> core::ops::Mul for Jet<L> {
+impl<L: LaneOps, D: Partials<L>> core::ops::Mul for Jet<L, D> {
     type Output = Self;
     #[inline(always)]
     fn mul(self, o: Self) -> Self {
-        let [a0, a1] = self.d;
-        let [b0, b1] = o.d;
         Jet {
             v: self.v * o.v,
-            d: [a0 * o.v + self.v * b0, a1 * o.v + self.v * b1],
+            d: self.d.product(o.v, self.v, o.d),
         }
     }
 }
-impl<L: LaneOps> core::ops::Div for Jet<L> {
+impl<L: LaneOps, D: Partials<L>> core::ops::Div for Jet<L, D> {
     type Output = Self;
     #[inline(always)]
     fn div(self, o: Self) -> Self {
         let v = self.v / o.v;
-        let [a0, a1] = self.d;
-        let [b0, b1] = o.d;
         Jet {
             v,
-            d: [(a0 - v * b0) / o.v, (a1 - v * b1) / o.v],
+            d: self.d.quotient(v, o.d, o.v),
         }
     }
 }
-impl<L: LaneOps> core::ops::Neg for Jet<L> {
+impl<L: LaneOps, D: Partials<L>> core::ops::Neg for Jet<L, D> {
     type Output = Self;
     #[inline(always)]
     fn neg(self) -> Self {
-        let [a0, a1] = self.d;
         Jet {
             v: -self.v,
-            d: [-a0, -a1],
+            d: self.d.neg(),
         }
     }
 }
 
-impl<L: LaneOps> Jet<L> {
+impl<L: LaneOps, D: Partials<L>> Jet<L, D> {
     /// `v` with zero derivatives.
     #[inline(always)]
     fn constant(v: L) -> Self {
-        let z = L::splat(L::F::ZERO);
-        Jet { v, d: [z, z] }
+        Jet { v, d: D::zero() }
     }
 
     /// Each part `a` where `m`, else `b`'s.
     #[inline(always)]
     fn pick(m: L::Mask, a: Self, b: Self) -> Self {
-        let ([a0, a1], [b0, b1]) = (a.d, b.d);
         Jet {
             v: L::select(m, a.v, b.v),
-            d: [L::select(m, a0, b0), L::select(m, a1, b1)],
+            d: D::pick(m, a.d, b.d),
         }
     }
 }
 
-impl<L: LaneOps<Plain = L>> LaneOps for Jet<L> {
+impl<L: LaneOps<Plain = L>, D: Partials<L>> LaneOps for Jet<L, D> {
     type F = L::F;
     type Mask = L::Mask;
     type Plain = L;
@@ -862,10 +981,9 @@ impl<L: LaneOps<Plain = L>> LaneOps for Jet<L> {
     }
     #[inline(always)]
     fn mul_p(self, p: L) -> Self {
-        let [a0, a1] = self.d;
         Jet {
             v: self.v * p,
-            d: [a0 * p, a1 * p],
+            d: self.d.scale(p),
         }
     }
     #[inline(always)]
@@ -884,28 +1002,22 @@ impl<L: LaneOps<Plain = L>> LaneOps for Jet<L> {
     }
     #[inline(always)]
     fn rsub_p(self, p: L) -> Self {
-        let [a0, a1] = self.d;
         Jet {
             v: p - self.v,
-            d: [-a0, -a1],
+            d: self.d.neg(),
         }
     }
     #[inline(always)]
     fn rdiv_p(self, p: L) -> Self {
         let v = p / self.v;
-        let [a0, a1] = self.d;
         Jet {
             v,
-            d: [-(v * a0) / self.v, -(v * a1) / self.v],
+            d: self.d.reciprocal(v, self.v),
         }
     }
     #[inline(always)]
     fn splat(x: L::F) -> Self {
-        let z = L::splat(L::F::ZERO);
-        Jet {
-            v: L::splat(x),
-            d: [z, z],
-        }
+        Jet::constant(L::splat(x))
     }
     /// The square root; its derivative is 0 where the value is not positive (as the dual
     /// numbers' `sqrt0`: the kernel only takes roots of clamped discriminants).
@@ -915,12 +1027,11 @@ impl<L: LaneOps<Plain = L>> LaneOps for Jet<L> {
         let pos = self.v.gt(z);
         let r = L::select(pos, self.v, L::splat(L::F::ONE)).sqrt();
         let k = L::splat(L::F::ONE) / (r + r);
-        let [a0, a1] = self.d;
         let root = Jet {
             v: r,
-            d: [a0 * k, a1 * k],
+            d: self.d.scale(k),
         };
-        Self::pick(pos, root, Jet { v: z, d: [z, z] })
+        Self::pick(pos, root, Jet::constant(z))
     }
     #[inline(always)]
     fn abs(self) -> Self {
@@ -944,8 +1055,7 @@ impl<L: LaneOps<Plain = L>> LaneOps for Jet<L> {
     }
     #[inline(always)]
     fn finite(self) -> L::Mask {
-        let [a0, a1] = self.d;
-        L::and(self.v.finite(), L::and(a0.finite(), a1.finite()))
+        L::and(self.v.finite(), self.d.finite())
     }
     #[inline(always)]
     fn select(m: L::Mask, a: Self, b: Self) -> Self {
@@ -1163,9 +1273,12 @@ pub(crate) struct EdgeEnds<F: Float> {
     ends: [CurveAt<F>; 2],
 }
 
-/// A conjugation point and its normal with their derivatives by the edge parameter (value
-/// and `d/dt` in `d[0]` of one-point jets).
-type CurveAt<F> = (L3<Jet<One<F>>>, L3<Jet<One<F>>>);
+/// A jet with one partial: by an edge parameter.
+type Tangent<L> = Jet<L, [L; 1]>;
+
+/// A conjugation point and its normal with their derivatives by the edge parameter
+/// (one-point jets).
+type CurveAt<F> = (L3<Tangent<One<F>>>, L3<Tangent<One<F>>>);
 
 impl<F: Float> EdgeEnds<F> {
     /// The two end terms of `pr`'s edge `edge` (taken modulo 3): in `f32` and `f64` both in
@@ -1190,7 +1303,7 @@ impl<F: Float> EdgeEnds<F> {
                     ep,
                     Jet {
                         v: One(t),
-                        d: [One(one), One(zero)],
+                        d: [One(one)],
                     },
                 )
             };
@@ -1199,7 +1312,7 @@ impl<F: Float> EdgeEnds<F> {
             let sp = <F::L4 as LaneOps>::splat;
             let t = Jet {
                 v: F::L4::from_array4([zero, one, zero, zero]),
-                d: [sp(one), sp(zero)],
+                d: [sp(one)],
             };
             let (p, n) = edge_point_normal(&EdgeGathered::new([first, second, first]), t);
             [0, 1].map(|k| (lane_of(p, k), lane_of(n, k)))
@@ -1210,14 +1323,14 @@ impl<F: Float> EdgeEnds<F> {
 
 /// Lane `k` of jets over [`Float::L4`].
 #[inline(always)]
-fn lane_of<F: Float>(v: L3<Jet<F::L4>>, k: usize) -> L3<Jet<One<F>>> {
+fn lane_of<F: Float>(v: L3<Tangent<F::L4>>, k: usize) -> L3<Tangent<One<F>>> {
     use crate::num::real::Lane4;
-    let one = |q: Jet<F::L4>| {
+    let one = |q: Tangent<F::L4>| {
         let at = |l: F::L4| One(l.to_array4().get(k).copied().unwrap_or(F::ZERO));
-        let [d0, d1] = q.d;
+        let [d] = q.d;
         Jet {
             v: at(q.v),
-            d: [at(d0), at(d1)],
+            d: [at(d)],
         }
     };
     L3 {
@@ -1227,27 +1340,40 @@ fn lane_of<F: Float>(v: L3<Jet<F::L4>>, k: usize) -> L3<Jet<One<F>>> {
     }
 }
 
-/// The jets of an end's point and normal `(p, n)` at points whose edge-parameter jets are `t`:
-/// `∂q/∂Xk = (dq/dt)·(∂t/∂Xk)`.
+/// The jets of a point or normal `q` given with its derivative by the edge parameter, at
+/// points whose edge-parameter jets are `t`: `∂q/∂Xk = (dq/dt)·(∂t/∂Xk)`.
 #[inline(always)]
-fn chained<F: Float, L: crate::num::real::Lane4<F = F>>(
-    (p, n): CurveAt<F>,
-    t: Jet<L>,
-) -> (L3<Jet<L>>, L3<Jet<L>>) {
+fn chained<L: LaneOps>(q: L3<Tangent<L>>, t: Jet<L>) -> L3<Jet<L>> {
     let [t1, t2] = t.d;
-    let one = |q: Jet<One<F>>| {
-        let (v, dt) = (L::splat(q.v.0), L::splat(q.d[0].0));
+    let one = |q: Tangent<L>| {
+        let [dt] = q.d;
         Jet {
-            v,
+            v: q.v,
             d: [dt * t1, dt * t2],
         }
     };
-    let three = |q: L3<Jet<One<F>>>| L3 {
+    L3 {
         x: one(q.x),
         y: one(q.y),
         z: one(q.z),
+    }
+}
+
+/// An end's point or normal (one point) in every lane of `L`.
+#[inline(always)]
+fn splat_end<F: Float, L: LaneOps<F = F>>(q: L3<Tangent<One<F>>>) -> L3<Tangent<L>> {
+    let one = |q: Tangent<One<F>>| {
+        let [One(dt)] = q.d;
+        Jet {
+            v: L::splat(q.v.0),
+            d: [L::splat(dt)],
+        }
     };
-    (three(p), three(n))
+    L3 {
+        x: one(q.x),
+        y: one(q.y),
+        z: one(q.z),
+    }
 }
 
 impl<F: Float> EdgeCurves<Jet<F::L4>> for EdgeEnds<F> {
@@ -1259,12 +1385,16 @@ impl<F: Float> EdgeCurves<Jet<F::L4>> for EdgeEnds<F> {
         t: Jet<F::L4>,
     ) -> (L3<Jet<F::L4>>, L3<Jet<F::L4>>) {
         let [first, second] = self.ends;
+        let end = |(p, n): CurveAt<F>| (chained(splat_end(p), t), chained(splat_end(n), t));
         if i == self.edge {
-            chained(first, t)
+            end(first)
         } else if i == (self.edge + 1) % 3 {
-            chained(second, t)
+            end(second)
         } else {
-            edge_point_normal(ep, t)
+            // The shared edge's own curve, by its parameter alone (one partial), chained.
+            let one = <F::L4 as LaneOps>::splat(F::ONE);
+            let (p, n) = edge_point_normal(ep, Jet { v: t.v, d: [one] });
+            (chained(p, t), chained(n, t))
         }
     }
 }
@@ -1278,7 +1408,7 @@ impl<F: Float> EdgeCurves<F::L4> for EndValues<'_, F> {
     fn point_normal(&self, i: usize, ep: &EdgePrep<F>, t: F::L4) -> (L3<F::L4>, L3<F::L4>) {
         let EndValues(ends) = self;
         let [first, second] = ends.ends;
-        let value = |q: L3<Jet<One<F>>>| L3::<F::L4>::splat(V3::new(q.x.v.0, q.y.v.0, q.z.v.0));
+        let value = |q: L3<Tangent<One<F>>>| L3::<F::L4>::splat(V3::new(q.x.v.0, q.y.v.0, q.z.v.0));
         if i == ends.edge {
             (value(first.0), value(first.1))
         } else if i == (ends.edge + 1) % 3 {
