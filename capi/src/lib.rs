@@ -71,7 +71,7 @@ pub const ST_INVALID_ID: u32 = 0xFFFF_FFFF;
 
 /// Build flag: fit the seamless shading normals (`ns_x, ns_y, ns_z` of a hit are then
 /// continuous across shared edges; without it they equal the geometric normal). Costs build
-/// time (32 normal evaluations per shared edge) and 148 bytes per triangle in `f32`.
+/// time (16 normal evaluations per shared edge) and 148 bytes per triangle in `f32`.
 pub const ST_BUILD_SEAMS: u32 = 1;
 /// Build flag: the shared line field (neighbours' edge curves meet exactly; adds a per-vertex
 /// normal remedy). Without it, the paper's per-face field; the kernel closes the cracks.

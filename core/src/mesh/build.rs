@@ -132,7 +132,7 @@ pub struct BuildOptions {
     /// curves meet; adds the per-vertex remedy and its storage).
     pub field: LineField,
     /// Fit the seamless shading normals ([`SceneHit::shading_normal`] then differs from the
-    /// geometric normal; costs `2·FIT_SAMPLES` = 32 `f64` normal evaluations per shared edge and
+    /// geometric normal; costs `2·FIT_SAMPLES` = 16 normal evaluations per shared edge and
     /// [`SceneSizes::seams`] storage). Without it the shading normal is the geometric one.
     pub seams: bool,
 }
@@ -582,8 +582,8 @@ impl<'a, F: Float> Scene<'a, F> {
     /// [`BuildError::TooLarge`], and [`BuildError::NoUsableTriangles`] when every triangle is
     /// rejected. A rejected triangle is otherwise only counted.
     ///
-    /// Work: `O(n log n)` in the triangles, dominated by crack closure (80 `f64` surface points
-    /// per shared edge) and, with seams, the fit (32 `f64` normals per shared edge); the patch
+    /// Work: `O(n log n)` in the triangles, dominated by crack closure (32 surface points per
+    /// shared edge) and, with seams, the fit (16 normals per shared edge); the patch
     /// constructions (at most 7 per triangle, and the per-vertex remedy's on the shared field)
     /// and the BVH cost less (`smoothtri inspect` prints the time of each step). No allocation.
     /// # Accuracy

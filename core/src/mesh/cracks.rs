@@ -42,7 +42,7 @@ pub const CRACK_REACH: f64 = 4.0;
 pub use crate::kernel::MAX_CRACK_REACH;
 
 /// Points per shared edge at which [`close_cracks`] measures the gap: the 16 Chebyshev nodes
-/// `t_s = (1 − cos((2s + 1)π / 32)) / 2` that the seam fit samples too
+/// `t_s = (1 − cos((2s + 1)π / 32)) / 2`, 8 of which the seam fit samples too
 /// ([`FIT_SAMPLES`](crate::mesh::seams::FIT_SAMPLES)), so that the builder evaluates each
 /// neighbour's surface there once for both; two surface evaluations each.
 /// (Until 2026-12 33 evenly spaced points; the watertight tests pass with either.)

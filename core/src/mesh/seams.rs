@@ -20,16 +20,20 @@ use crate::ray::Hit;
 /// neighbours fit the same samples in frames built from the same data, so their polynomials
 /// agree to rounding whatever the number of terms, and the jump across the edge stays at
 /// rounding level ([`SEAM_JUMP_DEG`](crate::accuracy::SEAM_JUMP_DEG)). Six terms on
-/// [`FIT_SAMPLES`] = 16 Chebyshev nodes keep the 8×8 torus's shading normal within 2.897° of the
-/// true normal (p99 2.552°; twelve terms: 2.898°, 2.552°), measured by the repository's test
-/// suite. Each term costs 24 bytes per patch in `f32` (two tilts of three edges).
+/// [`FIT_SAMPLES`] = 8 nodes keep the 8×8 torus's shading normal within 2.897° of the true
+/// normal (p99 2.552°; on all 16 edge nodes the same to the third decimal; twelve terms on 16:
+/// 2.898°, 2.552°), measured by the repository's test suite. Each term costs 24 bytes per
+/// patch in `f32` (two tilts of three edges).
 pub const TWIST_TERMS: usize = 6;
 
-/// Samples per shared edge of the least-squares fit, at the Chebyshev nodes
-/// `t_s = (1 − cos((2s + 1)π / (2·FIT_SAMPLES))) / 2`; see [`TWIST_TERMS`] for the choice.
-/// [`fit_seams`] evaluates `2·FIT_SAMPLES` geometric normals per shared edge (the common normal
-/// is their average). The same nodes serve crack closure's gap, so the builder evaluates each
-/// neighbour there once.
+/// Samples per shared edge of the least-squares fit: 8 of the 16 Chebyshev nodes
+/// `t_s = (1 − cos((2s + 1)π / 32)) / 2` at which crack closure measures the gap
+/// ([`CRACK_SAMPLES`](crate::mesh::cracks::CRACK_SAMPLES)), `s = 1, 3, 5, 7, 8, 10, 12, 14`
+/// (every other node, symmetric about the middle, so that the neighbour running the edge the
+/// other way samples the same points); see [`TWIST_TERMS`] for the choice. [`fit_seams`]
+/// evaluates `2·FIT_SAMPLES` geometric normals per shared edge (the common normal is their
+/// average); the builder evaluates each neighbour once at all 16 nodes for both, the normals'
+/// jets only at these 8.
 pub const FIT_SAMPLES: usize = FIT_NODES.len();
 
 /// World distance between two unit vertex normals beyond which the two sides of an edge do not
