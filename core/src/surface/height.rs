@@ -389,6 +389,48 @@ fn root_derivative<L: LaneOps>(
     L::select(L::and(ok, ds.finite()), ds, zero)
 }
 
+/// An edge's polynomials in `t` at the evaluation's parameters ([`edge_point_normal`]):
+/// `|g|²`, its derivative, `e·g`, `e·gd` and `|e|²`.
+struct EdgePoly<L: LaneOps> {
+    t: L,
+    gg: L,
+    dgg: L,
+    eg: L,
+    e1: L::Plain,
+    ee: L::Plain,
+}
+
+impl<L: LaneOps> EdgePoly<L> {
+    /// The root `s` of an edge sphere (curvature `k`, `m = [da·n, gd·n, e·n]` of its axis `n`)
+    /// and its derivative by `t`, for the generator offset `w·e` from its anchor (`w = t` from
+    /// `A`, `t − 1` from `B`).
+    #[inline(always)]
+    fn sphere(&self, w: L, k: L::Plain, [m0, m1, m2]: [L::Plain; 3]) -> (L, L) {
+        let (one, two) = (c::<L::Plain>(1.0), c::<L::Plain>(2.0));
+        let EdgePoly {
+            t,
+            gg,
+            dgg,
+            eg,
+            e1,
+            ee,
+        } = *self;
+        let w2 = (w * w).mul_p(ee);
+        let c = [
+            gg.mul_p(k),
+            w.mul_p(k) * eg - t.mul_p(m1).add_p(m0),
+            w * w.mul_p(k).mul_p(ee).sub_p(two * m2),
+        ];
+        let dc = [
+            dgg.mul_p(k),
+            (eg + w.mul_p(e1)).mul_p(k).sub_p(m1),
+            w.mul_p(k).mul_p(ee).sub_p(m2).mul_p(two),
+        ];
+        let (s, q, sq, ok) = root(c[0], c[1], c[2], L::lift(k), w2, gg, L::lift(one));
+        (s, root_derivative(s, q, sq, ok, c, dc))
+    }
+}
+
 /// Conjugation point `c(t)` of an edge and its normal `n*(t)` scaled by `|c′|² > 0`
 /// (eq. (3)), at eight edge parameters.
 #[inline(always)]
@@ -408,37 +450,17 @@ fn edge_point_normal<L: LaneOps>(ep: &impl EdgeLanes<L>, t: L) -> (L3<L>, L3<L>)
     let eg = t.mul_p(e1).add_p(e0);
     let ee = ep.ee();
     let [k1, k2] = ep.k();
-    // S¹: anchor A, w = t·e.
-    let [m0, m1, m2] = ep.m(0);
-    let w2a = (t * t).mul_p(ee);
-    let ca = [
-        gg.mul_p(k1),
-        t.mul_p(k1) * eg - t.mul_p(m1).add_p(m0),
-        t * t.mul_p(k1).mul_p(ee).sub_p(two * m2),
-    ];
-    let dca = [
-        dgg.mul_p(k1),
-        (eg + t.mul_p(e1)).mul_p(k1).sub_p(m1),
-        t.mul_p(k1).mul_p(ee).sub_p(m2).mul_p(two),
-    ];
-    let (lk1, lone) = (L::lift(k1), L::lift(one));
-    let (s1, q1, sq1, ok1) = root(ca[0], ca[1], ca[2], lk1, w2a, gg, lone);
-    let ds1 = root_derivative(s1, q1, sq1, ok1, ca, dca);
-    // S²: anchor B, w = (t − 1)·e.
-    let [n0, n1, n2] = ep.m(1);
-    let w2b = (u * u).mul_p(ee);
-    let cb = [
-        gg.mul_p(k2),
-        u.mul_p(k2) * eg - t.mul_p(n1).add_p(n0),
-        u * u.mul_p(k2).mul_p(ee).sub_p(two * n2),
-    ];
-    let dcb = [
-        dgg.mul_p(k2),
-        (eg + u.mul_p(e1)).mul_p(k2).sub_p(n1),
-        u.mul_p(k2).mul_p(ee).sub_p(n2).mul_p(two),
-    ];
-    let (s2, q2, sq2, ok2) = root(cb[0], cb[1], cb[2], L::lift(k2), w2b, gg, lone);
-    let ds2 = root_derivative(s2, q2, sq2, ok2, cb, dcb);
+    let poly = EdgePoly {
+        t,
+        gg,
+        dgg,
+        eg,
+        e1,
+        ee,
+    };
+    // S¹: anchor A, w = t·e; S²: anchor B, w = (t − 1)·e.
+    let (s1, ds1) = poly.sphere(t, k1, ep.m(0));
+    let (s2, ds2) = poly.sphere(u, k2, ep.m(1));
     let s = t * s2 - u * s1;
     let ds = t * ds2 - u * ds1 + (s2 - s1);
     let cpt = L3::along(ep.a(), e, t).add(g.scale(s));
