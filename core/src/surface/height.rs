@@ -389,8 +389,8 @@ fn root_derivative<L: LaneOps>(
     L::select(L::and(ok, ds.finite()), ds, zero)
 }
 
-/// An edge's polynomials in `t` at the evaluation's parameters ([`edge_point_normal`]):
-/// `|g|²`, its derivative, `e·g`, `e·gd` and `|e|²`.
+/// An edge's parameters `t` and its polynomials there ([`edge_point_normal`]): `|g|²`, its
+/// derivative by `t`, `e·g`, and the constants `e·gd` and `|e|²`.
 struct EdgePoly<L: LaneOps> {
     t: L,
     gg: L,
@@ -1462,8 +1462,8 @@ pub(crate) fn heights_on_edge_x4<F: Float>(
 /// exactly 0, the other two above `ε`: points strictly inside the edge, as the builder's
 /// edge samples): the heights bit for bit [`heights_x4`]'s, the derivatives the same within
 /// rounding (the two end terms' jets by the chain rule from [`EdgeEnds`], the third term's
-/// edge curve evaluated over jets), at about 60 % of the cost. For other scalars than `f32`
-/// and `f64`, [`height_derivatives_x4`] itself.
+/// edge curve evaluated with its derivative by the edge parameter alone and chained the same
+/// way). For other scalars than `f32` and `f64`, [`height_derivatives_x4`] itself.
 #[inline(always)]
 pub(crate) fn height_derivatives_on_edge_x4<F: Float>(
     shape: &Shape<F>,
