@@ -265,4 +265,8 @@ impl<F: Float> LaneOps for Lanes8<F> {
     fn not(a: [bool; LANES]) -> [bool; LANES] {
         a.map(|x| !x)
     }
+    #[inline(always)]
+    fn any_set(m: [bool; LANES]) -> bool {
+        m.iter().any(|&x| x)
+    }
 }

@@ -69,6 +69,10 @@ macro_rules! impl_wide_ops {
             fn not(a: Self) -> Self {
                 !a
             }
+            #[inline(always)]
+            fn any_set(m: Self) -> bool {
+                m.any()
+            }
         }
     };
 }
@@ -253,5 +257,9 @@ impl<F: Float> LaneOps for One<F> {
     #[inline(always)]
     fn not(a: bool) -> bool {
         !a
+    }
+    #[inline(always)]
+    fn any_set(m: bool) -> bool {
+        m
     }
 }

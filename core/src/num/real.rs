@@ -66,6 +66,8 @@ pub trait LaneOps:
     fn or(a: Self::Mask, b: Self::Mask) -> Self::Mask;
     /// Lane-wise not.
     fn not(a: Self::Mask) -> Self::Mask;
+    /// Whether any lane of `m` is set (a branch around work that only such lanes need).
+    fn any_set(m: Self::Mask) -> bool;
     /// The same lanes without derivatives: `Self` for plain lanes, the value lanes of a jet.
     /// Data of an evaluation (a patch's vertices, normals, edge coefficients, numeric
     /// constants) enter the formulas as `Plain`, so that a jet multiplies them without the

@@ -360,9 +360,16 @@ fn root<L: LaneOps>(qa: L, qb: L, qc: L, k: L, w2: L, g2: L, m2: L) -> (L, L, L,
     let tol2 = L::splat(tol * tol);
     let two = c::<L>(2.0);
     let kk = k * k;
-    let c_scale = two * (kk * w2 * w2 + c::<L>(4.0) * w2 * m2);
     let b_scale = two * (kk * w2 * g2 + g2 * m2);
-    let noise = L::and((qc * qc).le(tol2 * c_scale), (qb * qb).le(tol2 * b_scale));
+    let b_noise = (qb * qb).le(tol2 * b_scale);
+    // `qb` at its noise level is rare: the test of `qc` only where some lane needs it (the
+    // same mask: where no lane's `qb` is noise, neither is the conjunction).
+    let noise = if L::any_set(b_noise) {
+        let c_scale = two * (kk * w2 * w2 + c::<L>(4.0) * w2 * m2);
+        L::and((qc * qc).le(tol2 * c_scale), b_noise)
+    } else {
+        b_noise
+    };
     let s = qc / q;
     let ok = L::and(L::not(noise), L::and(L::not(q.eq(zero)), s.finite()));
     (L::select(ok, s, zero), L::select(ok, q, zero), sq, ok)
@@ -631,10 +638,16 @@ fn bary<L: LaneOps>(pr: &Prepared<L::F>, x: L3<L>) -> ([L; 3], L) {
 #[inline(always)]
 fn beyond_edge<L: LaneOps>(pr: &Prepared<L::F>, x: [L; 3], xp: [L; 3], s: L) -> L {
     let zero = L::splat(L::F::ZERO);
+    let [x0, x1, x2] = x;
+    let outside = L::or(L::or(x0.lt(zero), x1.lt(zero)), x2.lt(zero));
+    // Most calls have every point inside (the walls' margins are a few ulps unless crack
+    // closure moved them): the same zeros without the continuation's arithmetic.
+    if !L::any_set(outside) {
+        return zero;
+    }
     let [p1x, p2x, p2y] = pr.p.map(L::splat);
     let [d0, d1, d2] = pr.d;
     let [n0, n1, n2] = pr.n;
-    let [x0, x1, x2] = x;
     let [q0, q1, q2] = xp;
     let (e0, e1, e2) = (x0 - q0, x1 - q1, x2 - q2);
     let sp = |v: L::F| L::splat(v);
@@ -659,7 +672,6 @@ fn beyond_edge<L: LaneOps>(pr: &Prepared<L::F>, x: [L; 3], xp: [L; 3], s: L) -> 
         let nd = (nx * dx + ny * dy) / vz + nz;
         oz - (nx * ox + ny * oy + nz * oz) / nd
     };
-    let outside = L::or(L::or(x0.lt(zero), x1.lt(zero)), x2.lt(zero));
     L::select(L::and(outside, dh.finite()), dh, zero)
 }
 
@@ -1094,6 +1106,10 @@ impl<L: LaneOps<Plain = L>, D: Partials<L>> LaneOps for Jet<L, D> {
     #[inline(always)]
     fn not(a: L::Mask) -> L::Mask {
         L::not(a)
+    }
+    #[inline(always)]
+    fn any_set(m: L::Mask) -> bool {
+        L::any_set(m)
     }
 }
 
