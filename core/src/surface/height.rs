@@ -3,7 +3,8 @@
 //! shell's height range with it ([`crate::surface::shell`]); the ray kernel ([`crate::kernel`]) evaluates
 //! its function `f(τ) = z(τ) − σS(X(τ))` at eight ray parameters per call ([`f_lanes`]) and the
 //! exact normal of a hit over [`Jet`]s ([`derivatives`]; in `f32` and `f64` the three vertex
-//! terms of one point side by side in four lanes, bit for bit the terms in turn).
+//! terms of one point side by side in four lanes, bit for bit the terms in turn; each term's edge
+//! curve over jets by its edge parameter alone, chained: [`Chained`]).
 //!
 //! Differences from the generic evaluation (which stays the reference and serves the public
 //! evaluation API):
@@ -488,25 +489,6 @@ pub(crate) fn edge_height<L: LaneOps>(ep: &EdgePrep<L::F>, t: L) -> L {
     edge_point_normal(ep, t).0.z
 }
 
-/// The term of vertex `i` in eq. (5): `½ (Xi·s¹ + ((1 − Xi)/2)·s²)`, for the line
-/// `base + s·dir` (`dd = |dir|²`).
-#[inline(always)]
-#[allow(clippy::too_many_arguments)]
-fn vertex_term<L: LaneOps>(
-    ep: &impl EdgeLanes<L>,
-    pi: L3<L::Plain>,
-    ni: L3<L::Plain>,
-    xi: L,
-    xa: L,
-    xb: L,
-    base: L3<L>,
-    dir: L3<L>,
-    dd: L,
-) -> L {
-    let (cpt, nc) = edge_point_normal(ep, edge_param(xa, xb));
-    term_through(cpt, nc, pi, ni, xi, base, dir, dd)
-}
-
 /// The parameter `t = Xb / (Xa + Xb)` on the edge opposite a vertex of the point with the
 /// other two barycentrics `xa`, `xb` (½ where they vanish: the vertex itself).
 #[inline(always)]
@@ -515,7 +497,8 @@ fn edge_param<L: LaneOps>(xa: L, xb: L) -> L {
     L::select(den.gt(L::splat(L::F::EPSILON)), xb / den, c::<L>(0.5))
 }
 
-/// [`vertex_term`] from the conjugation point `cpt` and its normal `nc` (scaled) on the
+/// The term of vertex `i` in eq. (5), `½ (Xi·s¹ + ((1 − Xi)/2)·s²)` for the line `base + s·dir`
+/// (`dd = |dir|²`), from the conjugation point `cpt` and its normal `nc` (scaled) on the
 /// opposite edge.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
@@ -724,6 +707,31 @@ impl<L: LaneOps> EdgeCurves<L> for Curves {
     fn point_normal(&self, _: usize, ep: &EdgePrep<L::F>, t: L) -> (L3<L>, L3<L>) {
         edge_point_normal(ep, t)
     }
+}
+
+/// The edge curves of jets with two partials (by `X1` and `X2`) evaluated with one: the curve
+/// depends on the point only through its edge parameter `t`, so it is evaluated over jets by
+/// `t` alone ([`Tangent`]) and its partials taken by the chain rule ([`chained`]): the values
+/// bit for bit [`Curves`]' (the same operations), the partials the same within rounding, at
+/// about 60 % of the two-partial curve's operations.
+struct Chained;
+
+impl<L: LaneOps<Plain = L>> EdgeCurves<Jet<L>> for Chained {
+    #[inline(always)]
+    fn point_normal(&self, _: usize, ep: &EdgePrep<L::F>, t: Jet<L>) -> (L3<Jet<L>>, L3<Jet<L>>) {
+        curve_chained(ep, t)
+    }
+}
+
+/// [`Chained`]'s curve on the edge(s) `ep` (one edge splatted, or three gathered into lanes).
+#[inline(always)]
+fn curve_chained<L: LaneOps<Plain = L>>(
+    ep: &impl EdgeLanes<Tangent<L>>,
+    t: Jet<L>,
+) -> (L3<Jet<L>>, L3<Jet<L>>) {
+    let one = L::splat(L::F::ONE);
+    let (p, n) = edge_point_normal(ep, Jet { v: t.v, d: [one] });
+    (chained(p, t), chained(n, t))
 }
 
 /// [`height_at`] with the conjugation points and normals of the vertex terms from `curves`.
@@ -1243,7 +1251,8 @@ fn terms_in_lanes<F: Float>(pr: &Prepared<F>, [x0, x1, x2]: [F; 3]) -> Jet<F> {
     };
     let [e0, e1, e2] = &pr.edges;
     let edges = EdgeGathered::new([e1, e2, e0]);
-    let t = vertex_term(&edges, pi, ni, xi, xa, xb, base, dir, dd);
+    let (cpt, nc) = curve_chained(&edges, edge_param(xa, xb));
+    let t = term_through(cpt, nc, pi, ni, xi, base, dir, dd);
     let sum = |l: F::L4| {
         let [a, b, cc, _] = l.to_array4();
         a + b + cc
@@ -1260,7 +1269,7 @@ fn terms_in_lanes<F: Float>(pr: &Prepared<F>, [x0, x1, x2]: [F; 3]) -> Jet<F> {
 /// without four-lane vectors.
 #[inline(always)]
 fn terms_in_turn<F: Float>(pr: &Prepared<F>, x: [F; 3]) -> Jet<F> {
-    let s = height_at(pr, seeds(x.map(One)));
+    let s = height_with(pr, seeds(x.map(One)), &Chained);
     let [One(s1), One(s2)] = s.d;
     Jet {
         v: s.v.0,
@@ -1295,7 +1304,7 @@ pub(crate) fn height_derivatives_x4<F: Float>(
     if <F::L4 as Lane4>::POINTS < 4 {
         return xs.map(|x| height_derivatives(shape, pr, x));
     }
-    jets_x4(shape, pr, xs, &Curves)
+    jets_x4(shape, pr, xs, &Chained)
 }
 
 /// The conjugation points and normals of the two vertex terms whose edge parameter is the
@@ -1430,9 +1439,7 @@ impl<F: Float> EdgeCurves<Jet<F::L4>> for EdgeEnds<F> {
             end(second)
         } else {
             // The shared edge's own curve, by its parameter alone (one partial), chained.
-            let one = <F::L4 as LaneOps>::splat(F::ONE);
-            let (p, n) = edge_point_normal(ep, Jet { v: t.v, d: [one] });
-            (chained(p, t), chained(n, t))
+            curve_chained(ep, t)
         }
     }
 }
@@ -1477,9 +1484,9 @@ pub(crate) fn heights_on_edge_x4<F: Float>(
 /// [`height_derivatives_x4`] at four points of the edge of `ends` (the opposite barycentric
 /// exactly 0, the other two above `ε`: points strictly inside the edge, as the builder's
 /// edge samples): the heights bit for bit [`heights_x4`]'s, the derivatives the same within
-/// rounding (the two end terms' jets by the chain rule from [`EdgeEnds`], the third term's
-/// edge curve evaluated with its derivative by the edge parameter alone and chained the same
-/// way). For other scalars than `f32` and `f64`, [`height_derivatives_x4`] itself.
+/// rounding (the two end terms' jets by the chain rule from [`EdgeEnds`]; the third term's
+/// edge curve, as everywhere, [`Chained`]). For other scalars than `f32` and `f64`,
+/// [`height_derivatives_x4`] itself.
 #[inline(always)]
 pub(crate) fn height_derivatives_on_edge_x4<F: Float>(
     shape: &Shape<F>,
