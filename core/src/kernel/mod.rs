@@ -240,8 +240,9 @@ pub(crate) fn clip_ray<F: Float>(
     if !(a <= b) {
         return None;
     }
-    let scale = rounding_scale(patch);
-    let margins = wall_margins(patch, scale);
+    let edge = crate::surface::shell::longest_edge(&patch.shape);
+    let scale = scale_of(patch, edge);
+    let margins = wall_margins(patch, edge, scale);
     let [m0, m1, m2] = margins;
     let reach = m0.max(m1).max(m2);
     // The band, first over the slab's interval (a ray that misses it there misses it on the
@@ -375,29 +376,30 @@ pub(crate) fn rounding_allowance<F: Float>(scale: F, slope: F) -> F {
 /// [`WALL_MARGIN_ULPS`].
 #[inline(always)]
 pub(crate) fn rounding_scale<F: Float>(patch: &Patch<F>) -> F {
-    crate::surface::shell::longest_edge(&patch.shape) * F::from_f64(EXTENT_EDGES)
-        + patch.frame.origin.length()
+    scale_of(patch, crate::surface::shell::longest_edge(&patch.shape))
+}
+
+/// [`rounding_scale`] from the patch's longest edge `edge`.
+#[inline(always)]
+fn scale_of<F: Float>(patch: &Patch<F>, edge: F) -> F {
+    edge * F::from_f64(EXTENT_EDGES) + patch.frame.origin.length()
 }
 
 /// The wall margin [`WALL_MARGIN_ULPS`]` · ε · scale` as a barycentric offset: the walls
 /// `Xi = 0` move to `Xi = −margin`, i.e. the margin's world width over the triangle's smallest
-/// altitude (`2·area / longest edge`). 0 where that is not finite.
+/// altitude (`2·area / longest edge`, `edge` the longest edge). 0 where that is not finite.
 #[inline(always)]
-pub(crate) fn wall_margin<F: Float>(shape: &Shape<F>, scale: F) -> F {
+pub(crate) fn wall_margin<F: Float>(shape: &Shape<F>, edge: F, scale: F) -> F {
     let [_, p1, p2] = shape.p;
-    let m = F::from_f64(WALL_MARGIN_ULPS)
-        * F::EPSILON
-        * scale
-        * crate::surface::shell::longest_edge(shape)
-        / (p1.x * p2.y);
+    let m = F::from_f64(WALL_MARGIN_ULPS) * F::EPSILON * scale * edge / (p1.x * p2.y);
     if m.is_fin() { m } else { F::ZERO }
 }
 
 /// The three walls' barycentric offsets: [`wall_margin`] plus the patch's crack reach
 /// ([`close_cracks`](crate::mesh::cracks::close_cracks); 0 unless measured).
 #[inline(always)]
-pub(crate) fn wall_margins<F: Float>(patch: &Patch<F>, scale: F) -> [F; 3] {
-    let m = wall_margin(&patch.shape, scale);
+pub(crate) fn wall_margins<F: Float>(patch: &Patch<F>, edge: F, scale: F) -> [F; 3] {
+    let m = wall_margin(&patch.shape, edge, scale);
     patch.reach.map(|r| r + m)
 }
 

@@ -149,11 +149,14 @@ pub(crate) fn sample_scalar<F: Float>(shape: &Shape<F>, i: usize) -> F {
 
 /// Longest edge of the triangle.
 pub(crate) fn longest_edge<F: Float>(shape: &Shape<F>) -> F {
-    let [p0, p1, p2] = shape.p;
-    (p1 - p0)
-        .length2()
-        .max((p2 - p1).length2())
-        .max((p0 - p2).length2())
+    // The local frame's exact zeros (`P0 = 0`, `P1.y = P1.z = P2.z = 0`) left out: the same
+    // squared lengths bit for bit (adding a zero square to a sum of squares changes nothing).
+    let [_, p1, p2] = shape.p;
+    let (x1, x2, y2) = (p1.x, p2.x, p2.y);
+    let dx = x2 - x1;
+    (x1 * x1)
+        .max(dx * dx + y2 * y2)
+        .max(x2 * x2 + y2 * y2)
         .sqrt()
 }
 
