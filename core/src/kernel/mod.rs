@@ -193,7 +193,7 @@ fn intersect_impl<F: Float, const K: usize, const N: usize>(
 /// Clips a world ray to the patch's box, slab and shell: the local ray re-based at `t0`
 /// (the middle of the box interval) and the interval `[a, b]` of `τ = t − t0` to search, or
 /// `None` when the ray misses the shell (or is degenerate), when the interval misses the
-/// patch's band ([`band::misses`]: no surface point on it), or when the interval starts beyond
+/// patch's band ([`band::BandRay::misses`]: no surface point on it), or when the interval starts beyond
 /// `beyond` (`t0 + a > beyond`: every crossing the kernel could return lies there, see
 /// [`crossing`]).
 #[inline(always)]
@@ -248,14 +248,15 @@ pub(crate) fn clip_ray<F: Float>(
     // The band, first over the slab's interval (a ray that misses it there misses it on the
     // shell's interval inside, and the wall quadratics are not solved), then over the shell's:
     // no surface point on [a, b], nothing to sample.
-    if band::misses(&patch.band, &patch.shape, lray.o, lray.r, a, b, reach) {
+    let band = band::BandRay::new(&patch.band, &patch.shape, lray.o, lray.r, reach);
+    if band.misses(a, b) {
         return None;
     }
     let (a, b) = shell_interval(&patch.shape, &lray, a, b, margins)?;
     if past(t0, a) {
         return None;
     }
-    if band::misses(&patch.band, &patch.shape, lray.o, lray.r, a, b, reach) {
+    if band.misses(a, b) {
         return None;
     }
     Some(Clipped {
