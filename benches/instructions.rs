@@ -33,6 +33,7 @@ const CASES: &[(&str, &str, usize)] = &[
         "camera ray",
         160 * 120,
     ),
+    ("scene_wuson_f32_N8", "camera ray", 160 * 120),
     ("scene_tilted_sphere_face_f32_N4", "camera ray", 160 * 120),
     ("scene_tilted_sphere_vertex_f32_N4", "camera ray", 160 * 120),
     ("scene_flat_equal_error_f32", "camera ray", 160 * 120),
@@ -106,6 +107,38 @@ fn run_case(name: &str, reps: usize) -> usize {
             &Scene::new_on(&tilted_normal_sphere(), LineField::Vertex),
             reps,
         ),
+        "scene_wuson_f32_N8" => {
+            // Issue 25's same-mesh workload: the scanned WusonOBJ (3 732 triangles, vertex
+            // normals; Debian's assimp-testmodels) as the C API's `st_intersect1` traces it
+            // (`Scene::closest_hit`, no seams, the hit normal included), camera rays framing it
+            // as the `embree` bench's, 160×120 of them.
+            let dir = smoothtri_demo::mesh::assimp_models()
+                .ok()
+                .flatten()
+                .expect("assimp-testmodels installed");
+            let path = dir.join("OBJ/WusonOBJ.obj");
+            let mesh = smoothtri_demo::mesh::load(&path.to_string_lossy())
+                .expect("WusonOBJ loads")
+                .mesh;
+            let built = smoothtri_demo::Scene::<f32>::build(&mesh).expect("WusonOBJ builds");
+            let scene = built.core();
+            let cam = smoothtri_demo::camera::Camera::for_mesh(&mesh, 30.0, 35.0, 160, 120);
+            let rays: Vec<smoothtri::Ray> = (0..120)
+                .flat_map(|y| (0..160).map(move |x| (x, y)))
+                .map(|(x, y)| {
+                    let (o, d) = cam.pixel_ray(x, y);
+                    smoothtri::Ray::new(o.as_vec3(), d.as_vec3())
+                })
+                .collect();
+            let mut hits = 0;
+            for _ in 0..reps {
+                for r in &rays {
+                    let h = scene.closest_hit::<8>(black_box(r), 0.0, f32::INFINITY);
+                    hits += h.is_some() as usize;
+                }
+            }
+            hits
+        }
         "scene_seams_two_steps_8x8_f32_N8" | "scene_seams_closest_hit_8x8_f32_N8" => {
             // The torus with seams: a closest hit with its seamless shading normal, as
             // `Bvh::closest_hit` then `Scene::scene_hit` (two steps: the hit's normal, then
