@@ -361,16 +361,9 @@ fn root<L: LaneOps>(qa: L, qb: L, qc: L, k: L, w2: L, g2: L, m2: L) -> (L, L, L,
     let tol2 = L::splat(tol * tol);
     let two = c::<L>(2.0);
     let kk = k * k;
+    let c_scale = two * (kk * w2 * w2 + c::<L>(4.0) * w2 * m2);
     let b_scale = two * (kk * w2 * g2 + g2 * m2);
-    let b_noise = (qb * qb).le(tol2 * b_scale);
-    // `qb` at its noise level is rare: the test of `qc` only where some lane needs it (the
-    // same mask: where no lane's `qb` is noise, neither is the conjunction).
-    let noise = if L::any_set(b_noise) {
-        let c_scale = two * (kk * w2 * w2 + c::<L>(4.0) * w2 * m2);
-        L::and((qc * qc).le(tol2 * c_scale), b_noise)
-    } else {
-        b_noise
-    };
+    let noise = L::and((qc * qc).le(tol2 * c_scale), (qb * qb).le(tol2 * b_scale));
     let s = qc / q;
     let ok = L::and(L::not(noise), L::and(L::not(q.eq(zero)), s.finite()));
     (L::select(ok, s, zero), L::select(ok, q, zero), sq, ok)
