@@ -87,8 +87,8 @@ impl<F: Prec> Scene<F> {
 
     /// The scene on `field` ([`LineField::Vertex`]: neighbours share their edges' lines, so
     /// their edge curves meet; docs/METHOD.md §2), with the seamless shading normals when
-    /// `seams` (what only shading needs: fitting costs 32 `f64` normal evaluations per shared
-    /// edge). Crack closure and the seam fit run on rayon's pool ([`RayonExecutor`]); the scene
+    /// `seams` (what only shading needs: fitting costs `2·FIT_SAMPLES` = 16 normal evaluations
+    /// per shared edge). Crack closure and the seam fit run on rayon's pool ([`RayonExecutor`]); the scene
     /// is the same bit for bit on any number of threads.
     pub fn build_with(mesh: &Mesh, field: LineField, seams: bool) -> Result<Self> {
         let flat =
