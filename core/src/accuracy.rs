@@ -121,7 +121,7 @@ pub const UNIT_LENGTH_ULPS: f64 = 8.0;
 /// generic one of [`Patch::height`](crate::Patch::height), relative to the triangle's size.
 /// Measured worst: 9.2e-15 (98 472 random patches, normals up to ~37°, 66 points each; 5.4e-17
 /// on the 393 patches of the unit test). Asserted by the unit test
-/// `equals_the_generic_height_within_rounding` of `core/src/height.rs`.
+/// `equals_the_generic_height_within_rounding` of `core/src/surface/lanes/tests.rs`.
 #[cfg(test)]
 pub(crate) const KERNEL_HEIGHT_VS_SURFACE: f64 = 3e-14;
 

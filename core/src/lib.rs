@@ -115,6 +115,8 @@ mod num;
 mod patch;
 mod ray;
 mod surface;
+#[cfg(test)]
+mod testing;
 
 #[doc(hidden)]
 pub mod internal;

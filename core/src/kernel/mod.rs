@@ -37,7 +37,7 @@ use crate::num::vec::V3;
 use crate::ray::{Hit, Ray};
 use crate::surface::band;
 use crate::surface::field::Section;
-use crate::surface::height::{self, Prepared, f_lanes};
+use crate::surface::lanes::Prepared;
 use crate::surface::scalar::{normal_local, project_bary};
 use clip::{LocalRay, bary_numerators, shell_interval};
 use refine::{ESTIMATE_POINTS, first_sign_change, refine};
@@ -89,7 +89,7 @@ pub const EXTENT_EDGES: f64 = 4.0;
 /// one ray in ten aimed exactly at a shared edge, in `f32` and in `f64`, before this margin).
 /// With each domain widened by more than the wall's rounding, a crossing at the edge lies
 /// strictly inside both patches' intervals, and the closest-hit rule of the BVH keeps one.
-/// Beyond its edge a patch continues along its tangent plane there (`crate::surface::height`
+/// Beyond its edge a patch continues along its tangent plane there (`crate::surface::lanes`
 /// `beyond_edge`, the continuation [`close_cracks`](crate::mesh::cracks::close_cracks) relies on), so
 /// a crossing found in the margin is off the patch's surface by at most the margin's width,
 /// half of the [`ROUNDING_ULPS`] allowance that every `t_error` carries.
@@ -312,7 +312,7 @@ pub(crate) fn crossing_then<F: Float, const K: usize, const N: usize>(
     let count = |n: usize| evals.set(evals.get().saturating_add(n as u32));
     let mut f = |taus: [F; crate::num::lanes::LANES]| {
         count(crate::num::lanes::LANES);
-        f_lanes(&prep, o8, r8, <F::L8 as Lane>::from_array(taus)).to_array()
+        prep.f(o8, r8, <F::L8 as Lane>::from_array(taus)).to_array()
     };
     let found = first_sign_change::<F, K>(a, b, end_snap(cl.scale), &mut f);
     let Some((bracket, start)) = found else {
@@ -349,13 +349,15 @@ fn four_points<F: Float>(
     if <F::L4 as Lane4>::POINTS == ESTIMATE_POINTS {
         let sp = <F::L4 as LaneOps>::splat;
         let (o4, r4) = ([sp(o.x), sp(o.y), sp(o.z)], [sp(r.x), sp(r.y), sp(r.z)]);
-        return f_lanes(prep, o4, r4, F::L4::from_array4(taus)).to_array4();
+        return prep.f(o4, r4, F::L4::from_array4(taus)).to_array4();
     }
     let sp = <F::L8 as LaneOps>::splat;
     let (o8, r8) = ([sp(o.x), sp(o.y), sp(o.z)], [sp(r.x), sp(r.y), sp(r.z)]);
     let [a, b, c, d] = taus;
     let taus8 = [a, b, c, d, d, d, d, d];
-    let [fa, fb, fc, fd, ..] = f_lanes(prep, o8, r8, <F::L8 as Lane>::from_array(taus8)).to_array();
+    let [fa, fb, fc, fd, ..] = prep
+        .f(o8, r8, <F::L8 as Lane>::from_array(taus8))
+        .to_array();
     [fa, fb, fc, fd]
 }
 
@@ -462,7 +464,7 @@ pub(crate) fn complete<F: Float>(
 }
 
 /// Completes a [`Crossing`] of `patch` into a [`Hit`]: the exact surface normal (one height
-/// evaluation over value-and-two-derivatives jets, `height::derivatives`) and the world hit
+/// evaluation over value-and-two-derivatives jets, `Prepared::derivatives`) and the world hit
 /// point. `None` if the normal is not finite (never for an accepted patch).
 #[inline(always)]
 pub(crate) fn finish<F: Float>(patch: &Patch<F>, ray: &Ray<F>, c: &Crossing<F>) -> Option<Hit<F>> {
@@ -478,7 +480,7 @@ pub(crate) fn finish_prepared<F: Float>(
     prep: &Prepared<F>,
 ) -> Option<Hit<F>> {
     let shape = &patch.shape;
-    let [du1, du2] = height::derivatives(shape, prep, c.bary);
+    let [du1, du2] = prep.derivatives(shape, c.bary);
     finish_with(patch, ray, c, normal_local(shape, c.bary, du1, du2))
 }
 

@@ -7,7 +7,7 @@ use crate::geometry::{Frame, Shape};
 use crate::num::real::Float;
 use crate::num::vec::V3;
 use crate::patch::Patch;
-use crate::surface::height::{self, EdgeEnds, Prepared};
+use crate::surface::lanes::{OnEdge, Prepared};
 use crate::surface::scalar;
 
 /// Samples per shared edge, at the Chebyshev nodes `t_s = (1 − cos((2s + 1)π / (2·16))) / 2`
@@ -123,11 +123,11 @@ impl<F: Float> Side<F> {
     /// two sides differ only by their surfaces' heights and the frames' rounding.
     pub(crate) fn points(&self, nodes: &Nodes) -> [V3<f64>; EDGE_SAMPLES] {
         let mut out = [V3::zero(); EDGE_SAMPLES];
-        let ends = EdgeEnds::new(&self.prepared, self.edge);
+        let ends = self.prepared.on_edge(self.edge);
         for (k, o) in out.chunks_exact_mut(CHUNK).enumerate() {
             let group: [usize; CHUNK] = core::array::from_fn(|i| CHUNK * k + i);
             let (xs, xf) = self.chunk(nodes, &group);
-            let hs = heights(&self.prepared, &ends, xf);
+            let hs = heights(&ends, xf);
             for ((o, x), h) in o.iter_mut().zip(xs).zip(hs) {
                 *o = self.world(x, h.to_f64());
             }
@@ -140,12 +140,12 @@ impl<F: Float> Side<F> {
     fn points_at(
         &self,
         nodes: &Nodes,
-        ends: &EdgeEnds<F>,
+        ends: &OnEdge<'_, F>,
         group: &[usize],
         out: &mut [V3<f64>; EDGE_SAMPLES],
     ) {
         let (xs, xf) = self.chunk(nodes, group);
-        let hs = heights(&self.prepared, ends, xf);
+        let hs = heights(ends, xf);
         for ((&s, x), h) in group.iter().zip(xs).zip(hs) {
             if let Some(o) = out.get_mut(s) {
                 *o = self.world(x, h.to_f64());
@@ -165,7 +165,7 @@ impl<F: Float> Side<F> {
         let mut pts = [V3::zero(); EDGE_SAMPLES];
         let mut nrm = [V3::zero(); FIT_NODES.len()];
         // The edge curves at the shared edge's ends, once for all nodes.
-        let ends = EdgeEnds::new(&self.prepared, self.edge);
+        let ends = self.prepared.on_edge(self.edge);
         for group in POINT_NODES.chunks_exact(CHUNK) {
             self.points_at(nodes, &ends, group, &mut pts);
         }
@@ -174,7 +174,7 @@ impl<F: Float> Side<F> {
             .zip(nrm.chunks_exact_mut(CHUNK))
         {
             let (xs, xf) = self.chunk(nodes, group);
-            let hd = heights_derivatives(&self.own, &self.prepared, &ends, xf);
+            let hd = heights_derivatives(&self.own, &ends, xf);
             for (((&s, n), x), (h, [d1, d2])) in group.iter().zip(n).zip(xs).zip(hd) {
                 if let Some(p) = pts.get_mut(s) {
                     *p = self.world(x, h.to_f64());
@@ -205,25 +205,24 @@ fn widen<F: Float>(v: V3<F>) -> V3<f64> {
     V3::new(v.x.to_f64(), v.y.to_f64(), v.z.to_f64())
 }
 
-/// The heights at four points of the shared edge ([`height::heights_on_edge_x4`]: bit for bit
-/// [`height::heights_x4`]'s, the edge curves at the edge's ends taken from `ends`). Not
+/// The heights at four points of the shared edge ([`OnEdge::heights_x4`]: bit for bit the
+/// general evaluation's, the edge curves at the edge's ends evaluated once per side). Not
 /// inlined: one copy per precision, called in a loop.
 #[inline(never)]
-fn heights<F: Float>(pr: &Prepared<F>, ends: &EdgeEnds<F>, xs: [[F; 3]; CHUNK]) -> [F; CHUNK] {
-    height::heights_on_edge_x4(pr, ends, xs)
+fn heights<F: Float>(on: &OnEdge<'_, F>, xs: [[F; 3]; CHUNK]) -> [F; CHUNK] {
+    on.heights_x4(xs)
 }
 
 /// The heights (bit for bit [`heights`]') and the local-frame surface derivatives at four
-/// points of the shared edge ([`height::height_derivatives_on_edge_x4`], jets over four
-/// lanes, the edge curves at the edge's ends taken from `ends`). Not inlined, as [`heights`].
+/// points of the shared edge of `shape` ([`OnEdge::height_derivatives_x4`], jets over four
+/// lanes). Not inlined, as [`heights`].
 #[inline(never)]
 fn heights_derivatives<F: Float>(
     shape: &Shape<F>,
-    pr: &Prepared<F>,
-    ends: &EdgeEnds<F>,
+    on: &OnEdge<'_, F>,
     xs: [[F; 3]; CHUNK],
 ) -> [(F, [V3<F>; 2]); CHUNK] {
-    height::height_derivatives_on_edge_x4(shape, pr, ends, xs)
+    on.height_derivatives_x4(shape, xs)
 }
 
 /// The widest distance between corresponding samples, `+∞` when one is not finite.

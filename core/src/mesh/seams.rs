@@ -7,7 +7,7 @@ use crate::geometry::{EdgeView, Shape};
 use crate::num::real::Float;
 use crate::num::vec::V3;
 use crate::patch::Patch;
-use crate::surface::height::{self, Prepared};
+use crate::surface::lanes::Prepared;
 use crate::surface::scalar::{self, project_bary};
 
 #[cfg(doc)]
@@ -372,7 +372,7 @@ fn edge_points<F: Float>([x0, x1, x2]: [F; 3]) -> [[F; 3]; 3] {
 /// The patch's own geometric normals (local frame) at the three [`edge_points`] of `x`, and
 /// its geometric normal at `at` (`x` itself, or the kernel's barycentrics of a hit): four
 /// exact normals from one height evaluation over jets of four lanes
-/// ([`height::derivatives_x4`], bit for bit four one-point evaluations).
+/// ([`Prepared::derivatives_x4`], bit for bit four one-point evaluations).
 #[inline(always)]
 fn own_normals<F: Float>(
     shape: &Shape<F>,
@@ -381,7 +381,7 @@ fn own_normals<F: Float>(
     at: [F; 3],
 ) -> ([V3<F>; 3], V3<F>) {
     let [y0, y1, y2] = edge_points(x);
-    let [d0, d1, d2, dx] = height::derivatives_x4(shape, pr, [y0, y1, y2, at]);
+    let [d0, d1, d2, dx] = pr.derivatives_x4(shape, [y0, y1, y2, at]);
     let normal = |y: [F; 3], [du1, du2]: [V3<F>; 2]| scalar::normal_local(shape, y, du1, du2);
     (
         [normal(y0, d0), normal(y1, d1), normal(y2, d2)],

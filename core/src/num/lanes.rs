@@ -141,7 +141,7 @@ impl_wide4!(wide::f64x4, f64);
 impl_wide_ops!(wide::f64x2, f64);
 
 /// One scalar as a lane type (`Mask = bool`): the one-point evaluations over the lane code
-/// (the hit normal's jets, `crate::surface::height::derivatives`), the same arithmetic as the
+/// (the hit normal's jets, `crate::surface::lanes::Prepared::derivatives`), the same arithmetic as the
 /// scalar with branches for selects.
 #[derive(Clone, Copy, Debug)]
 pub struct One<F>(pub(crate) F);

@@ -1,10 +1,12 @@
 //! The number layer (private): the scalar traits and their primitive impls ([`real`]), vectors,
-//! dual numbers, intervals, lanes and the optional `FastF32`. Imports nothing else of the crate.
+//! dual numbers, jets, intervals, lanes and three-vectors of lanes and the optional `FastF32`. Imports nothing else of the crate.
 
 pub(crate) mod dual;
 #[cfg(feature = "micromath")]
 pub(crate) mod fast;
 pub(crate) mod interval;
+pub(crate) mod jet;
+pub(crate) mod lane_vec;
 pub(crate) mod lanes;
 pub(crate) mod math;
 pub(crate) mod real;

@@ -24,7 +24,7 @@
 //!   `z − q` by `|f|·(1 + |∇q|·|D_xy|)`: four times the kernel's end snap (its
 //!   `ROUNDING_ULPS · ε · L`) scaled so, which also covers the rounding of `h` itself;
 //! - the walls moved out by crack closure: beyond its edges the surface continues along a plane
-//!   ([`crate::surface::height`]), from which `z − q` drifts by the slopes' mismatch times the
+//!   ([`crate::surface::lanes`]), from which `z − q` drifts by the slopes' mismatch times the
 //!   distance plus `q`'s curvature times its square: [`Band::per_reach`] per unit of
 //!   barycentric reach, bounded for reaches up to crack closure's cap
 //!   ([`MAX_CRACK_REACH`](crate::kernel::MAX_CRACK_REACH)), applied by the kernel with the
@@ -252,9 +252,9 @@ mod tests {
     use crate::patch::Patch;
     use crate::ray::Ray;
     use crate::surface::field::LineField;
-    use crate::surface::height::tests::{Rng, random_patches_on};
     use crate::surface::scalar::{height, point_local};
     use crate::surface::shell::sample_scalar;
+    use crate::testing::{Rng, random_patches_on};
     use glam::DVec3;
 
     #[test]

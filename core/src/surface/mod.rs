@@ -1,7 +1,7 @@
 //! The surface layer (private): the construction's pieces over the plain
 //! [`Shape`](crate::geometry::Shape) of one patch: edge spheres ([`sphere`]), edge curves
 //! ([`edge`]), line fields ([`field`]), the surface in generic scalars ([`scalar`]) and in
-//! lanes ([`height`]), the shell that bounds it ([`shell`]), the tighter band that culls rays ([`band`]) and the
+//! lanes ([`lanes`]), the shell that bounds it ([`shell`]), the tighter band that culls rays ([`band`]) and the
 //! interval certificate
 //! ([`certify`]). Imports only `num`, `geometry` and `aabb`.
 
@@ -9,7 +9,7 @@ pub(crate) mod band;
 pub(crate) mod certify;
 pub(crate) mod edge;
 pub(crate) mod field;
-pub(crate) mod height;
+pub(crate) mod lanes;
 pub(crate) mod scalar;
 pub(crate) mod shell;
 pub(crate) mod sphere;

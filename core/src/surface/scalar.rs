@@ -101,7 +101,7 @@ pub(crate) fn height<F: Float>(shape: &Shape<F>, x: [F; 3]) -> F {
 }
 
 /// Local-frame surface point `pS = P + σS·D` of barycentrics `x` from its height `h` (e.g.
-/// from the eight-lane evaluation of `crate::surface::height`).
+/// from the eight-lane evaluation of `crate::surface::lanes`).
 #[inline(always)]
 pub(crate) fn point_from_height<F: Float>(shape: &Shape<F>, x: [F; 3], h: F) -> V3<F> {
     let (base, dir) = base_line(shape, x);

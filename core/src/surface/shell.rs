@@ -6,7 +6,7 @@
 //! The surface height is zero at the vertices, equals the conjugation lines' heights on the
 //! edges and is smooth inside. The patch constructor samples it at [`SAMPLES`] fixed points (edge
 //! points at `t = 0.1, ¼, ½, ¾, 0.9` and four interior points) in four calls of the eight-lane
-//! height evaluation (`core/src/height.rs`, equal to the generic scalar evaluation within
+//! height evaluation (`core/src/surface/lanes/`, equal to the generic scalar evaluation within
 //! rounding: a unit test below) and widens the sampled range by [`MARGIN_REL`] of the range plus
 //! [`MARGIN_ABS`] of the triangle's size. The margin is
 //! validated, not proven: `tests/suite/shell.rs` samples 2000 random well-shaped patches with normals
@@ -25,7 +25,7 @@ use crate::num::lanes::{LANES, Lane};
 use crate::num::real::Float;
 use crate::num::vec::V3;
 use crate::surface::edge::edge_point;
-use crate::surface::height::{Prepared, edge_height, height_at};
+use crate::surface::lanes::Prepared;
 use crate::surface::scalar::height;
 
 /// Number of surface samples used to bound the height range.
@@ -70,7 +70,7 @@ pub(crate) fn bounds_of<F: Float>(shape: &Shape<F>, heights: &[F; SAMPLES]) -> [
     [lo - m, hi + m]
 }
 
-/// The surface height at the [`SAMPLES`] points, by the lane evaluation ([`crate::surface::height`]):
+/// The surface height at the [`SAMPLES`] points, by the lane evaluation ([`crate::surface::lanes`]):
 /// edge `j`'s points (`t` of [`EDGE_T`]) at `5j .. 5j + 5`, one lane call per edge, then the
 /// [`INTERIOR`] points in one call. Equal to [`sample_scalar`] within rounding; where a lane is
 /// not finite (never seen for an accepted patch) it is replaced by [`sample_scalar`].
@@ -80,8 +80,8 @@ pub(crate) fn samples<F: Float>(shape: &Shape<F>) -> [F; SAMPLES] {
     let mut out = [F::ZERO; SAMPLES];
     let mut slots = out.iter_mut();
     let t = lanes(|i| F::from_f64(EDGE_T.get(i).or(EDGE_T.last()).copied().unwrap_or(0.5)));
-    for ep in pr.edges() {
-        let h = edge_height(ep, t).to_array();
+    for edge in 0..3 {
+        let h = pr.edge_heights(edge, t).to_array();
         for (h, slot) in h.into_iter().take(EDGE_T.len()).zip(slots.by_ref()) {
             *slot = h;
         }
@@ -96,7 +96,7 @@ pub(crate) fn samples<F: Float>(shape: &Shape<F>) -> [F; SAMPLES] {
             F::from_f64(x.get(c).copied().unwrap_or_default())
         })
     };
-    let h = height_at(&pr, [bary(0), bary(1), bary(2)]).to_array();
+    let h = pr.heights([bary(0), bary(1), bary(2)]).to_array();
     for (h, slot) in h.into_iter().zip(slots) {
         *slot = h;
     }
@@ -269,7 +269,7 @@ mod tests {
     use super::*;
     use crate::accuracy::{F32_VS_F64_POINT, KERNEL_HEIGHT_VS_SURFACE};
     use crate::patch::Patch;
-    use crate::surface::height::tests::random_patches;
+    use crate::testing::random_patches;
 
     /// Worst difference, relative to `size`, between the lane samples of `shape` and the
     /// scalar ones; asserts that every lane sample is finite.
