@@ -588,7 +588,7 @@ impl<'a, F: Float> Bvh<'a, F> {
         // closest (it is finite for every accepted patch, so this equals testing each patch
         // with `Patch::intersect`).
         let (id, c) = self.closest_crossing::<N>(ray, t_min, t_max)?;
-        let mut h = kernel::finish(self.patches.get(id as usize)?, ray, &c)?;
+        let mut h = c.hit(self.patches.get(id as usize)?, ray)?;
         h.patch = id;
         Some(h)
     }

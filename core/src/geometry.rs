@@ -12,7 +12,7 @@ use crate::aabb::Aabb;
 use crate::num::real::{Float, Real};
 use crate::num::vec::V3;
 
-/// The stored geometry of one [`Patch`](crate::Patch), in plain arrays (`repr(C)`, 60 scalars).
+/// The stored geometry of one [`Patch`], in plain arrays (`repr(C)`, 60 scalars).
 ///
 /// Invariants of an accepted patch (checked by [`Patch::new`](crate::Patch::new)): every value
 /// finite, `axes` orthonormal and right-handed, `p[0] = 0`, `p[1].y = p[1].z = p[2].z = 0`,

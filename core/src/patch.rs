@@ -193,7 +193,7 @@ impl<F: Float> Patch<F> {
             reach,
             band: Band::UNBOUNDED,
         };
-        let snap = kernel::end_snap(kernel::rounding_scale(&patch));
+        let snap = kernel::budget::end_snap(kernel::budget::rounding_scale(&patch));
         patch.band = band::fit(
             &shape,
             &heights,

@@ -1,14 +1,71 @@
-//! Clipping a ray to a patch's shell (docs/METHOD.md §8 step 1): the slab `σmin ≤ σ ≤ σmax` and the
-//! three side walls `Xi = 0`, each wall a quadratic in the ray parameter (parallel sections) or
-//! a ruled surface whose lines the ray meets where a quadratic in the edge parameter vanishes
-//! (tilted sections, [`crate::surface::field`]).
+//! Clipping a ray to a patch (docs/METHOD.md §8 step 1), in one call, [`clip`]: the patch's
+//! world box, then in the local frame the slab `σmin ≤ σ ≤ σmax`, the patch's band (a
+//! quadratic bound of the surface, [`crate::surface::band`]) over the slab's interval, the
+//! three side walls `Xi = −margin_i` (each a quadratic in the ray parameter for parallel
+//! sections, or a ruled surface whose lines the ray meets where a quadratic in the edge
+//! parameter vanishes for tilted sections, [`crate::surface::field`]), and the band again over
+//! the walls' interval. The walls are moved out by a rounding margin plus the patch's crack
+//! reach ([`wall_margins`]).
 
-use crate::geometry::Shape;
+use super::budget::{WALL_MARGIN_ULPS, scale_of};
+use crate::geometry::{Band, Patch, Shape};
 use crate::num::real::Float;
 use crate::num::vec::V3;
+use crate::ray::Ray;
+use crate::surface::band;
 use crate::surface::field::Section;
-use crate::surface::shell::{cross2_poly, moved_corners};
+use crate::surface::shell::{cross2_poly, longest_edge, moved_corners};
 
+/// A world ray prepared once for all the patches it is tested against: origin and direction
+/// in the kernel's vectors and the direction's reciprocals for the box test
+/// ([`Aabb::ray_interval`](crate::aabb::Aabb::ray_interval)), the same values each patch test
+/// computed for itself before.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct WorldRay<F> {
+    /// Origin, world coordinates.
+    pub o: V3<F>,
+    /// Direction.
+    pub d: V3<F>,
+    /// `1 / d` per axis, 0 where `d` is 0 (that axis is then tested by the origin alone).
+    pub inv: V3<F>,
+    /// Whether every component of `inv` is finite (false for a subnormal component of `d`).
+    pub inv_finite: bool,
+}
+
+impl<F: Float> WorldRay<F> {
+    /// `ray` prepared, or `None` when its origin or direction is not finite or the direction
+    /// is zero (no patch test can hit such a ray).
+    #[inline(always)]
+    pub(crate) fn new(ray: &Ray<F>) -> Option<Self> {
+        let o = F::from_glam(ray.origin);
+        let d = F::from_glam(ray.dir);
+        if !o.all_finite() || !d.all_finite() || d.length2() == F::ZERO {
+            return None;
+        }
+        let inv = crate::aabb::reciprocal(d);
+        Some(WorldRay {
+            o,
+            d,
+            inv,
+            inv_finite: inv.all_finite(),
+        })
+    }
+}
+
+/// A ray clipped to a patch's shell ([`clip`]).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Clipped<F> {
+    /// The world parameter the local ray is re-based at.
+    pub t0: F,
+    /// The local ray (`τ = t − t0`).
+    pub lray: LocalRay<F>,
+    /// Start of the shell interval in `τ`.
+    pub a: F,
+    /// End of the shell interval in `τ`.
+    pub b: F,
+    /// The patch's extent `L` ([`rounding_scale`](super::budget::rounding_scale)), computed once per test.
+    pub scale: F,
+}
 /// A ray in a patch's local frame, re-based at `t0` so that polynomials in `τ = t − t0` stay
 /// well-conditioned.
 #[derive(Clone, Copy, Debug)]
@@ -27,9 +84,167 @@ impl<F: Float> LocalRay<F> {
     }
 }
 
+/// Clips a world ray to the patch's box, slab and shell: the local ray re-based at `t0`
+/// (the middle of the box interval) and the interval `[a, b]` of `τ = t − t0` to search, or
+/// `None` when the ray misses the shell (or is degenerate), when the interval misses the
+/// patch's band ([`BandRay::misses`]: no surface point on it), or when the interval starts beyond
+/// `beyond` (`t0 + a > beyond`: every crossing the kernel could return lies there, see
+/// [`crossing`](super::crossing)).
+#[inline(always)]
+pub(crate) fn clip<F: Float>(
+    patch: &Patch<F>,
+    ray: &WorldRay<F>,
+    t_min: F,
+    t_max: F,
+    beyond: Option<F>,
+) -> Option<Clipped<F>> {
+    // Every `τ` the search reaches is at least the interval's start `a`, which starts as
+    // `ta − t0` and only grows, and rounding is monotone: a crossing's `t` is at least
+    // `t0 + a` (before the clamp to `[t_min, t_max]`, which keeps it at least `beyond` when
+    // `beyond ≤ t_max`).
+    let past = |t0: F, a: F| matches!(beyond, Some(c) if t0 + a > c);
+    let (o, d) = (ray.o, ray.d);
+    if t_min.is_nan() || t_max.is_nan() || t_max < t_min {
+        return None;
+    }
+    let (ta, tb) = patch
+        .bbox
+        .ray_interval(o, d, (ray.inv, ray.inv_finite), t_min, t_max)?;
+    // Local ray re-based at the middle of the box interval.
+    let t0 = F::from_f64(0.5) * (ta + tb);
+    if past(t0, ta - t0) {
+        return None;
+    }
+    let lray = LocalRay {
+        o: patch.frame.world_to_local(o + d * t0),
+        r: patch.frame.world_dir_to_local(d),
+    };
+    // Slab σmin ≤ σ ≤ σmax.
+    let [s_lo, s_hi] = patch.sigma;
+    let (mut a, mut b) = (ta - t0, tb - t0);
+    if lray.r.z != F::ZERO {
+        let inv = F::ONE / lray.r.z;
+        let u = (s_lo - lray.o.z) * inv;
+        let v = (s_hi - lray.o.z) * inv;
+        a = a.max(u.min(v));
+        b = b.min(u.max(v));
+    } else if lray.o.z < s_lo || lray.o.z > s_hi {
+        return None;
+    }
+    if !(a <= b) {
+        return None;
+    }
+    let edge = longest_edge(&patch.shape);
+    let scale = scale_of(patch, edge);
+    let margins = wall_margins(patch, edge, scale);
+    let [m0, m1, m2] = margins;
+    let reach = m0.max(m1).max(m2);
+    // The band, first over the slab's interval (a ray that misses it there misses it on the
+    // shell's interval inside, and the wall quadratics are not solved), then over the shell's:
+    // no surface point on [a, b], nothing to sample.
+    let band = BandRay::new(&patch.band, &patch.shape, lray.o, lray.r, reach);
+    if band.misses(a, b) {
+        return None;
+    }
+    let (a, b) = shell_interval(&patch.shape, &lray, a, b, margins)?;
+    if past(t0, a) {
+        return None;
+    }
+    if band.misses(a, b) {
+        return None;
+    }
+    Some(Clipped {
+        t0,
+        lray,
+        a,
+        b,
+        scale,
+    })
+}
+
+/// The wall margin [`WALL_MARGIN_ULPS`]` · ε · scale` as a barycentric offset: the walls
+/// `Xi = 0` move to `Xi = −margin`, i.e. the margin's world width over the triangle's smallest
+/// altitude (`2·area / longest edge`, `edge` the longest edge). 0 where that is not finite.
+#[inline(always)]
+fn wall_margin<F: Float>(shape: &Shape<F>, edge: F, scale: F) -> F {
+    let [_, p1, p2] = shape.p;
+    let m = F::from_f64(WALL_MARGIN_ULPS) * F::EPSILON * scale * edge / (p1.x * p2.y);
+    if m.is_fin() { m } else { F::ZERO }
+}
+
+/// The three walls' barycentric offsets: [`wall_margin`] plus the patch's crack reach
+/// ([`close_cracks`](crate::mesh::cracks::close_cracks); 0 unless measured).
+#[inline(always)]
+fn wall_margins<F: Float>(patch: &Patch<F>, edge: F, scale: F) -> [F; 3] {
+    let m = wall_margin(&patch.shape, edge, scale);
+    patch.reach.map(|r| r + m)
+}
+
+/// A local ray `o + τ·r` against a patch's band widened for the walls' largest barycentric
+/// reach: what [`BandRay::misses`] needs of the ray, computed once for the kernel's two tests
+/// (over the slab's interval, then over the shell's).
+pub(crate) struct BandRay<F> {
+    /// The band's coefficients.
+    c: [F; 3],
+    /// The band's bounds widened for the reach.
+    lo: F,
+    hi: F,
+    /// The ray's origin and direction heights.
+    oz: F,
+    rz: F,
+    /// Barycentrics of the origin and their change along `r`.
+    bo: [F; 3],
+    br: [F; 3],
+    /// Leading coefficient of `h`: `−q(β′)`.
+    h2: F,
+}
+
+impl<F: Float> BandRay<F> {
+    /// The ray `o + τ·r` against `band` of `shape`, widened for the barycentric `reach`.
+    /// The ray terms for the local ray `o + τ·r` and a wall reach `reach`.
+    #[inline(always)]
+    fn new(band: &Band<F>, shape: &Shape<F>, o: V3<F>, r: V3<F>, reach: F) -> Self {
+        let widen = band.per_reach * reach;
+        let br = band::bary_xy(shape, r.x, r.y, true);
+        BandRay {
+            c: band.c,
+            lo: band.lo - widen,
+            hi: band.hi + widen,
+            oz: o.z,
+            rz: r.z,
+            bo: band::bary_xy(shape, o.x, o.y, false),
+            br,
+            h2: -band::q(band.c, br),
+        }
+    }
+
+    /// Whether the ray misses the band for `τ` in `[a, b]`: `h(τ) = z − q(β)` stays above `hi`
+    /// or below `lo` on the whole interval (so no surface point lies on it). `false` where
+    /// anything is not finite.
+    ///
+    /// `h` is a quadratic: between its end values it deviates from their chord by
+    /// `h2·(τ − a)(τ − b)`, at most `|h2|·w²/4` in the direction of `−h2`'s sign.
+    /// Whether no point of `[a, b]` lies in the band: the range of the quadratic `h` there
+    /// (its ends and its bow) outside `[lo, hi]`.
+    #[inline(always)]
+    fn misses(&self, a: F, b: F) -> bool {
+        let at = |t: F| {
+            let [o0, o1, o2] = self.bo;
+            let [r0, r1, r2] = self.br;
+            self.oz + self.rz * t - band::q(self.c, [o0 + r0 * t, o1 + r1 * t, o2 + r2 * t])
+        };
+        let (ha, hb) = (at(a), at(b));
+        let w = b - a;
+        let bow = self.h2 * w * w * F::from_f64(0.25);
+        let hmin = ha.min(hb) - bow.max(F::ZERO);
+        let hmax = ha.max(hb) - bow.min(F::ZERO);
+        hmin.is_fin() && hmax.is_fin() && (hmin > self.hi || hmax < self.lo)
+    }
+}
+
 /// Real roots of `c0 + c1·x + c2·x²` (numerically careful; up to two, NaN-free; `None` slots).
 #[inline(always)]
-pub(crate) fn quadratic_roots<F: Float>(c: [F; 3]) -> [Option<F>; 2] {
+fn quadratic_roots<F: Float>(c: [F; 3]) -> [Option<F>; 2] {
     let [c0, c1, c2] = c;
     let scale = c1.abs().max(c0.abs());
     if c2.abs() <= F::EPSILON * F::from_f64(1e-3) * scale || c2 == F::ZERO {
@@ -53,27 +268,6 @@ pub(crate) fn quadratic_roots<F: Float>(c: [F; 3]) -> [Option<F>; 2] {
     let r2 = if q != F::ZERO { c0 / q } else { r1 };
     let ok = |x: F| if x.is_fin() { Some(x) } else { None };
     [ok(r1), ok(r2)]
-}
-
-/// The three barycentric numerators of the local point `x` in its cross-section `A(λ)`
-/// (`λ` from `sec`, [`Section::param`]; `x.z` for parallel sections) and their sum (twice the
-/// cross-section's projected area).
-#[inline(always)]
-pub(crate) fn bary_numerators<F: Float>(
-    shape: &Shape<F>,
-    sec: &Section<F>,
-    x: V3<F>,
-) -> ([F; 3], F) {
-    let [p0, p1, p2] = shape.p;
-    let [d0, d1, d2] = shape.d;
-    let s = sec.param(x);
-    let a0 = p0 + d0 * s - x;
-    let a1 = p1 + d1 * s - x;
-    let a2 = p2 + d2 * s - x;
-    let c = |u: V3<F>, v: V3<F>| u.x * v.y - u.y * v.x;
-    let n = [c(a1, a2), c(a2, a0), c(a0, a1)];
-    let [n0, n1, n2] = n;
-    (n, n0 + n1 + n2)
 }
 
 /// Coefficients (in `τ`) of the three wall quadratics `num_k(τ) + margin_k · Σ_j num_j(τ)`
@@ -163,11 +357,11 @@ const MAX_BREAKS: usize = 8;
 
 /// The parameter interval `[τa, τb]` of the local ray inside the shell: the hull of the
 /// sub-intervals of `[τ_lo, τ_hi]` (already clipped to the slab) where all three walls, wall
-/// `k` moved outward by the barycentric `margin[k]` (`crate::kernel::wall_margins`), are
+/// `k` moved outward by the barycentric `margin[k]` ([`wall_margins`]), are
 /// satisfied.
 /// Fixed work: at most 8 breakpoints, at most 21 compare-and-swaps, 7 midpoint tests.
 #[inline(always)]
-pub(crate) fn shell_interval<F: Float>(
+fn shell_interval<F: Float>(
     shape: &Shape<F>,
     ray: &LocalRay<F>,
     tau_lo: F,
@@ -205,7 +399,7 @@ fn tilted_shell_interval<F: Float>(
     let sec = Section::new(shape);
     let roots = ruled_wall_crossings(shape, ray, margin);
     interval_of(roots, tau_lo, tau_hi, |tau| {
-        let (n, area) = bary_numerators(shape, &sec, ray.at(tau));
+        let (n, area) = sec.bary_numerators(shape, ray.at(tau));
         n.iter()
             .zip(margin)
             .all(|(&nk, m)| nk + m * area >= F::ZERO)

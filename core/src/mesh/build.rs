@@ -10,7 +10,6 @@ use super::topology::{MeshError, SharedEdge, edge_pair, pair_shared_edges};
 use super::vertex_normals::{VertexClamp, VertexClampReport, clamp_vertex_normals};
 use crate::bvh::{Bvh, BvhError, BvhNode};
 use crate::error::PatchError;
-use crate::kernel;
 use crate::num::real::Float;
 use crate::patch::Patch;
 use crate::ray::{Hit, Ray};
@@ -903,12 +902,12 @@ impl<'a, F: Float> Scene<'a, F> {
         // four lanes, bit for bit what `Bvh::closest_hit` and `Scene::scene_hit` give.
         let (mut hit, shading_normal) = match self.seams.get(id as usize) {
             Some(seam) if !seam.is_zero() => {
-                let (normal, shading) = seam.hit_normals(patch, c.bary);
-                let hit = kernel::finish_with(patch, ray, &c, normal)?;
+                let (normal, shading) = seam.hit_normals(patch, &c.prepared, c.bary);
+                let hit = c.hit_with_normal(patch, ray, normal)?;
                 (hit, F::to_glam(shading))
             }
             _ => {
-                let hit = kernel::finish(patch, ray, &c)?;
+                let hit = c.hit(patch, ray)?;
                 (hit, hit.normal)
             }
         };

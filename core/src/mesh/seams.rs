@@ -492,19 +492,25 @@ impl<F: Float> Seam<F> {
         }
     }
 
-    /// Both normals of a hit on `patch` at the kernel's barycentrics `bary` (a crossing's):
-    /// the geometric normal in the local frame, bit for bit the kernel's (`kernel::finish`),
+    /// Both normals of a hit on `patch` at the kernel's barycentrics `bary` (a crossing's,
+    /// with the patch's `prepared` height evaluation that the crossing carries): the
+    /// geometric normal in the local frame, bit for bit the kernel's (the crossing's hit),
     /// and the shading normal in world coordinates, bit for bit [`Seam::correct`] given the
     /// hit's normal. One height evaluation over four lanes of jets serves both (lane four is
     /// the hit's point), where `Bvh::closest_hit` then `correct` take two: a one-point
     /// evaluation for the hit's normal, then one over four lanes for the edge points.
     #[inline(always)]
-    pub(crate) fn hit_normals(&self, patch: &Patch<F>, bary: [F; 3]) -> (V3<F>, V3<F>) {
+    pub(crate) fn hit_normals(
+        &self,
+        patch: &Patch<F>,
+        prepared: &Prepared<F>,
+        bary: [F; 3],
+    ) -> (V3<F>, V3<F>) {
         let shape = &patch.shape;
         let [_, w1, w2] = bary;
         // `correct` takes the hit's projected (w1, w2).
         let x = project_bary(w1, w2);
-        let (own, ng_local) = own_normals(shape, &Prepared::new(shape), x, bary);
+        let (own, ng_local) = own_normals(shape, prepared, x, bary);
         let world = patch.frame.local_dir_to_world(ng_local);
         // As `correct` receives it: the hit's world normal, back in the local frame.
         let shading = match patch.frame.world_dir_to_local(world).try_normalize() {

@@ -5,7 +5,7 @@
 //! type through [`Float::L8`]: `f32` uses [`wide::f32x8`] and `f64` [`wide::f64x8`] (from the
 //! `wide` crate with default features off: no_std; AVX/AVX2 when the target enables them, two
 //! SSE2 or NEON halves otherwise, a scalar fallback elsewhere), and other scalars (`FastF32`) the
-//! portable [`Lanes8`] array. The kernel's arithmetic is written once, over [`Lane`], with
+//! portable `Lanes8` array (`num/fast.rs`). The kernel's arithmetic is written once, over [`Lane`], with
 //! selects instead of branches, so one call costs about as much as one scalar evaluation on
 //! AVX2 (docs/METHOD.md §8).
 //!

@@ -7,7 +7,7 @@
 //! least-squares fit of the shell's [`SAMPLES`] surface points. Along a ray `β` is affine in the
 //! ray parameter, so `h(τ) = z(τ) − q(β(τ))` is a quadratic: if its range over the clipped
 //! interval lies outside `[lo, hi]`, no surface point lies on that part of the ray and the
-//! kernel returns without sampling `f` ([`BandRay::misses`]). The shell's slab bounds `z` alone; the band
+//! kernel returns without sampling `f` (`kernel/clip.rs`). The shell's slab bounds `z` alone; the band
 //! follows the surface's curvature, so on the test meshes it is 2–5 times thinner and, more
 //! to the point, it is thin near the edges, where most rays that enter a neighbour's shell pass
 //! above its surface.
@@ -50,7 +50,7 @@ pub const BAND_MIN_NORMAL_COS: f64 = core::f64::consts::FRAC_1_SQRT_2;
 /// Barycentrics `β` of the local point `(x, y)` in the triangle (`P0 = 0`, `P1 = (p1x, 0)`,
 /// `P2 = (p2x, p2y)`), with the affine map's linear part applied to a direction as `lin`.
 #[inline(always)]
-fn bary_xy<F: Float>(shape: &Shape<F>, x: F, y: F, lin: bool) -> [F; 3] {
+pub(crate) fn bary_xy<F: Float>(shape: &Shape<F>, x: F, y: F, lin: bool) -> [F; 3] {
     let [_, p1, p2] = shape.p;
     let b2 = y / p2.y;
     let b1 = (x - p2.x * b2) / p1.x;
@@ -60,7 +60,7 @@ fn bary_xy<F: Float>(shape: &Shape<F>, x: F, y: F, lin: bool) -> [F; 3] {
 
 /// `q(β)` of the coefficients `c`.
 #[inline(always)]
-fn q<F: Float>(c: [F; 3], [b0, b1, b2]: [F; 3]) -> F {
+pub(crate) fn q<F: Float>(c: [F; 3], [b0, b1, b2]: [F; 3]) -> F {
     let [c0, c1, c2] = c;
     c0 * (b1 * b2) + c1 * (b2 * b0) + c2 * (b0 * b1)
 }
@@ -184,65 +184,6 @@ pub(crate) fn fit<F: Float>(
 #[inline(always)]
 fn dq_dir<F: Float>([d0, d1, d2]: [F; 3], [e0, e1, e2]: [F; 3]) -> F {
     d0 * e0 + d1 * e1 + d2 * e2
-}
-
-/// A local ray `o + τ·r` against a patch's band widened for the walls' largest barycentric
-/// reach: what [`BandRay::misses`] needs of the ray, computed once for the kernel's two tests
-/// (over the slab's interval, then over the shell's).
-pub(crate) struct BandRay<F> {
-    /// The band's coefficients.
-    c: [F; 3],
-    /// The band's bounds widened for the reach.
-    lo: F,
-    hi: F,
-    /// The ray's origin and direction heights.
-    oz: F,
-    rz: F,
-    /// Barycentrics of the origin and their change along `r`.
-    bo: [F; 3],
-    br: [F; 3],
-    /// Leading coefficient of `h`: `−q(β′)`.
-    h2: F,
-}
-
-impl<F: Float> BandRay<F> {
-    /// The ray `o + τ·r` against `band` of `shape`, widened for the barycentric `reach`.
-    #[inline(always)]
-    pub(crate) fn new(band: &Band<F>, shape: &Shape<F>, o: V3<F>, r: V3<F>, reach: F) -> Self {
-        let widen = band.per_reach * reach;
-        let br = bary_xy(shape, r.x, r.y, true);
-        BandRay {
-            c: band.c,
-            lo: band.lo - widen,
-            hi: band.hi + widen,
-            oz: o.z,
-            rz: r.z,
-            bo: bary_xy(shape, o.x, o.y, false),
-            br,
-            h2: -q(band.c, br),
-        }
-    }
-
-    /// Whether the ray misses the band for `τ` in `[a, b]`: `h(τ) = z − q(β)` stays above `hi`
-    /// or below `lo` on the whole interval (so no surface point lies on it). `false` where
-    /// anything is not finite.
-    ///
-    /// `h` is a quadratic: between its end values it deviates from their chord by
-    /// `h2·(τ − a)(τ − b)`, at most `|h2|·w²/4` in the direction of `−h2`'s sign.
-    #[inline(always)]
-    pub(crate) fn misses(&self, a: F, b: F) -> bool {
-        let at = |t: F| {
-            let [o0, o1, o2] = self.bo;
-            let [r0, r1, r2] = self.br;
-            self.oz + self.rz * t - q(self.c, [o0 + r0 * t, o1 + r1 * t, o2 + r2 * t])
-        };
-        let (ha, hb) = (at(a), at(b));
-        let w = b - a;
-        let bow = self.h2 * w * w * F::from_f64(0.25);
-        let hmin = ha.min(hb) - bow.max(F::ZERO);
-        let hmax = ha.max(hb) - bow.min(F::ZERO);
-        hmin.is_fin() && hmax.is_fin() && (hmin > self.hi || hmax < self.lo)
-    }
 }
 
 #[cfg(test)]

@@ -127,6 +127,22 @@ impl<F: Float> Section<F> {
         }
         l
     }
+    /// The three barycentric numerators of the local point `x` of `shape` (this map's) in its
+    /// cross-section `A(λ)` (`λ` from [`Section::param`]; `x.z` for parallel sections) and
+    /// their sum (twice the cross-section's projected area).
+    #[inline(always)]
+    pub(crate) fn bary_numerators(&self, shape: &Shape<F>, x: V3<F>) -> ([F; 3], F) {
+        let [p0, p1, p2] = shape.p;
+        let [d0, d1, d2] = shape.d;
+        let s = self.param(x);
+        let a0 = p0 + d0 * s - x;
+        let a1 = p1 + d1 * s - x;
+        let a2 = p2 + d2 * s - x;
+        let c = |u: V3<F>, v: V3<F>| u.x * v.y - u.y * v.x;
+        let n = [c(a1, a2), c(a2, a0), c(a0, a1)];
+        let [n0, n1, n2] = n;
+        (n, n0 + n1 + n2)
+    }
 }
 
 /// The line direction at barycentrics `x` with unit height: `D(X) = V(X) / Vz(X)`, or `V(X)`

@@ -173,6 +173,12 @@ impl<F: Float> Prepared<F> {
         jets::height_derivatives_x4(shape, self, xs).map(|(_, d)| d)
     }
 
+    /// The map of local points to their cross-sections, as prepared for this patch.
+    #[inline(always)]
+    pub(crate) fn section(&self) -> &Section<F> {
+        &self.section
+    }
+
     /// The evaluations at points of the triangle's edge `edge` (from `Pj` to `Pj+1`, taken
     /// modulo 3), with the two edge curves whose parameter is fixed there evaluated once.
     #[inline(always)]

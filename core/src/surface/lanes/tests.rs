@@ -280,7 +280,7 @@ fn section_param_recovers_the_line() {
             worst_l = worst_l
                 .max((got - l).abs() / size)
                 .max((ll - l).abs() / size);
-            let (n, area) = crate::kernel::clip::bary_numerators(shape, &sec, q);
+            let (n, area) = sec.bary_numerators(shape, q);
             for (nk, xk) in n.into_iter().zip(x) {
                 worst_x = worst_x.max((nk / area - xk).abs());
             }
