@@ -117,7 +117,7 @@ pub const UNIT_LENGTH_ULPS: f64 = 8.0;
 // ---------------------------------------------------------------------------------------------
 // Ray kernel
 
-/// `f64`: the kernel's own height evaluation (`core/src/height.rs`, no dual numbers) against the
+/// `f64`: the kernel's own height evaluation (`core/src/surface/lanes/`, no dual numbers) against the
 /// generic one of [`Patch::height`](crate::Patch::height), relative to the triangle's size.
 /// Measured worst: 9.2e-15 (98 472 random patches, normals up to ~37°, 66 points each; 5.4e-17
 /// on the 393 patches of the unit test). Asserted by the unit test

@@ -31,7 +31,7 @@ override ANY_HIT: u32 = 0u;
 // patches with their seams in `shade_in`); 2 Phong (flat triangles with their vertex normals in
 // `shade_in`).
 override SHADING: u32 = 0u;
-// 1: the scene has patches with tilted sections (the shared line field, core/src/field.rs);
+// 1: the scene has patches with tilted sections (the shared line field, core/src/surface/field.rs);
 // 0: every section is parallel, and the pipeline compiles without the tilted branches (they
 // cost the parallel path about a fifth of its rate when present).
 override TILTED: u32 = 1u;
@@ -60,7 +60,7 @@ const ROUNDING_ULPS: f32 = 16.0;
 // Side walls moved outward by this many ulps of L (the CPU's `kernel::WALL_MARGIN_ULPS`), so
 // that neighbours' domains overlap at shared edges.
 const WALL_MARGIN_ULPS: f32 = 8.0;
-// core/src/field.rs SECTION_NEWTON_STEPS.
+// core/src/surface/field.rs SECTION_NEWTON_STEPS.
 const SECTION_NEWTON_STEPS: u32 = 6u;
 // Coefficients of each tilt of a seam (smoothtri::mesh::TWIST_TERMS) and vec4s per seam record
 // (lib.rs `SEAM_VEC4`).
@@ -162,7 +162,7 @@ fn fin3(v: vec3<f32>) -> bool {
 // Patch records
 
 // One edge j (from A = Pj to B = Pj+1) with the CPU's per-patch precomputation (Prepared /
-// EdgePrep in core/src/height.rs), computed once on the host at upload.
+// PreparedEdge in core/src/surface/lanes/mod.rs), computed once on the host at upload.
 struct Edge {
     a: vec2<f32>,   // A (local z = 0)
     da: vec2<f32>,  // dA (xy; its z is daz)
@@ -205,7 +205,7 @@ struct Patch {
     e1: Edge,
     e2: Edge,
     reach: vec3<f32>, // per wall k (opposite vertex k): core's Patch::reach (close_cracks)
-    dz: vec3<f32>,    // the di.z (all 1 for parallel sections, core/src/field.rs)
+    dz: vec3<f32>,    // the di.z (all 1 for parallel sections, core/src/surface/field.rs)
     tilted: bool,     // some di.z differs from 1: the section of a point is found by Newton
 }
 
@@ -283,7 +283,7 @@ fn box_span(lo: vec3<f32>, hi: vec3<f32>, o: vec3<f32>, d: vec3<f32>, inv: vec3<
 }
 
 // ---------------------------------------------------------------------------------------------
-// The height evaluation f(τ) = z − σS(X) (core/src/height.rs, one point per call)
+// The height evaluation f(τ) = z − σS(X) (core/src/surface/lanes/height.rs, one point per call)
 
 struct Root {
     s: f32,
@@ -385,7 +385,7 @@ fn vertex_term(ep: Edge, pi: vec3<f32>, ni: vec3<f32>, xi: f32, xa: f32, xb: f32
     return 0.5 * xi * r1.s + 0.25 * (1.0 - xi) * r2.s;
 }
 
-// The line parameter λ of the section through the local point x (core/src/field.rs
+// The line parameter λ of the section through the local point x (core/src/surface/field.rs
 // `Section::param`): x.z for parallel sections, else SECTION_NEWTON_STEPS Newton steps on the
 // cubic g(λ) = det[A1 − A0, A2 − A0, x − A0] from x.z / mean(di.z).
 fn section_param(pt: Patch, x: vec3<f32>) -> f32 {
@@ -475,7 +475,7 @@ fn bary(pt: Patch, x: vec3<f32>) -> vec3<f32> {
 
 // The height change of the surface's continuation beyond the triangle's edges, from the
 // projected point q to the raw barycentrics w in the cross-section at height s, along the
-// plane normal to the interpolated vertex normal (core/src/height.rs `beyond_edge`); 0 inside.
+// plane normal to the interpolated vertex normal (core/src/surface/lanes/height.rs `beyond_edge`); 0 inside.
 fn beyond_edge(pt: Patch, w: vec3<f32>, q: vec3<f32>, s: f32) -> f32 {
     let e = w - q;
     let ox = e.y * pt.p1x + e.z * pt.p2x + s * (e.x * pt.d0.x + e.y * pt.d1.x + e.z * pt.d2.x);
@@ -506,7 +506,7 @@ fn height_at(pt: Patch, x: vec3<f32>) -> f32 {
     var dir = vec3<f32>(x.x * pt.d0.x + x.y * pt.d1.x + x.z * pt.d2.x,
         x.x * pt.d0.y + x.y * pt.d1.y + x.z * pt.d2.y, x.x + x.y + x.z);
     if (TILTED != 0u && pt.tilted) {
-        // Unit height (core/src/field.rs `unit_height_dir`).
+        // Unit height (core/src/surface/field.rs `unit_height_dir`).
         let inv = 1.0 / dot(x, pt.dz);
         dir = vec3<f32>(dir.x * inv, dir.y * inv, 1.0);
     }
@@ -627,7 +627,7 @@ fn ruled_crossings(pt: Patch, m3: vec3<f32>, k: u32, o: vec3<f32>, r: vec3<f32>)
 
 // [τa, τb]: the hull of the sub-intervals of [τ_lo, τ_hi] inside all three walls (at most 8
 // breakpoints, a fixed sorting network, 7 midpoint tests).
-// The walls Xk = −margin (core/src/kernel/mod.rs `wall_margin`): the margin's world width
+// The walls Xk = −margin (core/src/kernel/clip.rs `wall_margin`): the margin's world width
 // WALL_MARGIN_ULPS·ε·L over the triangle's smallest altitude 2·area / longest edge; each wall
 // also moves out by its crack reach (`wall_margins`).
 fn wall_margins(pt: Patch) -> vec3<f32> {
@@ -654,7 +654,7 @@ fn band_q(c: vec3<f32>, x: vec3<f32>) -> f32 {
     return c.x * (x.y * x.z) + c.y * (x.z * x.x) + c.z * (x.x * x.y);
 }
 
-// Whether the local ray o + τ·r, τ in [a, b], misses the patch's band (core/src/surface/band.rs
+// Whether the local ray o + τ·r, τ in [a, b], misses the patch's band (core/src/kernel/clip.rs
 // `misses`): h(τ) = z − q(β) stays above hi or below lo, widened by per_reach times the largest
 // wall offset. The band rides in the record's last two vec4s: (c0, c1, c2, lo), (hi, per_reach).
 fn band_misses(pt: Patch, base: u32, o: vec3<f32>, r: vec3<f32>, a: f32, b: f32) -> bool {
@@ -1085,7 +1085,7 @@ fn smooth_crossing(id: u32, o: vec3<f32>, d: vec3<f32>, inv: vec3<f32>, t_min: f
 }
 
 // ---------------------------------------------------------------------------------------------
-// The exact surface normal (docs/METHOD.md §5; core/src/surface.rs point_derivs_local and
+// The exact surface normal (docs/METHOD.md §5; core/src/surface/scalar.rs point_derivs_local and
 // normal_local), by forward-mode derivatives written out: a "G" value is vec3(value, ∂/∂w1,
 // ∂/∂w2) with w0 = 1 − w1 − w2; a GV is a vector with its two partials. The edge curve enters
 // through its parameter t(X): c and n* need c(t), c′(t) (for n*) and c″(t) (for n*′), carried

@@ -588,7 +588,7 @@ fn sub(a: [f32; 3], b: [f32; 3]) -> [f32; 3] {
 }
 
 /// The smooth record of one patch: its data and the CPU kernel's per-patch precomputation
-/// (`core/src/height.rs`, `Prepared`), in `f32` with the CPU's arithmetic; layout in
+/// (`core/src/surface/lanes/`, `Prepared`), in `f32` with the CPU's arithmetic; layout in
 /// `kernel.wgsl` (`load_patch`).
 pub fn smooth_record(pd: &PatchData<f32>) -> [f32; PATCH_VEC4 * 4] {
     let [p0, p1, p2] = pd.p;

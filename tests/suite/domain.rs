@@ -33,7 +33,7 @@
 //!   beyond the range as a fraction of the range's width (0 when inside);
 //! - `nonfin`: some grid point non-finite (must be 0);
 //! - with `SMOOTHTRI_DOMAIN_CERTIFY` set (slow: tens to hundreds of milliseconds per patch),
-//!   the certificate of `Patch::roots_certified` (`core/src/certify.rs`): `refused` (counts, not
+//!   the certificate of `Patch::roots_certified` (`core/src/surface/certify.rs`): `refused` (counts, not
 //!   rates), of those `false alarm` (neither `fold` nor `jump`), `jump cert` and `fold cert`
 //!   (patches that jump or fold yet were certified: must be 0 for `jump`), and `ms` per patch.
 //!

@@ -393,7 +393,7 @@ fn bvh_closest_hit_equals_brute_force() {
 /// 0.05). Rare: 2 in ≈ 7.8·10^5 cases of `in_domain_surface_stays_in_shell`. Consequence: rays
 /// can miss the surface there (the kernel clips to the shell).
 #[test]
-#[ignore = "KNOWN LIMITATION: an isolated spike (a sphere root switching branch) leaves the shell, normals ≤ 50°; documented in core/src/shell.rs"]
+#[ignore = "KNOWN LIMITATION: an isolated spike (a sphere root switching branch) leaves the shell, normals ≤ 50°; documented in core/src/surface/shell.rs"]
 fn surface_stays_in_shell_at_isolated_spikes() {
     // (seed, θ, barycentrics) of the two failures of the long runs (size 1).
     let cases = [

@@ -96,7 +96,8 @@ fn stress_meshes_render_complete() {
         // Rays aimed at triangle interiors (10% away from edges) must not fall through.
         assert!(m * 200 <= n, "{m} of {n} rays fell through");
     }
-    // The counts the README states (section "Cracks"): a change shows here.
+    // The counts docs/MEASUREMENTS.md states ("Reliability and the method's limits"): a
+    // change shows here.
     assert_eq!(
         [(m1, n1), (m2, n2), (m3, n3), (m4, n4)],
         [(5, 4000), (0, 4000), (1, 4000), (0, 4000)],

@@ -188,8 +188,8 @@ fn complete<F: Float>(
     // f is only known to about `16 ε L`, which moves the root by that over the slope |f'|. The
     // slope is the smaller of the sampling bracket's and the final bracket's secants: near
     // convergence the final bracket's end values are themselves rounding noise and its secant
-    // can be far too steep (which made f32 hits at N ≥ 8 fall outside `t_error` on 0.85 % of
-    // the torus's camera rays).
+    // can be far too steep (with it alone, f32 hits at N ≥ 8 fell outside `t_error` on some
+    // of the torus's camera rays: docs/MEASUREMENTS.md).
     let slope = if fin.b > fin.a {
         secant(fin).min(secant(bracket))
     } else {

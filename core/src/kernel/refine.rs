@@ -1,7 +1,7 @@
 //! Bracketing and refinement with eight evaluations per step (docs/METHOD.md §8 steps 2–3).
 //!
 //! Both take `f` as a function of eight parameters at once (one call of the lane height
-//! evaluation, `core/src/height.rs`), so a step costs about one scalar evaluation on
+//! evaluation, `core/src/surface/lanes/`), so a step costs about one scalar evaluation on
 //! AVX2.
 //!
 //! **Bracketing** samples `f` at `a`, `K` evenly spaced interior points and `b`, eight per call

@@ -881,9 +881,9 @@ impl<'a, F: Float> Scene<'a, F> {
     /// refinement steps (eight height evaluations each; `N = 0` brackets only), or `None`.
     ///
     /// With seams, the hit's normal and the seamless shading normal come from one height
-    /// evaluation over four lanes of jets (the point and the three edge points): about 2 600
-    /// instructions per hit fewer than [`Bvh::closest_hit`] then [`Scene::scene_hit`], with the
-    /// same result bit for bit (the repository's builder tests).
+    /// evaluation over four lanes of jets (the point and the three edge points), from the
+    /// patch preparation of the search: less work than [`Bvh::closest_hit`] then
+    /// [`Scene::scene_hit`], with the same result bit for bit (the repository's builder tests).
     ///
     /// # Accuracy
     /// As [`Patch::intersect`]: `t` within the hit's `t_error`; the same hit as a loop over

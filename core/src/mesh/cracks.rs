@@ -45,7 +45,6 @@ pub use crate::kernel::MAX_CRACK_REACH;
 /// `t_s = (1 − cos((2s + 1)π / 32)) / 2`, 8 of which the seam fit samples too
 /// ([`FIT_SAMPLES`](crate::mesh::seams::FIT_SAMPLES)), so that the builder evaluates each
 /// neighbour's surface there once for both; two surface evaluations each.
-/// (Until 2026-12 33 evenly spaced points; the watertight tests pass with either.)
 pub const CRACK_SAMPLES: usize = EDGE_SAMPLES;
 
 /// What [`close_cracks`] measured.

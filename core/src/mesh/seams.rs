@@ -425,9 +425,9 @@ impl<F: Float> Seam<F> {
     /// vertex normal at the vertices, and on a fitted edge the common edge normal, the same from
     /// both sides to rounding. Work: the geometric normal and this patch's exact normal at the
     /// three edge points `t_j`, in one height evaluation over jets of four lanes (bit for bit
-    /// four of the kernel's hit-normal evaluations) and one precomputation: about 10 600
-    /// instructions in `f32` with SSE2 (32 500 with one evaluation per point), against 13 200
-    /// for [`Patch::point_normal`]; the repository's callgrind benchmark.
+    /// four of the kernel's hit-normal evaluations) and one precomputation, less than
+    /// [`Patch::point_normal`] (the repository's instruction-count benchmark,
+    /// `seam_shading_teapot4_f32`).
     ///
     /// # Accuracy
     /// Jump across every fitted edge within [`SEAM_JUMP_DEG`](crate::accuracy::SEAM_JUMP_DEG),
@@ -466,8 +466,8 @@ impl<F: Float> Seam<F> {
     ///
     /// Returns `normal` itself for a zero seam, where the correction vanishes, or where `normal`
     /// is not a finite non-zero vector. Work: the three edge points' exact normals (one
-    /// height evaluation over jets of four lanes and one precomputation: about 10 500
-    /// instructions in `f32` with SSE2, 24 500 with one evaluation per point).
+    /// height evaluation over jets of four lanes and one precomputation; the repository's
+    /// instruction-count benchmark, `seam_correct_teapot4_f32`).
     ///
     /// # Accuracy
     /// As [`Seam::shading_normal`] (the frame change of `normal` rounds once more).

@@ -198,8 +198,8 @@ impl<L: LaneOps> MaxOf for L {
 
 /// `f(τ) = z − σS(X)` at the local points `o + τ·r` of eight parameters `tau` (one ray: `o`
 /// and `r` splatted), with the projected barycentrics `X`.
-// Not inlined: one lane call is ~2 000 instructions, so the call costs nothing, and a single
-// copy per lane type keeps builds (and the freestanding link proof's LTO) fast.
+// Not inlined: one lane call is long beside the cost of a call, and a single copy per lane
+// type keeps builds (and the freestanding link proof's LTO) fast.
 #[inline(never)]
 pub(super) fn f_lanes<L: LaneOps>(pr: &Prepared<L::F>, o: [L; 3], r: [L; 3], tau: L) -> L {
     let [ox, oy, oz] = o;
@@ -240,8 +240,7 @@ impl<L: LaneOps> EdgeCurves<L> for Curves {
 /// depends on the point only through its edge parameter `t`, so it is evaluated over jets by
 /// `t` alone ([`Tangent`]) and its partials taken by the chain rule ([`chained`]): the values
 /// bit for bit [`Curves`]' (the same operations), the partials the same within rounding; a
-/// product of jets takes four operations instead of seven (the seamless shading normal's four
-/// points: 9 658 → 8 101 instructions, docs/MEASUREMENTS.md "Leaner patch tests").
+/// product of jets takes four operations instead of seven.
 pub(super) struct Chained;
 
 impl<L: LaneOps<Plain = L>> EdgeCurves<Jet<L>> for Chained {
