@@ -23,6 +23,7 @@ use crate::num::real::{Float, Lane4, LaneOps};
 use crate::num::vec::V3;
 use crate::patch::Patch;
 use crate::ray::{Hit, Ray};
+use crate::surface::lanes::Prepared;
 
 /// Children per node: four boxes tested in one four-lane step.
 pub const BVH_WIDTH: usize = 4;
@@ -587,26 +588,44 @@ impl<'a, F: Float> Bvh<'a, F> {
         // Candidates are compared by their crossings; the normal is evaluated once, for the
         // closest (it is finite for every accepted patch, so this equals testing each patch
         // with `Patch::intersect`).
-        let (id, c) = self.closest_crossing::<N>(ray, t_min, t_max)?;
-        let mut h = c.hit(self.patches.get(id as usize)?, ray)?;
+        let mut slots = [None, None];
+        let (id, c, prepared) = self.closest_crossing::<N>(ray, t_min, t_max, &mut slots)?;
+        let mut h = c.hit(self.patches.get(id as usize)?, prepared, ray)?;
         h.patch = id;
         Some(h)
     }
 
     /// The closest crossing of [`Bvh::closest_hit`] before its normal is evaluated: the
-    /// patch's index and where the ray crosses it.
-    pub(crate) fn closest_crossing<const N: usize>(
+    /// patch's index, where the ray crosses it and the patch prepared for the height
+    /// evaluation (in one of the two `slots`: each candidate is prepared into the slot the
+    /// best crossing so far does not hold).
+    pub(crate) fn closest_crossing<'s, const N: usize>(
         &self,
         ray: &Ray<F>,
         t_min: F,
         t_max: F,
-    ) -> Option<(u32, Crossing<F>)> {
+        slots: &'s mut [Option<Prepared<F>>; 2],
+    ) -> Option<(u32, Crossing<F>, &'s Prepared<F>)> {
         let mut stats = KernelStats::default();
         let world = WorldRay::new(ray)?;
-        self.traverse(ray, t_min, t_max, false, &mut |_, p, a, b, beyond| {
-            kernel::crossing::<F, DEFAULT_SAMPLES, N>(p, &world, a, b, beyond, &mut stats)
-        })
-        .ok()?
+        let [s0, s1] = slots;
+        let mut free = 0usize;
+        let (id, c) = self
+            .traverse(ray, t_min, t_max, false, &mut |_, p, a, b, beyond| {
+                let slot = if free == 0 { &mut *s0 } else { &mut *s1 };
+                let c = kernel::crossing::<F, DEFAULT_SAMPLES, N>(
+                    p, &world, a, b, beyond, &mut stats, slot,
+                )?;
+                // The traversal keeps a crossing iff it precedes the best so far (`beyond`):
+                // then its slot holds the best, and the next candidate takes the other.
+                if beyond.is_none_or(|t| c.t < t) {
+                    free ^= 1;
+                }
+                Some(c)
+            })
+            .ok()??;
+        let best = if free == 0 { s1 } else { s0 };
+        Some((id, c, best.as_ref()?))
     }
 
     /// Whether anything is hit in `[t_min, t_max]` (shadow rays): stops at the first hit.
@@ -618,8 +637,17 @@ impl<'a, F: Float> Bvh<'a, F> {
         let Some(world) = WorldRay::new(ray) else {
             return false;
         };
+        let mut scratch = None;
         let first = self.traverse(ray, t_min, t_max, true, &mut |_, p, a, b, _| {
-            kernel::crossing::<F, DEFAULT_SAMPLES, N>(p, &world, a, b, None, &mut stats)
+            kernel::crossing::<F, DEFAULT_SAMPLES, N>(
+                p,
+                &world,
+                a,
+                b,
+                None,
+                &mut stats,
+                &mut scratch,
+            )
         });
         matches!(first, Ok(Some(_)))
     }

@@ -19,6 +19,11 @@
 //! 4. evaluates the exact surface normal once at the estimate, from the crossing's own
 //!    prepared patch ([`Crossing::hit`]).
 //!
+//! A patch is prepared for the height evaluation once per test, into the caller's slot, and a
+//! crossing is completed into a hit with the same prepared patch: the BVH keeps the closest
+//! crossing's prepared patch in one of two slots (the other takes the next candidate's), so no
+//! patch is prepared twice for one hit and no prepared patch is copied.
+//!
 //! `f` is evaluated at eight parameters per call, in the lanes of [`Float::L8`]
 //! ([`crate::num::lanes`]). Work per ray is at most [`max_lane_calls`]`(K, N) = ⌈(K + 2)/8⌉ + N`
 //! lane calls, one four-point call and one normal evaluation ([`max_height_evals`] height
@@ -81,9 +86,10 @@ pub(crate) fn intersect_stats<F: Float, const K: usize, const N: usize>(
     t_max: F,
 ) -> (Option<Hit<F>>, KernelStats) {
     let mut stats = KernelStats::default();
+    let mut prepared = None;
     let hit = WorldRay::new(ray).and_then(|world| {
-        let c = crossing::<F, K, N>(patch, &world, t_min, t_max, None, &mut stats)?;
-        let hit = c.hit(patch, ray);
+        let c = crossing::<F, K, N>(patch, &world, t_min, t_max, None, &mut stats, &mut prepared)?;
+        let hit = prepared.as_ref().and_then(|p| c.hit(patch, p, ray));
         stats.normal_evals += 1;
         let hit = hit?;
         stats.rounding = c.rounding.to_f64();
@@ -94,8 +100,9 @@ pub(crate) fn intersect_stats<F: Float, const K: usize, const N: usize>(
 
 /// Where `ray` crosses `patch` in `[t_min, t_max]` (clip, bracket, refine; no normal yet),
 /// or `None`. At most [`max_lane_calls`]`(K, N)` lane calls and one four-point call
-/// ([`max_height_evals`]). The crossing carries the patch's prepared height evaluation, so
-/// completing it into a hit ([`Crossing::hit`]) does not prepare the patch again.
+/// ([`max_height_evals`]). The patch's height evaluation is prepared into `prepared` (once the
+/// ray reaches its shell; otherwise the slot is left alone), where it stays for completing the
+/// crossing into a hit ([`Crossing::hit`]) without preparing the patch again.
 ///
 /// `beyond`, when given, is a ray parameter at or after which the caller discards crossings
 /// (the closest one found so far, `≤ t_max`): a patch whose shell interval starts after it is
@@ -109,11 +116,12 @@ pub(crate) fn crossing<F: Float, const K: usize, const N: usize>(
     t_max: F,
     beyond: Option<F>,
     stats: &mut KernelStats,
+    prepared: &mut Option<Prepared<F>>,
 ) -> Option<Crossing<F>> {
     let cl = clip(patch, ray, t_min, t_max, beyond)?;
     let (a, b) = (cl.a, cl.b);
     stats.shell_width = (b - a).to_f64();
-    let prep = Prepared::new(&patch.shape);
+    let prep = &*prepared.insert(Prepared::new(&patch.shape));
     let sp = <F::L8 as crate::num::lanes::LaneOps>::splat;
     let (o, r) = (cl.lray.o, cl.lray.r);
     let (o8, r8) = ([sp(o.x), sp(o.y), sp(o.z)], [sp(r.x), sp(r.y), sp(r.z)]);
@@ -134,7 +142,7 @@ pub(crate) fn crossing<F: Float, const K: usize, const N: usize>(
     let stop = floor * F::from_f64(refine::EARLY_STOP);
     let mut f4 = |taus: [F; ESTIMATE_POINTS]| {
         count(ESTIMATE_POINTS);
-        four_points(&prep, o, r, taus)
+        four_points(prep, o, r, taus)
     };
     let (fin, tau) = refine::<F, N>(bracket, start, stop, &mut f, &mut f4);
     stats.height_evals += evals.get();
@@ -170,7 +178,7 @@ fn four_points<F: Float>(
 
 /// The crossing at `tau`, the estimate inside the final bracket `fin` (refined from the
 /// sampling bracket `bracket`), of the clipped ray `cl`: `t`, `t_error` with its rounding
-/// allowance, barycentrics, and the patch's `prepared` height evaluation for its normal.
+/// allowance, barycentrics (in the section map of `prepared`, the patch's).
 #[inline(always)]
 fn complete<F: Float>(
     shape: &Shape<F>,
@@ -179,9 +187,9 @@ fn complete<F: Float>(
     fin: &refine::Bracket<F>,
     tau: F,
     [t_min, t_max]: [F; 2],
-    prepared: Prepared<F>,
+    prepared: &Prepared<F>,
 ) -> Option<Crossing<F>> {
-    let bary = bary_at(shape, &prepared, cl.lray.at(tau));
+    let bary = bary_at(shape, prepared, cl.lray.at(tau));
     // Re-basing can round the hit an ulp outside the caller's range: clamp it.
     let t = (cl.t0 + tau).max(t_min).min(t_max);
     // Rounding allowance ([`ROUNDING_ULPS`] ε L / |f′|, L from [`EXTENT_EDGES`]): the sign of
@@ -210,7 +218,6 @@ fn complete<F: Float>(
             t_error,
             rounding,
             bary,
-            prepared,
         })
     } else {
         None
@@ -220,7 +227,7 @@ fn complete<F: Float>(
 /// Where a ray crosses a patch, before the normal is evaluated (the BVH keeps the closest
 /// crossing and evaluates one normal per ray).
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct Crossing<F: Float> {
+pub(crate) struct Crossing<F> {
     /// Ray parameter (world units of the ray's `dir`), clamped to the query range.
     pub t: F,
     /// As [`Hit::t_error`].
@@ -229,19 +236,22 @@ pub(crate) struct Crossing<F: Float> {
     pub rounding: F,
     /// Barycentrics of the crossing (projected onto the triangle).
     pub bary: [F; 3],
-    /// The patch's height evaluation, prepared once for the search and kept for the normal.
-    pub prepared: Prepared<F>,
 }
 
 impl<F: Float> Crossing<F> {
-    /// The crossing of `patch` (the patch it was found on) completed into a [`Hit`]: the exact
-    /// surface normal (one height evaluation over value-and-two-derivatives jets,
-    /// [`Prepared::derivatives`]) and the world hit point. `None` if the normal is not finite
-    /// (never for an accepted patch).
+    /// The crossing of `patch` (the patch it was found on, `prepared` for it by [`crossing`])
+    /// completed into a [`Hit`]: the exact surface normal (one height evaluation over
+    /// value-and-two-derivatives jets, [`Prepared::derivatives`]) and the world hit point.
+    /// `None` if the normal is not finite (never for an accepted patch).
     #[inline(always)]
-    pub(crate) fn hit(&self, patch: &Patch<F>, ray: &Ray<F>) -> Option<Hit<F>> {
+    pub(crate) fn hit(
+        &self,
+        patch: &Patch<F>,
+        prepared: &Prepared<F>,
+        ray: &Ray<F>,
+    ) -> Option<Hit<F>> {
         let shape = &patch.shape;
-        let [du1, du2] = self.prepared.derivatives(shape, self.bary);
+        let [du1, du2] = prepared.derivatives(shape, self.bary);
         self.hit_with_normal(patch, ray, normal_local(shape, self.bary, du1, du2))
     }
 

@@ -896,18 +896,21 @@ impl<'a, F: Float> Scene<'a, F> {
         t_min: F,
         t_max: F,
     ) -> Option<SceneHit<F>> {
-        let (id, c) = self.bvh.closest_crossing::<N>(ray, t_min, t_max)?;
+        let mut slots = [None, None];
+        let (id, c, prepared) = self
+            .bvh
+            .closest_crossing::<N>(ray, t_min, t_max, &mut slots)?;
         let patch = self.bvh.patches().get(id as usize)?;
         // With a seam, the hit's normal and the shading normal come from one evaluation over
         // four lanes, bit for bit what `Bvh::closest_hit` and `Scene::scene_hit` give.
         let (mut hit, shading_normal) = match self.seams.get(id as usize) {
             Some(seam) if !seam.is_zero() => {
-                let (normal, shading) = seam.hit_normals(patch, &c.prepared, c.bary);
+                let (normal, shading) = seam.hit_normals(patch, prepared, c.bary);
                 let hit = c.hit_with_normal(patch, ray, normal)?;
                 (hit, F::to_glam(shading))
             }
             _ => {
-                let hit = c.hit(patch, ray)?;
+                let hit = c.hit(patch, prepared, ray)?;
                 (hit, hit.normal)
             }
         };
