@@ -86,16 +86,26 @@ pub(crate) fn intersect_stats<F: Float, const K: usize, const N: usize>(
     t_max: F,
 ) -> (Option<Hit<F>>, KernelStats) {
     let mut stats = KernelStats::default();
-    let mut prepared = None;
-    let hit = WorldRay::new(ray).and_then(|world| {
-        let c = crossing::<F, K, N>(patch, &world, t_min, t_max, None, &mut stats, &mut prepared)?;
-        let hit = prepared.as_ref().and_then(|p| c.hit(patch, p, ray));
-        stats.normal_evals += 1;
-        let hit = hit?;
-        stats.rounding = c.rounding.to_f64();
-        Some(hit)
-    });
+    let hit = intersect_impl::<F, K, N>(patch, ray, t_min, t_max, &mut stats);
     (hit, stats)
+}
+
+#[inline(always)]
+fn intersect_impl<F: Float, const K: usize, const N: usize>(
+    patch: &Patch<F>,
+    ray: &Ray<F>,
+    t_min: F,
+    t_max: F,
+    stats: &mut KernelStats,
+) -> Option<Hit<F>> {
+    let world = WorldRay::new(ray)?;
+    let mut prepared = None;
+    let c = crossing::<F, K, N>(patch, &world, t_min, t_max, None, stats, &mut prepared)?;
+    let hit = c.hit(patch, prepared.as_ref()?, ray);
+    stats.normal_evals += 1;
+    let hit = hit?;
+    stats.rounding = c.rounding.to_f64();
+    Some(hit)
 }
 
 /// Where `ray` crosses `patch` in `[t_min, t_max]` (clip, bracket, refine; no normal yet),
