@@ -1,6 +1,12 @@
 //! A four-wide bounding volume hierarchy over patches, usable without `std` or `alloc`.
 //!
-//! Built by [`Bvh::build`] into caller-provided storage: binned surface area heuristic (12
+//! The tree itself, [`BoxBvh`], knows only boxes: it is built over any slice of
+//! [`Aabb`]s and traversed with a caller's leaf test ([`BoxBvh::closest_with`],
+//! [`BoxBvh::any_with`]), so other primitives (flat triangles, other curved patches) are traced
+//! with the same builder and traversal. [`Bvh`] is that tree over the patches' boxes with the
+//! smooth kernel in its leaves.
+//!
+//! Built by [`Bvh::build`] (or [`BoxBvh::build`]) into caller-provided storage: binned surface area heuristic (12
 //! bins) splits, at most [`MAX_LEAF`] patches per leaf, each node collecting up to
 //! [`BVH_WIDTH`] children by splitting its largest child until it has four (as Embree's and
 //! tinybvh's wide builders do), split depth at most [`MAX_DEPTH`]. A node stores its children's
@@ -200,12 +206,52 @@ impl<F: Float> Default for BvhNode<F> {
     }
 }
 
-/// A BVH over a slice of patches, borrowing its storage.
+/// A BVH over a slice of patches, borrowing its storage: a [`BoxBvh`] over the patches'
+/// boxes ([`Patch::bbox`]) with the smooth kernel in its leaves.
 #[derive(Clone, Copy, Debug)]
 pub struct Bvh<'a, F: Float> {
     patches: &'a [Patch<F>],
+    tree: BoxBvh<'a, F>,
+}
+
+/// A four-wide BVH over a slice of boxes, borrowing its storage (the nodes and the order of
+/// the box indices; the boxes themselves are not kept: the nodes hold them). What a leaf holds
+/// is the caller's: [`BoxBvh::closest_with`] and [`BoxBvh::any_with`] call the caller's test
+/// with the index of each box the ray reaches, as Embree's user geometries do.
+#[derive(Clone, Copy, Debug)]
+pub struct BoxBvh<'a, F: Float> {
     nodes: &'a [BvhNode<F>],
     order: &'a [u32],
+}
+
+/// Where the builder reads the box of index `i` (an index taken from `order`, which the
+/// builder fills with `0..n` and only permutes: out of range would be a builder bug, reported
+/// as [`BvhError::Internal`]).
+trait Boxes<F: Float> {
+    fn count(&self) -> usize;
+    fn box_of(&self, i: u32) -> Result<Aabb<F>, BvhError>;
+}
+
+impl<F: Float> Boxes<F> for [Patch<F>] {
+    fn count(&self) -> usize {
+        self.len()
+    }
+    #[inline(always)]
+    fn box_of(&self, i: u32) -> Result<Aabb<F>, BvhError> {
+        self.get(i as usize)
+            .map(|p| p.bbox)
+            .ok_or(BvhError::Internal)
+    }
+}
+
+impl<F: Float> Boxes<F> for [Aabb<F>] {
+    fn count(&self) -> usize {
+        self.len()
+    }
+    #[inline(always)]
+    fn box_of(&self, i: u32) -> Result<Aabb<F>, BvhError> {
+        self.get(i as usize).copied().ok_or(BvhError::Internal)
+    }
 }
 
 /// A range of `order` the builder has examined: its boxes, and where it splits (already
@@ -245,20 +291,10 @@ fn axis<F: Float>(v: V3<F>, k: usize) -> F {
     }
 }
 
-/// The box of patch `i` (an index taken from `order`, which the builder fills with `0..n` and
-/// only permutes: out of range would be a builder bug, reported as [`BvhError::Internal`]).
-#[inline(always)]
-fn patch_box<F: Float>(patches: &[Patch<F>], i: u32) -> Result<Aabb<F>, BvhError> {
-    patches
-        .get(i as usize)
-        .map(|p| p.bbox)
-        .ok_or(BvhError::Internal)
-}
-
 /// Bounds `order[start..end]` and decides its split (partitioning it in place): SAH, or the
 /// midpoint for ranges too large for a leaf; none for single patches and at the depth limit.
-fn examine<F: Float>(
-    patches: &[Patch<F>],
+fn examine<F: Float, B: Boxes<F> + ?Sized>(
+    patches: &B,
     order: &mut [u32],
     start: usize,
     end: usize,
@@ -269,7 +305,7 @@ fn examine<F: Float>(
     let mut bounds = Aabb::EMPTY;
     let mut centroids = Aabb::EMPTY;
     for &i in range.iter() {
-        let b = patch_box(patches, i)?;
+        let b = patches.box_of(i)?;
         bounds = bounds.union(&b);
         centroids = centroids.grow(b.center());
     }
@@ -398,10 +434,106 @@ impl<F: Float> SlabRay<F> {
     }
 }
 
-impl<'a, F: Float> Bvh<'a, F> {
-    /// Number of nodes [`Bvh::build`] may need for `n` patches: `n − 1` for `n ≥ 2` (every
+/// Builds the tree over the boxes of `boxes` into `nodes` and `order` (the body of
+/// [`BoxBvh::build`] and [`Bvh::build`]).
+fn build_tree<'a, F: Float, B: Boxes<F> + ?Sized>(
+    patches: &B,
+    nodes: &'a mut [BvhNode<F>],
+    order: &'a mut [u32],
+) -> Result<BoxBvh<'a, F>, BvhError> {
+    let n = patches.count();
+    if n == 0 {
+        return Err(BvhError::EmptyScene);
+    }
+    if n > u32::MAX as usize / 2 {
+        return Err(BvhError::TooManyPatches);
+    }
+    let need = BoxBvh::<F>::nodes_needed(n);
+    if nodes.len() < need || order.len() < n {
+        return Err(BvhError::StorageTooSmall {
+            nodes: need,
+            indices: n,
+        });
+    }
+    for (i, o) in order.iter_mut().enumerate().take(n) {
+        *o = i as u32;
+    }
+    let root = examine(patches, order, 0, n, 0)?;
+    let mut used = 1usize;
+    // Depth first; each node leaves at most three pending siblings per level. A root that
+    // does not split becomes one leaf, like any range that does not.
+    let mut stack: HVec<Task<F>, { BVH_STACK + BVH_WIDTH }> = HVec::new();
+    stack
+        .push(Task {
+            node: 0,
+            range: root,
+        })
+        .map_err(|_| BvhError::Internal)?;
+    while let Some(Task { node, range }) = stack.pop() {
+        // The node's children: split the range, then keep splitting the child of largest
+        // area (then most patches) that splits, until there are four.
+        let mut kids: HVec<Range<F>, BVH_WIDTH> = HVec::new();
+        kids.push(range).map_err(|_| BvhError::Internal)?;
+        while kids.len() < BVH_WIDTH {
+            let mut pick: Option<(usize, F, usize)> = None;
+            for (k, c) in kids.iter().enumerate() {
+                let (area, count) = (c.bounds.half_area(), c.end - c.start);
+                if c.split.is_some()
+                    && pick.is_none_or(|(_, a, n)| area > a || (area == a && count > n))
+                {
+                    pick = Some((k, area, count));
+                }
+            }
+            let Some((k, ..)) = pick else { break };
+            let c = *kids.get(k).ok_or(BvhError::Internal)?;
+            let mid = c.split.ok_or(BvhError::Internal)?;
+            let left = examine(patches, order, c.start, mid, c.depth + 1)?;
+            let right = examine(patches, order, mid, c.end, c.depth + 1)?;
+            *kids.get_mut(k).ok_or(BvhError::Internal)? = left;
+            kids.insert(k + 1, right).map_err(|_| BvhError::Internal)?;
+        }
+        let mut out = BvhNode::default();
+        let mut tasks: HVec<Task<F>, BVH_WIDTH> = HVec::new();
+        for (k, c) in kids.iter().enumerate() {
+            out.set_box(k, &c.bounds);
+            // A range that still splits becomes a child node, unless a leaf holds it: a
+            // node of a few leaves costs a visit more than testing those patches (each
+            // test starts with its own box).
+            let (child, count) = if c.split.is_some() && c.end - c.start > MAX_LEAF {
+                let at = used;
+                used += 1;
+                tasks
+                    .push(Task {
+                        node: at,
+                        range: *c,
+                    })
+                    .map_err(|_| BvhError::Internal)?;
+                (at as u32, 0)
+            } else {
+                (c.start as u32, (c.end - c.start) as u32)
+            };
+            *out.child.get_mut(k).ok_or(BvhError::Internal)? = child;
+            *out.count.get_mut(k).ok_or(BvhError::Internal)? = count;
+        }
+        *nodes.get_mut(node).ok_or(BvhError::Internal)? = out;
+        // Push in reverse so the first child is built next.
+        while let Some(t) = tasks.pop() {
+            stack.push(t).map_err(|_| BvhError::StackOverflow)?;
+        }
+    }
+    let nodes: &'a [BvhNode<F>] = nodes;
+    let order: &'a [u32] = order;
+    Ok(BoxBvh {
+        // At most `nodes_needed(n)` nodes are used (see there).
+        nodes: nodes.get(..used).ok_or(BvhError::Internal)?,
+        order: order.get(..n).ok_or(BvhError::Internal)?,
+    })
+}
+
+impl<'a, F: Float> BoxBvh<'a, F> {
+    /// Number of nodes [`BoxBvh::build`] may need for `n` boxes: `n − 1` for `n ≥ 2` (every
     /// node has at least two children, and there are at most `n` leaves), 1 for `n = 1`, 0
-    /// for none. Trees use far fewer (about `n / 8`); [`Bvh::node_count`] says how many.
+    /// for none. Trees use far fewer (about `n / 8`); [`BoxBvh::node_count`] says how many.
     pub const fn nodes_needed(n: usize) -> usize {
         match n {
             0 => 0,
@@ -410,153 +542,49 @@ impl<'a, F: Float> Bvh<'a, F> {
         }
     }
 
-    /// Builds a BVH over `patches` into `nodes` (at least [`Bvh::nodes_needed`]`(n)` long)
-    /// and `order` (at least `n` long).
+    /// Builds a BVH over `boxes` into `nodes` (at least [`BoxBvh::nodes_needed`]`(n)` long)
+    /// and `order` (at least `n` long): the same binned-SAH builder as [`Bvh::build`], which
+    /// over the patches' boxes gives the same nodes and order as [`Bvh::build`] over the
+    /// patches.
     ///
-    /// Returns the BVH, or [`BvhError::EmptyScene`], [`BvhError::StorageTooSmall`],
-    /// [`BvhError::TooManyPatches`]. Work: `O(n log n)`; no allocation. Deterministic: the same
-    /// patches give the same nodes and order.
+    /// The boxes should be finite (a non-finite or empty box gives a valid tree whose
+    /// queries may skip that index). Returns the BVH, or [`BvhError::EmptyScene`],
+    /// [`BvhError::StorageTooSmall`], [`BvhError::TooManyPatches`]. Work: `O(n log n)`; no
+    /// allocation. Deterministic: the same boxes give the same nodes and order.
     /// # Panics
     /// Never.
     pub fn build(
-        patches: &'a [Patch<F>],
+        boxes: &[Aabb<F>],
         nodes: &'a mut [BvhNode<F>],
         order: &'a mut [u32],
     ) -> Result<Self, BvhError> {
-        let n = patches.len();
-        if n == 0 {
-            return Err(BvhError::EmptyScene);
-        }
-        if n > u32::MAX as usize / 2 {
-            return Err(BvhError::TooManyPatches);
-        }
-        let need = Self::nodes_needed(n);
-        if nodes.len() < need || order.len() < n {
-            return Err(BvhError::StorageTooSmall {
-                nodes: need,
-                indices: n,
-            });
-        }
-        for (i, o) in order.iter_mut().enumerate().take(n) {
-            *o = i as u32;
-        }
-        let root = examine(patches, order, 0, n, 0)?;
-        let mut used = 1usize;
-        // Depth first; each node leaves at most three pending siblings per level. A root that
-        // does not split becomes one leaf, like any range that does not.
-        let mut stack: HVec<Task<F>, { BVH_STACK + BVH_WIDTH }> = HVec::new();
-        stack
-            .push(Task {
-                node: 0,
-                range: root,
-            })
-            .map_err(|_| BvhError::Internal)?;
-        while let Some(Task { node, range }) = stack.pop() {
-            // The node's children: split the range, then keep splitting the child of largest
-            // area (then most patches) that splits, until there are four.
-            let mut kids: HVec<Range<F>, BVH_WIDTH> = HVec::new();
-            kids.push(range).map_err(|_| BvhError::Internal)?;
-            while kids.len() < BVH_WIDTH {
-                let mut pick: Option<(usize, F, usize)> = None;
-                for (k, c) in kids.iter().enumerate() {
-                    let (area, count) = (c.bounds.half_area(), c.end - c.start);
-                    if c.split.is_some()
-                        && pick.is_none_or(|(_, a, n)| area > a || (area == a && count > n))
-                    {
-                        pick = Some((k, area, count));
-                    }
-                }
-                let Some((k, ..)) = pick else { break };
-                let c = *kids.get(k).ok_or(BvhError::Internal)?;
-                let mid = c.split.ok_or(BvhError::Internal)?;
-                let left = examine(patches, order, c.start, mid, c.depth + 1)?;
-                let right = examine(patches, order, mid, c.end, c.depth + 1)?;
-                *kids.get_mut(k).ok_or(BvhError::Internal)? = left;
-                kids.insert(k + 1, right).map_err(|_| BvhError::Internal)?;
-            }
-            let mut out = BvhNode::default();
-            let mut tasks: HVec<Task<F>, BVH_WIDTH> = HVec::new();
-            for (k, c) in kids.iter().enumerate() {
-                out.set_box(k, &c.bounds);
-                // A range that still splits becomes a child node, unless a leaf holds it: a
-                // node of a few leaves costs a visit more than testing those patches (each
-                // test starts with its own box).
-                let (child, count) = if c.split.is_some() && c.end - c.start > MAX_LEAF {
-                    let at = used;
-                    used += 1;
-                    tasks
-                        .push(Task {
-                            node: at,
-                            range: *c,
-                        })
-                        .map_err(|_| BvhError::Internal)?;
-                    (at as u32, 0)
-                } else {
-                    (c.start as u32, (c.end - c.start) as u32)
-                };
-                *out.child.get_mut(k).ok_or(BvhError::Internal)? = child;
-                *out.count.get_mut(k).ok_or(BvhError::Internal)? = count;
-            }
-            *nodes.get_mut(node).ok_or(BvhError::Internal)? = out;
-            // Push in reverse so the first child is built next.
-            while let Some(t) = tasks.pop() {
-                stack.push(t).map_err(|_| BvhError::StackOverflow)?;
-            }
-        }
-        let nodes: &'a [BvhNode<F>] = nodes;
-        let order: &'a [u32] = order;
-        Ok(Bvh {
-            patches,
-            // At most `nodes_needed(n)` nodes are used (see there).
-            nodes: nodes.get(..used).ok_or(BvhError::Internal)?,
-            order: order.get(..n).ok_or(BvhError::Internal)?,
-        })
+        build_tree(boxes, nodes, order)
     }
 
-    /// Re-wraps storage filled by an earlier [`Bvh::build`] over the same patches (for owners
-    /// that keep the storage in their own structures, or upload and read it back), after
-    /// checking it once: every node and leaf range inside the storage, children after their
-    /// parent (so the tree has no cycle), nodes no deeper than `MAX_DEPTH − 2`, every index
-    /// below `patches.len()`. Queries on the result then cannot fail.
-    ///
-    /// Returns [`BvhError::EmptyScene`] (no node or no patch), [`BvhError::CorruptTree`] or
-    /// [`BvhError::StackOverflow`] (too deep). Storage that passes but was not made by `build`
-    /// over these patches gives wrong answers, never a panic. Work: `O(nodes)`.
+    /// Re-wraps storage filled by an earlier [`BoxBvh::build`] over `count` boxes, after the
+    /// checks of [`Bvh::from_parts`] (every index below `count`). Queries on the result then
+    /// cannot fail. Returns [`BvhError::EmptyScene`] (no node, `count` 0),
+    /// [`BvhError::CorruptTree`] or [`BvhError::StackOverflow`] (too deep). Work: `O(nodes)`.
     /// # Panics
     /// Never.
     pub fn from_parts(
-        patches: &'a [Patch<F>],
+        count: usize,
         nodes: &'a [BvhNode<F>],
         order: &'a [u32],
     ) -> Result<Self, BvhError> {
-        validate(patches.len(), nodes, order)?;
-        Ok(Self::from_built(patches, nodes, order))
-    }
-
-    /// Wraps storage that [`Bvh::build`] filled (no check).
-    pub(crate) fn from_built(
-        patches: &'a [Patch<F>],
-        nodes: &'a [BvhNode<F>],
-        order: &'a [u32],
-    ) -> Self {
-        Bvh {
-            patches,
-            nodes,
-            order,
-        }
+        validate(count, nodes, order)?;
+        Ok(BoxBvh { nodes, order })
     }
 
     /// Number of nodes in use.
+    ///
+    /// # Panics
+    /// Never.
     pub fn node_count(&self) -> usize {
         self.nodes.len()
     }
 
-    /// The patches.
-    pub fn patches(&self) -> &'a [Patch<F>] {
-        self.patches
-    }
-
-    /// The nodes (node 0 is the root; see [`BvhNode`] for the layout), for uploading the tree.
+    /// The nodes (node 0 is the root; see [`BvhNode`] for the layout).
     ///
     /// # Panics
     /// Never.
@@ -564,7 +592,7 @@ impl<'a, F: Float> Bvh<'a, F> {
         self.nodes
     }
 
-    /// The patch indices that leaves refer to (`order[child..child + count]`).
+    /// The box indices that leaves refer to (`order[child..child + count]`).
     ///
     /// # Panics
     /// Never.
@@ -572,92 +600,24 @@ impl<'a, F: Float> Bvh<'a, F> {
         self.order
     }
 
-    /// Bytes used by the nodes and indices (not the patches).
+    /// Bytes used by the nodes and indices.
+    ///
+    /// # Panics
+    /// Never.
     pub fn memory_bytes(&self) -> usize {
         core::mem::size_of_val(self.nodes) + core::mem::size_of_val(self.order)
     }
 
-    /// Closest hit of `ray` in `[t_min, t_max]` using the smooth kernel with `N` iterations;
-    /// `hit.patch` is the patch's index in the slice given to [`Bvh::build`].
+    /// Closest hit with the caller's leaf test `test(index, t_min, t_max)`, `index` the box's
+    /// index in the slice given to [`BoxBvh::build`]: leaves are visited nearest box first,
+    /// each index whose leaf box the ray enters is tested over the caller's whole range, and
+    /// the hit of smallest `t` is returned with its `patch` set to the index. The test must
+    /// return hits with `t` in `[t_min, t_max]` (as [`moller_trumbore`](crate::moller_trumbore)
+    /// does); a hit outside its box may be missed or kept.
     ///
     /// # Accuracy
-    /// As [`Patch::intersect`]; the result equals a brute-force loop over all patches.
-    /// # Panics
-    /// Never.
-    pub fn closest_hit<const N: usize>(&self, ray: &Ray<F>, t_min: F, t_max: F) -> Option<Hit<F>> {
-        // Candidates are compared by their crossings; the normal is evaluated once, for the
-        // closest (it is finite for every accepted patch, so this equals testing each patch
-        // with `Patch::intersect`).
-        let mut slots = [None, None];
-        let (id, c, prepared) = self.closest_crossing::<N>(ray, t_min, t_max, &mut slots)?;
-        let mut h = c.hit(self.patches.get(id as usize)?, prepared, ray)?;
-        h.patch = id;
-        Some(h)
-    }
-
-    /// The closest crossing of [`Bvh::closest_hit`] before its normal is evaluated: the
-    /// patch's index, where the ray crosses it and the patch prepared for the height
-    /// evaluation (in one of the two `slots`: each candidate is prepared into the slot the
-    /// best crossing so far does not hold).
-    pub(crate) fn closest_crossing<'s, const N: usize>(
-        &self,
-        ray: &Ray<F>,
-        t_min: F,
-        t_max: F,
-        slots: &'s mut [Option<Prepared<F>>; 2],
-    ) -> Option<(u32, Crossing<F>, &'s Prepared<F>)> {
-        let mut stats = KernelStats::default();
-        let world = WorldRay::new(ray)?;
-        let [s0, s1] = slots;
-        let mut free = 0usize;
-        let (id, c) = self
-            .traverse(ray, t_min, t_max, false, &mut |_, p, a, b, beyond| {
-                let slot = if free == 0 { &mut *s0 } else { &mut *s1 };
-                let c = kernel::crossing::<F, DEFAULT_SAMPLES, N>(
-                    p, &world, a, b, beyond, &mut stats, slot,
-                )?;
-                // The traversal keeps a crossing iff it precedes the best so far (`beyond`):
-                // then its slot holds the best, and the next candidate takes the other.
-                if beyond.is_none_or(|t| c.t < t) {
-                    free ^= 1;
-                }
-                Some(c)
-            })
-            .ok()??;
-        let best = if free == 0 { s1 } else { s0 };
-        Some((id, c, best.as_ref()?))
-    }
-
-    /// Whether anything is hit in `[t_min, t_max]` (shadow rays): stops at the first hit.
-    ///
-    /// # Panics
-    /// Never.
-    pub fn any_hit<const N: usize>(&self, ray: &Ray<F>, t_min: F, t_max: F) -> bool {
-        let mut stats = KernelStats::default();
-        let Some(world) = WorldRay::new(ray) else {
-            return false;
-        };
-        let mut scratch = None;
-        let first = self.traverse(ray, t_min, t_max, true, &mut |_, p, a, b, _| {
-            kernel::crossing::<F, DEFAULT_SAMPLES, N>(
-                p,
-                &world,
-                a,
-                b,
-                None,
-                &mut stats,
-                &mut scratch,
-            )
-        });
-        matches!(first, Ok(Some(_)))
-    }
-
-    /// Closest hit with a caller-supplied per-patch test `test(index, patch, t_min, t_max)`,
-    /// where `index` is the patch's index in the slice given to [`Bvh::build`] (for example the
-    /// flat or Phong baselines of [`flat_hit`](crate::flat_hit) on the patch's vertices, which
-    /// lie inside the patch's box, or on the caller's own triangle array: an Embree-style user
-    /// geometry). The returned hit's `patch` is set to the patch index.
-    ///
+    /// The same as a loop over every index that keeps the smallest `t` (the boxes must contain
+    /// what the test hits).
     /// # Panics
     /// Never (unless `test` panics).
     pub fn closest_with(
@@ -665,29 +625,45 @@ impl<'a, F: Float> Bvh<'a, F> {
         ray: &Ray<F>,
         t_min: F,
         t_max: F,
-        mut test: impl FnMut(u32, &Patch<F>, F, F) -> Option<Hit<F>>,
+        mut test: impl FnMut(u32, F, F) -> Option<Hit<F>>,
     ) -> Option<Hit<F>> {
         let (id, mut h) = self
-            .traverse(ray, t_min, t_max, false, &mut |id, p, a, b, _| {
-                test(id, p, a, b)
-            })
+            .traverse(ray, t_min, t_max, false, &mut |id, a, b, _| test(id, a, b))
             .ok()??;
         h.patch = id;
         Some(h)
     }
 
-    /// Visits the leaves whose boxes the ray enters, nearest box first, testing each patch with
-    /// `test` over the caller's range; returns the candidate with the smallest `t` and its
-    /// patch index (with `any`, the first candidate found). The test's last argument is the
+    /// Whether the caller's test `test(index, t_min, t_max)` reports a hit for any index whose
+    /// box the ray enters within `[t_min, t_max]` (shadow rays): stops at the first.
+    ///
+    /// # Panics
+    /// Never (unless `test` panics).
+    pub fn any_with(
+        &self,
+        ray: &Ray<F>,
+        t_min: F,
+        t_max: F,
+        mut test: impl FnMut(u32, F, F) -> bool,
+    ) -> bool {
+        let first = self.traverse(ray, t_min, t_max, true, &mut |id, a, b, _| {
+            test(id, a, b).then_some(AnyHit(t_min))
+        });
+        matches!(first, Ok(Some(_)))
+    }
+
+    /// Visits the leaves whose boxes the ray enters, nearest box first, testing each index
+    /// with `test` over the caller's range; returns the candidate with the smallest `t` and its
+    /// index (with `any`, the first candidate found). The test's last argument is the
     /// best candidate's `t` once there is one: a candidate at or beyond it is discarded, so
-    /// the test may skip a patch whose crossings all lie there.
+    /// the test may skip an index whose crossings all lie there.
     fn traverse<C: Candidate<F>>(
         &self,
         ray: &Ray<F>,
         t_min: F,
         t_max: F,
         any: bool,
-        test: &mut impl FnMut(u32, &Patch<F>, F, F, Option<F>) -> Option<C>,
+        test: &mut impl FnMut(u32, F, F, Option<F>) -> Option<C>,
     ) -> Result<Option<(u32, C)>, BvhError> {
         let o = F::from_glam(ray.origin);
         let d = F::from_glam(ray.dir);
@@ -723,12 +699,11 @@ impl<'a, F: Float> Bvh<'a, F> {
                     .ok_or(BvhError::CorruptTree)?;
                 tests = tests.checked_sub(ids.len()).ok_or(BvhError::CorruptTree)?;
                 for &id in ids {
-                    let p = self.patches.get(id as usize).ok_or(BvhError::CorruptTree)?;
-                    // Each patch is tested over the caller's whole range, then compared with the
+                    // Each index is tested over the caller's whole range, then compared with the
                     // best so far: the kernel's first sign change depends on its interval, so
                     // shortening it to the best `t` could skip a closer crossing pair.
                     let beyond = best.as_ref().map(|_| tmax);
-                    if let Some(h) = test(id, p, t_min, t_max, beyond)
+                    if let Some(h) = test(id, t_min, t_max, beyond)
                         && (best.is_none() || h.t() < tmax)
                     {
                         tmax = h.t();
@@ -811,6 +786,208 @@ impl<'a, F: Float> Bvh<'a, F> {
     }
 }
 
+impl<'a, F: Float> Bvh<'a, F> {
+    /// Number of nodes [`Bvh::build`] may need for `n` patches: `n − 1` for `n ≥ 2` (every
+    /// node has at least two children, and there are at most `n` leaves), 1 for `n = 1`, 0
+    /// for none. Trees use far fewer (about `n / 8`); [`Bvh::node_count`] says how many.
+    pub const fn nodes_needed(n: usize) -> usize {
+        BoxBvh::<F>::nodes_needed(n)
+    }
+
+    /// Builds a BVH over `patches` into `nodes` (at least [`Bvh::nodes_needed`]`(n)` long)
+    /// and `order` (at least `n` long).
+    ///
+    /// Returns the BVH, or [`BvhError::EmptyScene`], [`BvhError::StorageTooSmall`],
+    /// [`BvhError::TooManyPatches`]. Work: `O(n log n)`; no allocation. Deterministic: the same
+    /// patches give the same nodes and order.
+    /// # Panics
+    /// Never.
+    pub fn build(
+        patches: &'a [Patch<F>],
+        nodes: &'a mut [BvhNode<F>],
+        order: &'a mut [u32],
+    ) -> Result<Self, BvhError> {
+        let tree = build_tree(patches, nodes, order)?;
+        Ok(Bvh { patches, tree })
+    }
+
+    /// Re-wraps storage filled by an earlier [`Bvh::build`] over the same patches (for owners
+    /// that keep the storage in their own structures, or upload and read it back), after
+    /// checking it once: every node and leaf range inside the storage, children after their
+    /// parent (so the tree has no cycle), nodes no deeper than `MAX_DEPTH − 2`, every index
+    /// below `patches.len()`. Queries on the result then cannot fail.
+    ///
+    /// Returns [`BvhError::EmptyScene`] (no node or no patch), [`BvhError::CorruptTree`] or
+    /// [`BvhError::StackOverflow`] (too deep). Storage that passes but was not made by `build`
+    /// over these patches gives wrong answers, never a panic. Work: `O(nodes)`.
+    /// # Panics
+    /// Never.
+    pub fn from_parts(
+        patches: &'a [Patch<F>],
+        nodes: &'a [BvhNode<F>],
+        order: &'a [u32],
+    ) -> Result<Self, BvhError> {
+        let tree = BoxBvh::from_parts(patches.len(), nodes, order)?;
+        Ok(Bvh { patches, tree })
+    }
+
+    /// Wraps storage that [`Bvh::build`] filled (no check).
+    #[cfg(feature = "alloc")]
+    pub(crate) fn from_built(
+        patches: &'a [Patch<F>],
+        nodes: &'a [BvhNode<F>],
+        order: &'a [u32],
+    ) -> Self {
+        Bvh {
+            patches,
+            tree: BoxBvh { nodes, order },
+        }
+    }
+
+    /// The tree over the patches' boxes, for queries with a caller's leaf test
+    /// ([`BoxBvh::closest_with`], [`BoxBvh::any_with`]: the index is the patch's).
+    ///
+    /// # Panics
+    /// Never.
+    pub fn tree(&self) -> BoxBvh<'a, F> {
+        self.tree
+    }
+
+    /// Number of nodes in use.
+    pub fn node_count(&self) -> usize {
+        self.tree.node_count()
+    }
+
+    /// The patches.
+    pub fn patches(&self) -> &'a [Patch<F>] {
+        self.patches
+    }
+
+    /// The nodes (node 0 is the root; see [`BvhNode`] for the layout), for uploading the tree.
+    ///
+    /// # Panics
+    /// Never.
+    pub fn nodes(&self) -> &'a [BvhNode<F>] {
+        self.tree.nodes
+    }
+
+    /// The patch indices that leaves refer to (`order[child..child + count]`).
+    ///
+    /// # Panics
+    /// Never.
+    pub fn order(&self) -> &'a [u32] {
+        self.tree.order
+    }
+
+    /// Bytes used by the nodes and indices (not the patches).
+    pub fn memory_bytes(&self) -> usize {
+        self.tree.memory_bytes()
+    }
+
+    /// Closest hit of `ray` in `[t_min, t_max]` using the smooth kernel with `N` iterations;
+    /// `hit.patch` is the patch's index in the slice given to [`Bvh::build`].
+    ///
+    /// # Accuracy
+    /// As [`Patch::intersect`]; the result equals a brute-force loop over all patches.
+    /// # Panics
+    /// Never.
+    pub fn closest_hit<const N: usize>(&self, ray: &Ray<F>, t_min: F, t_max: F) -> Option<Hit<F>> {
+        // Candidates are compared by their crossings; the normal is evaluated once, for the
+        // closest (it is finite for every accepted patch, so this equals testing each patch
+        // with `Patch::intersect`).
+        let mut slots = [None, None];
+        let (id, c, prepared) = self.closest_crossing::<N>(ray, t_min, t_max, &mut slots)?;
+        let mut h = c.hit(self.patches.get(id as usize)?, prepared, ray)?;
+        h.patch = id;
+        Some(h)
+    }
+
+    /// The closest crossing of [`Bvh::closest_hit`] before its normal is evaluated: the
+    /// patch's index, where the ray crosses it and the patch prepared for the height
+    /// evaluation (in one of the two `slots`: each candidate is prepared into the slot the
+    /// best crossing so far does not hold).
+    pub(crate) fn closest_crossing<'s, const N: usize>(
+        &self,
+        ray: &Ray<F>,
+        t_min: F,
+        t_max: F,
+        slots: &'s mut [Option<Prepared<F>>; 2],
+    ) -> Option<(u32, Crossing<F>, &'s Prepared<F>)> {
+        let mut stats = KernelStats::default();
+        let world = WorldRay::new(ray)?;
+        let patches = self.patches;
+        let [s0, s1] = slots;
+        let mut free = 0usize;
+        let (id, c) = self
+            .tree
+            .traverse(ray, t_min, t_max, false, &mut |id, a, b, beyond| {
+                let p = patches.get(id as usize)?;
+                let slot = if free == 0 { &mut *s0 } else { &mut *s1 };
+                let c = kernel::crossing::<F, DEFAULT_SAMPLES, N>(
+                    p, &world, a, b, beyond, &mut stats, slot,
+                )?;
+                // The traversal keeps a crossing iff it precedes the best so far (`beyond`):
+                // then its slot holds the best, and the next candidate takes the other.
+                if beyond.is_none_or(|t| c.t < t) {
+                    free ^= 1;
+                }
+                Some(c)
+            })
+            .ok()??;
+        let best = if free == 0 { s1 } else { s0 };
+        Some((id, c, best.as_ref()?))
+    }
+
+    /// Whether anything is hit in `[t_min, t_max]` (shadow rays): stops at the first hit.
+    ///
+    /// # Panics
+    /// Never.
+    pub fn any_hit<const N: usize>(&self, ray: &Ray<F>, t_min: F, t_max: F) -> bool {
+        let mut stats = KernelStats::default();
+        let Some(world) = WorldRay::new(ray) else {
+            return false;
+        };
+        let patches = self.patches;
+        let mut scratch = None;
+        let first = self
+            .tree
+            .traverse(ray, t_min, t_max, true, &mut |id, a, b, _| {
+                let p = patches.get(id as usize)?;
+                kernel::crossing::<F, DEFAULT_SAMPLES, N>(
+                    p,
+                    &world,
+                    a,
+                    b,
+                    None,
+                    &mut stats,
+                    &mut scratch,
+                )
+            });
+        matches!(first, Ok(Some(_)))
+    }
+
+    /// Closest hit with a caller-supplied per-patch test `test(index, patch, t_min, t_max)`,
+    /// where `index` is the patch's index in the slice given to [`Bvh::build`] (for example the
+    /// flat or Phong baselines of [`flat_hit`](crate::flat_hit) on the patch's vertices, which
+    /// lie inside the patch's box, or on the caller's own triangle array: an Embree-style user
+    /// geometry). The returned hit's `patch` is set to the patch index.
+    ///
+    /// # Panics
+    /// Never (unless `test` panics).
+    pub fn closest_with(
+        &self,
+        ray: &Ray<F>,
+        t_min: F,
+        t_max: F,
+        mut test: impl FnMut(u32, &Patch<F>, F, F) -> Option<Hit<F>>,
+    ) -> Option<Hit<F>> {
+        let patches = self.patches;
+        self.tree.closest_with(ray, t_min, t_max, |id, a, b| {
+            test(id, patches.get(id as usize)?, a, b)
+        })
+    }
+}
+
 /// The checks of [`Bvh::from_parts`]: a depth-first walk from the root, each node visited
 /// once.
 fn validate<F: Float>(patches: usize, nodes: &[BvhNode<F>], order: &[u32]) -> Result<(), BvhError> {
@@ -867,6 +1044,16 @@ impl<F: Float> Candidate<F> for Hit<F> {
     }
 }
 
+/// What [`BoxBvh::any_with`] reports: that its test hit (the ray's `t_min` as its `t`).
+struct AnyHit<F>(F);
+
+impl<F: Float> Candidate<F> for AnyHit<F> {
+    #[inline(always)]
+    fn t(&self) -> F {
+        self.0
+    }
+}
+
 impl<F: Float> Candidate<F> for Crossing<F> {
     #[inline(always)]
     fn t(&self) -> F {
@@ -887,8 +1074,8 @@ fn bin_of<F: Float>(c: F, cmin: F, scale: F) -> usize {
 
 /// Binned SAH split of `range` (reordered in place); returns the split position, or `None` when
 /// a leaf is cheaper or no binning separates the centroids.
-fn sah_split<F: Float>(
-    patches: &[Patch<F>],
+fn sah_split<F: Float, B: Boxes<F> + ?Sized>(
+    patches: &B,
     range: &mut [u32],
     bounds: &Aabb<F>,
     centroids: &Aabb<F>,
@@ -903,7 +1090,7 @@ fn sah_split<F: Float>(
     // All three axes' bins in one pass over the patches' boxes.
     let mut bins = [[(0usize, Aabb::<F>::EMPTY); BINS]; 3];
     for &i in range.iter() {
-        let b = patch_box(patches, i)?;
+        let b = patches.box_of(i)?;
         let center = b.center();
         for (k, (frame, bins)) in frames.iter().zip(bins.iter_mut()).enumerate() {
             if let Some((cmin, scale)) = *frame {
@@ -954,7 +1141,7 @@ fn sah_split<F: Float>(
         return Ok(None);
     }
     partition(range, |i| {
-        Ok(bin_of(axis(patch_box(patches, i)?.center(), k), cmin, scale) < s)
+        Ok(bin_of(axis(patches.box_of(i)?.center(), k), cmin, scale) < s)
     })
     .map(Some)
 }
@@ -962,8 +1149,8 @@ fn sah_split<F: Float>(
 /// Midpoint split: partitions `range` at the middle of the widest axis of the centroids' box
 /// (when SAH finds no split of a large range). When every centroid falls on one side (e.g. all
 /// equal), the range is cut in halves by position instead.
-fn midpoint_split<F: Float>(
-    patches: &[Patch<F>],
+fn midpoint_split<F: Float, B: Boxes<F> + ?Sized>(
+    patches: &B,
     range: &mut [u32],
     centroids: &Aabb<F>,
 ) -> Result<usize, BvhError> {
@@ -976,10 +1163,7 @@ fn midpoint_split<F: Float>(
         2
     };
     let mid = axis(centroids.center(), k);
-    let m = partition(
-        range,
-        |i| Ok(axis(patch_box(patches, i)?.center(), k) < mid),
-    )?;
+    let m = partition(range, |i| Ok(axis(patches.box_of(i)?.center(), k) < mid))?;
     Ok(if m == 0 || m == range.len() {
         range.len() / 2
     } else {

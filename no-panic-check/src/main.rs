@@ -20,10 +20,9 @@ use smoothtri::mesh::{
     MeshError, Seam, SharedEdge, VertexClamp, clamp_vertex_normals, close_cracks, fit_seams,
 };
 use smoothtri::{
-    Aabb, BuildError, BuildOptions, Bvh, BvhError, BvhNode, DEFAULT_SAMPLES, EdgeWork, FastF32,
-    Float, Hit,
-    KernelStats, LineField, Patch, PatchError, Ray, Scene, SceneSizes, SceneStorage, Vertices,
-    flat_hit, max_height_evals, max_lane_calls, moller_trumbore,
+    Aabb, BoxBvh, BuildError, BuildOptions, Bvh, BvhError, BvhNode, DEFAULT_SAMPLES, EdgeWork,
+    FastF32, Float, Hit, KernelStats, LineField, Patch, PatchError, Ray, Scene, SceneSizes,
+    SceneStorage, Vertices, flat_hit, max_height_evals, max_lane_calls, moller_trumbore,
 };
 
 unsafe extern "C" {
@@ -216,6 +215,37 @@ fn exercise<F: Float>() -> u32 {
     }
     let mut few = [BvhNode::<F>::default(); 1];
     if let Err(e) = Bvh::build(black_box(&patches), &mut few, &mut order) {
+        acc += display_len(&e);
+    }
+    // The tree over caller boxes, with caller leaf tests.
+    let boxes = patches.map(|p| black_box(p.bounds()));
+    let mut nodes = [BvhNode::<F>::default(); COUNT - 1];
+    acc += BoxBvh::<F>::nodes_needed(black_box(COUNT)) as u32;
+    match BoxBvh::build(black_box(&boxes), &mut nodes, &mut order) {
+        Ok(tree) => {
+            acc += tree.node_count() as u32 + tree.memory_bytes() as u32;
+            acc += tree.order().len() as u32 + tree.nodes().len() as u32;
+            let with = tree.closest_with(&ray, t0, t1, |i, a, b| {
+                let p = patches.get(i as usize)?;
+                flat_hit(&p.vertices(), None, &ray, a, b)
+            });
+            acc += with.is_some() as u32;
+            acc += tree.any_with(&ray, t0, t1, |i, a, b| {
+                patches
+                    .get(i as usize)
+                    .and_then(|p| moller_trumbore(&p.vertices(), &ray, a, b))
+                    .is_some()
+            }) as u32;
+            if let Ok(again) = BoxBvh::from_parts(COUNT, tree.nodes(), tree.order()) {
+                acc += again.node_count() as u32;
+            }
+            if let Ok(bvh) = Bvh::from_parts(&patches, tree.nodes(), tree.order()) {
+                acc += bvh.tree().node_count() as u32;
+            }
+        }
+        Err(e) => acc += display_len(&e),
+    }
+    if let Err(e) = BoxBvh::from_parts(black_box(COUNT), black_box(&junk), black_box(&order)) {
         acc += display_len(&e);
     }
     acc += display_len(&black_box(BvhError::Internal));

@@ -7,6 +7,7 @@
 #[macro_use]
 mod common;
 
+mod box_bvh;
 mod builder;
 mod bvh;
 mod domain;
