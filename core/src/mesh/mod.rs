@@ -62,16 +62,20 @@
 
 pub(crate) mod build;
 pub(crate) mod cracks;
+pub(crate) mod input;
 pub(crate) mod parallel;
+pub(crate) mod report;
 pub(crate) mod sampling;
+pub(crate) mod scene;
 pub(crate) mod seams;
+pub(crate) mod storage;
 pub(crate) mod topology;
 pub(crate) mod vertex_normals;
 
-pub use build::{
-    BuildError, BuildObserver, BuildOptions, BuildReport, BuildStage, Rejections, Scene, SceneHit,
-    SceneSizes, SceneStorage, Vertices,
-};
+pub use input::{BuildOptions, Vertices};
+pub use report::{BuildError, BuildObserver, BuildReport, BuildStage, Rejections};
+pub use scene::{Scene, SceneHit};
+pub use storage::{SceneSizes, SceneStorage};
 #[cfg(feature = "alloc")]
 pub(crate) mod owned;
 

@@ -3,12 +3,12 @@
 use alloc::vec;
 use alloc::vec::Vec;
 
-use super::build::{
-    BuildError, BuildObserver, BuildOptions, BuildReport, Rejected, Scene, SceneSizes,
-    SceneStorage, Vertices,
-};
+use super::input::{BuildOptions, Vertices};
 use super::parallel::{EdgeWork, Executor};
+use super::report::{BuildError, BuildObserver, BuildReport, Rejected};
+use super::scene::Scene;
 use super::seams::Seam;
+use super::storage::{SceneSizes, SceneStorage};
 use super::topology::SharedEdge;
 use super::vertex_normals::VertexClamp;
 use crate::bvh::{Bvh, BvhNode};
