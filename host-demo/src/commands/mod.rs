@@ -2,10 +2,11 @@
 //! (filled in by [`crate::cli`]) and a `run` function; none of them knows about argument
 //! parsing.
 
-use crate::camera::Up;
+use smoothtri_io::Mesh;
+use smoothtri_testkit::scenes;
+
 use crate::error::{DemoError, Result};
-use crate::mesh::Mesh;
-use crate::scenes;
+use crate::up::{Up, builtin_up};
 
 pub mod eval;
 pub mod inspect;
@@ -31,7 +32,7 @@ impl MeshSource {
     /// a usage error.
     pub fn load(&self, default_torus: bool) -> Result<(String, Mesh)> {
         if let Some(path) = &self.mesh {
-            let loaded = crate::mesh::load(path)?;
+            let loaded = smoothtri_io::load(path)?;
             for w in &loaded.warnings {
                 eprintln!("warning: {path}: {w}");
             }
@@ -57,11 +58,11 @@ impl MeshSource {
     }
 
     /// The up axis a camera uses for this source: `up` when given, otherwise `y` for mesh files
-    /// and the scene's own axis ([`scenes::builtin_up`], `z`) for built-ins. glTF is y-up by
+    /// and the scene's own axis ([`builtin_up`], `z`) for built-ins. glTF is y-up by
     /// specification, so `--up` other than `y` on a `.gltf`/`.glb` file is a usage error.
     pub fn up_axis(&self, up: Option<Up>) -> Result<Up> {
         if let Some(path) = &self.mesh {
-            let gltf = crate::mesh::extension(path).is_some_and(|e| e == "gltf" || e == "glb");
+            let gltf = smoothtri_io::extension(path).is_some_and(|e| e == "gltf" || e == "glb");
             return match up {
                 Some(u) if gltf && u != Up::Y => Err(DemoError::Usage(format!(
                     "--up {u}: {path} is glTF, which is y-up by specification (leave --up out)"
@@ -71,7 +72,7 @@ impl MeshSource {
             };
         }
         let name = self.scene.as_deref().unwrap_or("torus");
-        Ok(up.unwrap_or_else(|| scenes::builtin_up(name)))
+        Ok(up.unwrap_or_else(|| builtin_up(name)))
     }
 
     /// [`MeshSource::load`], then the mesh turned so that its up axis ([`MeshSource::up_axis`])

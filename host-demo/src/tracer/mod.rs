@@ -10,7 +10,7 @@ mod precision;
 mod scene;
 
 pub use precision::{Prec, Precision};
-pub use scene::{RayonExecutor, Scene};
+pub use scene::Scene;
 
 /// How primary and shadow rays meet the surface.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, clap::ValueEnum)]
@@ -57,7 +57,7 @@ impl From<Field> for smoothtri::LineField {
 /// Which normal the smooth mode shades with (`render --normals`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, clap::ValueEnum)]
 pub enum Normals {
-    /// The seamless shading normal ([`smoothtri::Seam::correct`]): continuous across shared
+    /// The seamless shading normal ([`smoothtri::mesh::Seam::correct`]): continuous across shared
     /// edges.
     #[default]
     Seamless,
