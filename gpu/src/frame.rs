@@ -10,7 +10,10 @@ use std::sync::Arc;
 use glam::{DVec3, Vec3};
 use wgpu::util::DeviceExt;
 
-use crate::{Gpu, GpuError, GpuScene, bind_entry as entry, scoped, status_result, word};
+use crate::device::{Gpu, bind_entry as entry, scoped};
+use crate::dispatch::{status_result, word};
+use crate::error::GpuError;
+use crate::scene::GpuScene;
 
 /// Bytes of the shader's `View` uniform.
 const VIEW_BYTES: usize = 96;
