@@ -5,7 +5,7 @@ use std::fmt::Write as _;
 
 use smoothtri_io::Mesh;
 
-use super::MeshSource;
+use super::source::MeshSource;
 use crate::csvio::{display_name, num, read_text, rows, vec3};
 use crate::error::{DemoError, Result};
 use crate::tracer::{Normals, Prec, Precision, Scene};

@@ -8,7 +8,7 @@ use smoothtri::{LineField, Patch};
 use smoothtri_io::Mesh;
 use smoothtri_testkit::{EDGE_SAMPLES, cracks};
 
-use super::MeshSource;
+use super::source::MeshSource;
 use crate::error::Result;
 use crate::tracer::{Prec, Precision, Scene};
 

@@ -11,7 +11,7 @@ use smoothtri_gpu::{Gpu, GpuScene};
 use smoothtri_io::Mesh;
 use smoothtri_testkit::Camera;
 
-use super::MeshSource;
+use super::source::MeshSource;
 use crate::error::{DemoError, Result};
 use crate::image::{Image, heat};
 use crate::tracer::{Mode, Prec, Precision, Scene, tracer};

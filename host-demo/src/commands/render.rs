@@ -18,7 +18,7 @@ use crate::image::Image;
 use crate::tracer::{Mode, Normals, Prec, Precision, Scene, tracer};
 use crate::up::Up;
 
-use super::MeshSource;
+use super::source::MeshSource;
 
 /// Options of `render`.
 #[derive(Clone, Debug)]

@@ -7,7 +7,7 @@ use std::fmt::Write as _;
 use smoothtri_io::Mesh;
 use smoothtri_testkit::Camera;
 
-use super::MeshSource;
+use super::source::MeshSource;
 use crate::error::{DemoError, Result};
 use crate::tessellate::{
     Level, Tessellation, max_distance, max_distance_to, surface_distance_to, tessellate,

@@ -29,8 +29,8 @@ use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
 use winit::keyboard::{Key, NamedKey};
 use winit::window::{Window, WindowId};
 
-use super::MeshSource;
 use super::render::{Note, build_scene};
+use super::source::MeshSource;
 use crate::error::{DemoError, Result};
 use crate::gpu::{frame_view, gpu_error, gpu_scene, open_gpu, read_frame};
 use crate::image::{Image, heat};

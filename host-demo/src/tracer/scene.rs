@@ -12,7 +12,8 @@ use smoothtri::{
 use smoothtri_io::Mesh;
 use smoothtri_testkit::RayonExecutor;
 
-use super::{Normals, Prec};
+use super::modes::Normals;
+use super::precision::Prec;
 use crate::error::{DemoError, Result};
 
 /// A mesh's scene: the core's [`OwnedScene`] (patches, crack closure, optional seams, BVH),
