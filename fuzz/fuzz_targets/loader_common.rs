@@ -1,7 +1,7 @@
 //! Shared body of the mesh-loader targets: write the fuzzer's bytes to a file with the given
-//! extension, load it with the loaders of `smoothtri-io`, and build and probe the patches. A loader may
-//! return an error (that is its job); it must never panic, and an accepted mesh must give
-//! finite patches, evaluations and hits.
+//! extension, load it with the loaders of `smoothtri-io`, and build and probe the patches. A
+//! loader may return an error (that is its job); it must never panic, and an accepted mesh must
+//! give finite patches, evaluations and hits.
 
 use smoothtri::{BuildOptions, DRay, LineField};
 
