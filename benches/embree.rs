@@ -31,11 +31,10 @@ use std::process::Command;
 use std::time::Instant;
 
 use glam::{DVec3, Vec3};
-use smoothtri::Ray;
-use smoothtri_demo::camera::Camera;
-use smoothtri_demo::mesh::{assimp_models, load};
-use smoothtri_demo::scenes::{builtin, torus, torus_distance};
-use smoothtri_demo::{Mesh, Scene};
+use smoothtri::{LineField, Ray};
+use smoothtri_io::load;
+use smoothtri_testkit::scenes::{builtin, torus, torus_distance};
+use smoothtri_testkit::{Camera, Mesh, assimp_models, build_scene};
 
 mod common;
 #[path = "embree/ffi.rs"]
@@ -99,8 +98,13 @@ fn env_usize(name: &str, default: usize) -> usize {
 }
 
 fn smoothtri_row(mesh: &Mesh, rays: &[Ray], reps: usize) -> Row {
-    let scene = Scene::<f32>::build(mesh).expect("the torus builds");
-    assert!(scene.rejected.is_empty(), "no torus triangle is rejected");
+    let owned = build_scene::<f32>(mesh, LineField::Face, false).expect("the torus builds");
+    let scene = owned.scene();
+    let report = scene.report();
+    assert_eq!(
+        report.patches, report.triangles,
+        "no torus triangle is rejected"
+    );
     let bvh = scene.bvh();
     let trace = || {
         let mut hits = 0;
@@ -449,14 +453,7 @@ fn plugin_rows(exe: &Path, mesh: &Mesh, rays: &[Ray], rounds: u32) -> Vec<(Strin
 
 /// Camera rays framing `mesh` from `render`'s default view.
 fn camera_rays(mesh: &Mesh) -> Vec<Ray> {
-    let cam = Camera::for_mesh(mesh, VIEW.0, VIEW.1, WIDTH, HEIGHT);
-    (0..HEIGHT)
-        .flat_map(|y| (0..WIDTH).map(move |x| (x, y)))
-        .map(|(x, y)| {
-            let (o, d) = cam.pixel_ray(x, y);
-            Ray::new(o.as_vec3(), d.as_vec3())
-        })
-        .collect()
+    Camera::for_mesh(mesh, VIEW.0, VIEW.1, WIDTH, HEIGHT).rays_f32()
 }
 
 fn main() {

@@ -11,7 +11,7 @@ use std::hint::black_box;
 use std::process::Command;
 
 use smoothtri::{LineField, Patch, flat_hit, moller_trumbore};
-use smoothtri_demo::scenes::{tilted_normal_sphere, torus};
+use smoothtri_testkit::scenes::{tilted_normal_sphere, torus};
 
 mod common;
 use common::*;
@@ -112,24 +112,18 @@ fn run_case(name: &str, reps: usize) -> usize {
             // normals; Debian's assimp-testmodels) as the C API's `st_intersect1` traces it
             // (`Scene::closest_hit`, no seams, the hit normal included), camera rays framing it
             // as the `embree` bench's, 160×120 of them.
-            let dir = smoothtri_demo::mesh::assimp_models()
+            let dir = smoothtri_testkit::assimp_models()
                 .ok()
                 .flatten()
                 .expect("assimp-testmodels installed");
             let path = dir.join("OBJ/WusonOBJ.obj");
-            let mesh = smoothtri_demo::mesh::load(&path.to_string_lossy())
+            let mesh = smoothtri_io::load(&path.to_string_lossy())
                 .expect("WusonOBJ loads")
                 .mesh;
-            let built = smoothtri_demo::Scene::<f32>::build(&mesh).expect("WusonOBJ builds");
-            let scene = built.core();
-            let cam = smoothtri_demo::camera::Camera::for_mesh(&mesh, 30.0, 35.0, 160, 120);
-            let rays: Vec<smoothtri::Ray> = (0..120)
-                .flat_map(|y| (0..160).map(move |x| (x, y)))
-                .map(|(x, y)| {
-                    let (o, d) = cam.pixel_ray(x, y);
-                    smoothtri::Ray::new(o.as_vec3(), d.as_vec3())
-                })
-                .collect();
+            let built = smoothtri_testkit::build_scene::<f32>(&mesh, LineField::Face, false)
+                .expect("WusonOBJ builds");
+            let scene = built.scene();
+            let rays = smoothtri_testkit::Camera::for_mesh(&mesh, 30.0, 35.0, 160, 120).rays_f32();
             let mut hits = 0;
             for _ in 0..reps {
                 for r in &rays {
@@ -143,13 +137,13 @@ fn run_case(name: &str, reps: usize) -> usize {
             // The torus with seams: a closest hit with its seamless shading normal, as
             // `Bvh::closest_hit` then `Scene::scene_hit` (two steps: the hit's normal, then
             // `Seam::correct`) or as `Scene::closest_hit` (both normals in one evaluation).
-            let built = smoothtri_demo::Scene::<f32>::build_with(
+            let built = smoothtri_testkit::build_scene::<f32>(
                 &torus(8, 8, 1.0, 0.4),
                 LineField::Face,
                 true,
             )
             .expect("the torus builds");
-            let scene = built.core();
+            let scene = built.scene();
             let bvh = scene.bvh();
             let rays = camera_rays(160, 120);
             let fused = name.contains("closest_hit");
@@ -210,7 +204,7 @@ fn run_case(name: &str, reps: usize) -> usize {
         }
         "build_teapot8_f32" | "build_teapot8_seams_f32" => {
             use smoothtri::{BuildOptions, OwnedScene, Vertices};
-            let m = smoothtri_demo::scenes::teapot(8);
+            let m = smoothtri_testkit::scenes::teapot(8);
             let flat =
                 |v: &[glam::DVec3]| -> Vec<f64> { v.iter().flat_map(|p| p.to_array()).collect() };
             let (p, n) = (flat(&m.positions), flat(&m.normals));
@@ -234,7 +228,7 @@ fn run_case(name: &str, reps: usize) -> usize {
             // The geometric normal against the seamless shading normal at ten interior points of
             // each patch of the built-in teapot (f32, seams fitted).
             use smoothtri::{BuildOptions, OwnedScene, Vertices};
-            let m = smoothtri_demo::scenes::teapot(4);
+            let m = smoothtri_testkit::scenes::teapot(4);
             let flat =
                 |v: &[glam::DVec3]| -> Vec<f64> { v.iter().flat_map(|p| p.to_array()).collect() };
             let (p, n) = (flat(&m.positions), flat(&m.normals));

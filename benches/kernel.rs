@@ -14,7 +14,7 @@ mod common;
 use common::*;
 use smoothtri::max_height_evals;
 use smoothtri::{DEFAULT_SAMPLES, DRay, Patch, Ray, flat_hit, moller_trumbore};
-use smoothtri_demo::scenes::torus;
+use smoothtri_testkit::scenes::torus;
 
 macro_rules! smooth32 {
     ($s:expr, $n:literal) => {
@@ -323,11 +323,11 @@ fn summary() {
 
 /// The largest mesh at hand: the 121k-triangle CAD model of Debian's `assimp-testmodels`
 /// when installed, else the generated 8×8 teapot (3 968 triangles).
-fn largest_mesh() -> (String, smoothtri_demo::scenes::Mesh) {
+fn largest_mesh() -> (String, smoothtri_testkit::Mesh) {
     let cad = "/usr/share/assimp/models/glTF2/2CylinderEngine-glTF-Binary/2CylinderEngine.glb";
-    match smoothtri_demo::mesh::load(cad) {
+    match smoothtri_io::load(cad) {
         Ok(l) => ("2CylinderEngine.glb".into(), l.mesh),
-        Err(_) => ("teapot 8x8".into(), smoothtri_demo::scenes::teapot(8)),
+        Err(_) => ("teapot 8x8".into(), smoothtri_testkit::scenes::teapot(8)),
     }
 }
 
@@ -355,7 +355,7 @@ fn bench_build(c: &mut Criterion) {
                     &m.triangles,
                     &options,
                     &mut (),
-                    &smoothtri_demo::tracer::RayonExecutor,
+                    &smoothtri_testkit::RayonExecutor,
                 )
             } else {
                 OwnedScene::<f32>::build(pv, nv, &m.triangles, &options)

@@ -3,20 +3,9 @@
 #![allow(dead_code)]
 
 use glam::{DVec3, Vec3};
-use smoothtri::{Bvh, DPatch, DRay, LineField, Patch, Ray};
-use smoothtri_demo::scenes::{Mesh, torus, torus_distance};
-
-/// Deterministic SplitMix64.
-pub struct Rng(pub u64);
-impl Rng {
-    pub fn f(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
+use smoothtri::{Bvh, DPatch, DRay, LineField, OwnedScene, Patch, Ray};
+use smoothtri_testkit::scenes::{torus, torus_distance};
+use smoothtri_testkit::{Mesh, Rng, build_scene};
 
 /// The triangles and vertex normals of `m`, rounded to f32.
 pub fn triangles32(m: &Mesh) -> Vec<([Vec3; 3], [Vec3; 3])> {
@@ -25,18 +14,6 @@ pub fn triangles32(m: &Mesh) -> Vec<([Vec3; 3], [Vec3; 3])> {
             let (p, n) = m.triangle(t);
             (p.map(|x| x.as_vec3()), n.map(|x| x.as_vec3()))
         })
-        .collect()
-}
-
-pub fn patches32(m: &Mesh) -> Vec<Patch> {
-    patches32_on(m, LineField::Face)
-}
-
-/// [`patches32`] on the line field `field`.
-pub fn patches32_on(m: &Mesh, field: LineField) -> Vec<Patch> {
-    triangles32(m)
-        .into_iter()
-        .map(|(p, n)| Patch::with_field(p, n, field).unwrap())
         .collect()
 }
 
@@ -115,22 +92,21 @@ pub fn flat_torus_matching(target: f64) -> (usize, f64) {
 
 /// A scene built as the demo builds it (the core's builder: crack closure, no seams), `f32`.
 pub struct Scene {
-    built: smoothtri_demo::Scene<f32>,
+    built: OwnedScene<f32>,
 }
 impl Scene {
     pub fn new(m: &Mesh) -> Self {
         Self::new_on(m, LineField::Face)
     }
     pub fn new_on(m: &Mesh, field: LineField) -> Self {
-        let built =
-            smoothtri_demo::Scene::build_with(m, field, false).expect("the bench meshes build");
+        let built = build_scene(m, field, false).expect("the bench meshes build");
         Scene { built }
     }
     pub fn bvh(&self) -> Bvh<'_, f32> {
-        self.built.bvh()
+        *self.built.scene().bvh()
     }
     pub fn patches(&self) -> &[Patch] {
-        self.built.patches()
+        self.built.scene().patches()
     }
 }
 

@@ -42,7 +42,7 @@
 
 /**
  * A built scene in single precision (opaque; it lives inside the memory given to
- * [`st_scene_build`]).
+ * `st_scene_build`).
  */
 typedef struct st_scene st_scene;
 
@@ -52,12 +52,12 @@ typedef struct st_scene st_scene;
 typedef struct st_scene_f64 st_scene_f64;
 
 /**
- * A status code: [`ST_OK`] or one of the `ST_ERROR_…` values; [`st_status_str`] names it.
+ * A status code: [`ST_OK`] or one of the `ST_ERROR_…` values; `st_status_str` names it.
  */
 typedef uint32_t st_status;
 
 /**
- * What a build did, filled by [`st_scene_get_info`].
+ * What a build did, filled by `st_scene_get_info`.
  */
 typedef struct st_scene_info {
   /**
@@ -65,8 +65,8 @@ typedef struct st_scene_info {
    */
   size_t triangle_count;
   /**
-   * Patches built (accepted triangles): valid `prim` arguments of [`st_patch_bounds`] and
-   * [`st_patch_intersect`] are `0 .. patch_count`.
+   * Patches built (accepted triangles): valid `prim` arguments of `st_patch_bounds` and
+   * `st_patch_intersect` are `0 .. patch_count`.
    */
   size_t patch_count;
   /**
@@ -617,7 +617,7 @@ typedef struct ST_ALIGNED(32) st_rayhit8_f64 {
 #define ST_ERROR_INVALID_ARGUMENT 2
 
 /**
- * The memory given to [`st_scene_build`] is shorter than [`st_scene_required_bytes`] says.
+ * The memory given to `st_scene_build` is shorter than `st_scene_required_bytes` says.
  */
 #define ST_ERROR_BUFFER_TOO_SMALL 3
 
@@ -647,7 +647,7 @@ typedef struct ST_ALIGNED(32) st_rayhit8_f64 {
 #define ST_ERROR_TOO_LARGE 7
 
 /**
- * The scene pointer is not a scene of this precision built by [`st_scene_build`] (an `f64`
+ * The scene pointer is not a scene of this precision built by `st_scene_build` (an `f64`
  * scene given to an `f32` function, or the reverse).
  */
 #define ST_ERROR_WRONG_SCENE 8

@@ -7,7 +7,7 @@ use glam::DVec3;
 use smoothtri::{Float, Hit, Patch, Ray, Scene, SceneHit};
 
 use crate::store::{Prec, Stored};
-use crate::{
+use crate::types::{
     ST_ERROR_INDEX_OUT_OF_RANGE, ST_ERROR_INTERNAL, ST_ERROR_INVALID_ARGUMENT,
     ST_ERROR_NULL_ARGUMENT, ST_ERROR_WRONG_SCENE, ST_INVALID_ID, ST_OK, st_hit, st_hit_f64, st_ray,
     st_ray_f64, st_rayhit, st_rayhit_f64, st_rayhit8, st_rayhit8_f64, st_status,
@@ -215,8 +215,8 @@ macro_rules! ray_from_lane {
     };
 }
 
-ray_from_lane!(st_ray, crate::st_ray8);
-ray_from_lane!(st_ray_f64, crate::st_ray8_f64);
+ray_from_lane!(st_ray, crate::types::st_ray8);
+ray_from_lane!(st_ray_f64, crate::types::st_ray8_f64);
 
 /// Eight SoA ray-hits, lane by lane.
 pub(crate) trait Lanes8 {

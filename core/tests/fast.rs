@@ -2,8 +2,8 @@
 //! moves the surface and the hits, within the named bounds of [`smoothtri::accuracy`].
 //! Run with `cargo test -p smoothtri --features micromath --test fast -- --nocapture` (prints
 //! the measured worst values). It lives in the core package, whose only dev-dependency is
-//! proptest, so the feature rebuilds the core alone; the random patches are the suite's
-//! (`tests/suite/common/random.rs`).
+//! proptest, so the feature rebuilds the core alone; the random patches are the test kit's
+//! (`testkit/src/random.rs`, included by path).
 #![cfg(feature = "micromath")]
 // Test code: indexing and unwrapping are how a test fails; not every shared helper is used.
 #![allow(
@@ -13,7 +13,7 @@
     clippy::expect_used
 )]
 
-#[path = "../../tests/suite/common/random.rs"]
+#[path = "../../testkit/src/random.rs"]
 mod random;
 use glam::Vec3;
 use random::*;

@@ -1,9 +1,9 @@
-//! Fuzz target: the demo's GLB container check (`smoothtri_demo::mesh::glb::parse`) and the
+//! Fuzz target: the GLB container check of `smoothtri-io` (`smoothtri_io::glb::parse`) and the
 //! glTF loader behind it, in memory. Any panic is a bug; an accepted container's chunks must be
 //! slices of the input that follow the specification's layout.
 #![no_main]
 
-use smoothtri_demo::mesh::{glb, gltf};
+use smoothtri_io::{glb, gltf};
 
 libfuzzer_sys::fuzz_target!(|data: &[u8]| {
     if let Ok(g) = glb::parse(data) {

@@ -1,4 +1,4 @@
-//! Fuzz target `gltf_scene`: the demo's glTF scene walk on structurally valid GLBs with
+//! Fuzz target `gltf_scene`: the glTF scene walk of `smoothtri-io` on structurally valid GLBs with
 //! arbitrary node graphs. The fuzzer chooses up to 8 nodes (a mesh or none, children by index,
 //! cycles and shared children included, a TRS or matrix transform from raw floats), the scenes
 //! and the default scene, and each of two meshes' primitive mode and whether it is indexed;
@@ -11,7 +11,7 @@
 
 use arbitrary::Arbitrary;
 use libfuzzer_sys::fuzz_target;
-use smoothtri_demo::mesh::{glb, gltf};
+use smoothtri_io::{glb, gltf};
 
 #[derive(Arbitrary, Debug)]
 struct Node {

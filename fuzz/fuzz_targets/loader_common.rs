@@ -1,9 +1,9 @@
 //! Shared body of the mesh-loader targets: write the fuzzer's bytes to a file with the given
-//! extension, load it with the demo's loader, and build and probe the patches. A loader may
-//! return an error (that is its job); it must never panic, and an accepted mesh must give
-//! finite patches, evaluations and hits.
+//! extension, load it with the loaders of `smoothtri-io`, and build and probe the patches. A
+//! loader may return an error (that is its job); it must never panic, and an accepted mesh must
+//! give finite patches, evaluations and hits.
 
-use smoothtri::{DRay, LineField};
+use smoothtri::{BuildOptions, DRay, LineField};
 
 pub fn run(ext: &str, data: &[u8]) {
     let dir = std::env::temp_dir().join(format!("smoothtri-fuzz-{}", std::process::id()));
@@ -13,18 +13,22 @@ pub fn run(ext: &str, data: &[u8]) {
         return;
     }
     let Some(p) = path.to_str() else { return };
-    let Ok(loaded) = smoothtri_demo::mesh::load(p) else {
+    let Ok(loaded) = smoothtri_io::load(p) else {
         return;
     };
     let mesh = &loaded.mesh;
-    // The scene as the demo builds it (the core's builder, with seams), at most 2000
-    // triangles.
+    // The scene as the demo builds it (the core's builder, with seams; on one thread, the same
+    // bit for bit), at most 2000 triangles.
     let mut head = mesh.clone();
     head.triangles.truncate(2000);
-    let Ok(built) = smoothtri_demo::Scene::<f64>::build_with(&head, LineField::Face, true) else {
+    let options = BuildOptions {
+        field: LineField::Face,
+        seams: true,
+    };
+    let Ok(built) = head.build_scene::<f64>(&options, &mut (), &()) else {
         return;
     };
-    let scene = built.core();
+    let scene = built.scene();
     for patch in scene.patches() {
         let (x, n) = patch.point_normal(1.0 / 3.0, 1.0 / 3.0);
         assert!(x.is_finite() && n.is_finite(), "non-finite evaluation");

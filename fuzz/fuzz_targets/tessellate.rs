@@ -1,7 +1,7 @@
 //! Fuzz target `tessellate`: a small arbitrary mesh (up to 8 vertices with normals, up to 8
 //! triangles, raw or bounded coordinates) through `smoothtri_demo::tessellate` at a uniform
 //! level or a `max_error` target, in `f32` or `f64`, then through each writer (OBJ, binary
-//! PLY, GLB) and back through the demo's parser for that format, in memory.
+//! PLY, GLB) and back through the parser of `smoothtri-io` for that format, in memory.
 //!
 //! Asserts: tessellation returns a result or a typed error; an accepted result has finite
 //! positions and normals, indices in range, one origin per triangle, the triangle count of
@@ -15,7 +15,7 @@ use arbitrary::Arbitrary;
 use glam::DVec3;
 use libfuzzer_sys::fuzz_target;
 use smoothtri_demo::Precision;
-use smoothtri_demo::mesh::{self, Mesh};
+use smoothtri_io::Mesh;
 use smoothtri_demo::tessellate::{Level, tessellate};
 
 #[derive(Arbitrary, Debug)]
@@ -96,8 +96,8 @@ fn check<F: smoothtri_demo::Prec>(m: &Mesh, level: Level, prec: Precision) {
     }
     for ext in ["obj", "ply", "glb"] {
         let path = format!("/nonexistent-smoothtri-fuzz/out.{ext}");
-        let bytes = mesh::encode(out, &path, prec, "fuzz").expect("encode");
-        let back = mesh::parse(&bytes, &path).expect("written file parses back");
+        let bytes = smoothtri_io::encode(out, &path, prec.into(), "fuzz").expect("encode");
+        let back = smoothtri_io::parse(&bytes, &path).expect("written file parses back");
         assert_eq!(back.mesh.triangles.len(), out.triangles.len(), "{ext}");
         // f64 files read back exactly; f32 ones (GLB always) to the same f32 values.
         let exact = prec == Precision::F64 && ext != "glb";

@@ -10,7 +10,7 @@
 //! error, README) and the flat 8×8 torus; the teapot (992 triangles) beside its own flat
 //! triangles; a 100 352-triangle wavy torus with generated (angle-weighted) normals beside its
 //! own flat triangles; an icosphere with tilted normals on the paper's and on the shared line
-//! field (tilted sections). The smooth scenes are built as a renderer builds them (`Scene::build`:
+//! field (tilted sections). The smooth scenes are built as a renderer builds them (`build_scene`:
 //! patches, cracks closed, BVH). Two rates, each the best of `--repeat` runs after a warm-up that compiles
 //! the pipelines: over the whole call (ray upload, dispatch, readback: on a discrete GPU this is
 //! mostly the PCIe transfers) and over the kernel's own GPU time (timestamp queries, where the
@@ -28,10 +28,10 @@ use std::time::Instant;
 
 use glam::DVec3;
 use smoothtri::{LineField, Ray};
-use smoothtri_demo::mesh::{Mesh, angle_weighted_normals};
-use smoothtri_demo::scenes::{teapot, tilted_normal_sphere, torus};
-use smoothtri_demo::{Camera, Scene};
-use smoothtri_gpu::{Gpu, GpuFrame, GpuScene};
+use smoothtri_gpu::{FrameView, Gpu, GpuFrame, GpuScene};
+use smoothtri_io::{Mesh, angle_weighted_normals};
+use smoothtri_testkit::scenes::{teapot, tilted_normal_sphere, torus};
+use smoothtri_testkit::{Camera, SHADOW_OFFSET_F32, build_scene};
 
 struct Opts {
     width: u32,
@@ -198,22 +198,17 @@ fn main() -> Result<(), String> {
         ),
     ];
     for (name, mesh, field, flats) in cases {
-        let cam = Camera::for_mesh(&mesh, 30.0, 35.0, o.width, o.height);
-        let rays: Vec<Ray> = (0..o.height)
-            .flat_map(|y| (0..o.width).map(move |x| (x, y)))
-            .map(|(x, y)| {
-                let (a, d) = cam.pixel_ray(x, y);
-                Ray::new(a.as_vec3(), d.as_vec3())
-            })
-            .collect();
-        // As a renderer builds it: patches, cracks closed, BVH (`Scene::build`).
-        let b = Scene::<f32>::build_with(&mesh, field, false).map_err(|e| e.to_string())?;
-        let bvh = b.bvh();
-        let smooth = GpuScene::smooth(&gpu, &bvh).map_err(|e| e.to_string())?;
+        let rays: Vec<Ray> = Camera::for_mesh(&mesh, 30.0, 35.0, o.width, o.height).rays_f32();
+        // As a renderer builds it: patches, cracks closed, BVH (`build_scene`).
+        let owned = build_scene::<f32>(&mesh, field, false).map_err(|e| e.to_string())?;
+        let b = owned.scene();
+        let smooth = GpuScene::smooth(&gpu, b.bvh()).map_err(|e| e.to_string())?;
         let s = rate(&smooth, o.iterations, &rays, o.repeat).map_err(|e| e.to_string())?;
         for (flat_name, flat_mesh) in flats {
-            let fb = Scene::<f32>::build(&flat_mesh).map_err(|e| e.to_string())?;
-            let flat = GpuScene::flat(&gpu, &fb.bvh()).map_err(|e| e.to_string())?;
+            let flat_owned = build_scene::<f32>(&flat_mesh, LineField::Face, false)
+                .map_err(|e| e.to_string())?;
+            let fb = flat_owned.scene();
+            let flat = GpuScene::flat(&gpu, fb.bvh()).map_err(|e| e.to_string())?;
             let f = rate(&flat, 0, &rays, o.repeat).map_err(|e| e.to_string())?;
             let ratio = match (s.kernel, f.kernel) {
                 (Some(sk), Some(fk)) => format!("{:.1}×", fk / sk),
@@ -258,18 +253,23 @@ fn frames(gpu: &Arc<Gpu>, o: &Opts) -> Result<(), Box<dyn std::error::Error>> {
     ];
     for (name, mesh, smooth) in cases {
         let cam = Camera::for_mesh(&mesh, 30.0, 35.0, o.width, o.height);
-        let b = Scene::<f32>::build_with(&mesh, LineField::Face, smooth)?;
-        let bvh = b.bvh();
+        let owned = build_scene::<f32>(&mesh, LineField::Face, smooth)?;
+        let b = owned.scene();
+        let (bvh, seams) = (b.bvh(), b.seams());
         let (scene, shading, n) = if smooth {
             (
-                GpuScene::smooth_seamless(gpu, &bvh, b.seams())?,
+                GpuScene::smooth_seamless(gpu, bvh, seams)?,
                 "seamless",
                 o.iterations,
             )
         } else {
-            (GpuScene::phong(gpu, &bvh)?, "Phong", 0)
+            (GpuScene::phong(gpu, bvh)?, "Phong", 0)
         };
-        let view = smoothtri_demo::commands::render::frame_view(&cam, mesh.diagonal(), false);
+        // The view of `smoothtri view --gpu` (the demo's `gpu::frame_view`): its light and the
+        // CPU renderer's f32 shadow offset.
+        let basis = [cam.forward, cam.right, cam.up];
+        let eps = mesh.diagonal() * SHADOW_OFFSET_F32;
+        let view = FrameView::pinhole(cam.eye, basis, cam.tan_half, cam.light_dir(), eps);
         let mut frame = GpuFrame::new(gpu, o.width, o.height)?;
         let mut best = scene.render_frame(n, &view, &mut frame)?;
         for _ in 0..o.repeat {

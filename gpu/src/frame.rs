@@ -7,10 +7,13 @@
 
 use std::sync::Arc;
 
-use glam::Vec3;
+use glam::{DVec3, Vec3};
 use wgpu::util::DeviceExt;
 
-use crate::{Gpu, GpuError, GpuScene, bind_entry as entry, scoped, status_result, word};
+use crate::device::{Gpu, bind_entry as entry, scoped};
+use crate::dispatch::{status_result, word};
+use crate::error::GpuError;
+use crate::scene::GpuScene;
 
 /// Bytes of the shader's `View` uniform.
 const VIEW_BYTES: usize = 96;
@@ -49,6 +52,31 @@ pub struct FrameView {
     /// `log10(t_error·s)` from −9 (blue) to −3 (red), misses black; `s` is usually
     /// 1 / the scene's diagonal.
     pub heat: Option<f32>,
+}
+
+impl FrameView {
+    /// The view of a pinhole camera given in `f64` (rounded to `f32`): the eye at `eye`, the unit
+    /// basis `[forward, right, up]`, `tan_half` the tangent of half the vertical field of view;
+    /// lit from the unit direction `light`, shadow rays offset by `eps` (scene units); shaded,
+    /// without the heat map (set [`FrameView::heat`] for it).
+    pub fn pinhole(
+        eye: DVec3,
+        [forward, right, up]: [DVec3; 3],
+        tan_half: f64,
+        light: DVec3,
+        eps: f64,
+    ) -> FrameView {
+        FrameView {
+            eye: eye.as_vec3(),
+            forward: forward.as_vec3(),
+            right: right.as_vec3(),
+            up: up.as_vec3(),
+            tan_half: tan_half as f32,
+            light: light.as_vec3(),
+            eps: eps as f32,
+            heat: None,
+        }
+    }
 }
 
 /// What a frame cost and found.

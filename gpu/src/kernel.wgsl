@@ -99,7 +99,7 @@ struct HitOut {
     pad: u32,
 }
 
-// The frame's camera (host-demo/src/camera.rs `Camera`), light and output (lib.rs `FrameView`).
+// The frame's camera (testkit/src/camera.rs `Camera`), light and output (frame.rs `FrameView`).
 struct View {
     eye: vec3<f32>,
     tan_half: f32,
@@ -1761,7 +1761,7 @@ fn frame(@builtin(global_invocation_id) gid: vec3<u32>) {
     if (i >= arrayLength(&image) || i >= arrayLength(&pixels)) {
         return;
     }
-    // host-demo/src/camera.rs `Camera::ray` through the pixel's centre.
+    // testkit/src/camera.rs `Camera::ray` through the pixel's centre.
     let sx = (2.0 * (f32(x) + 0.5) / f32(w) - 1.0) * view.tan_half * view.aspect;
     let sy = (1.0 - 2.0 * (f32(y) + 0.5) / f32(h)) * view.tan_half;
     let d = normalize(view.forward + view.right * sx + view.up * sy);

@@ -9,8 +9,12 @@ use glam::{DVec3, Vec3};
 use smoothtri::accuracy::{F32_SPHERE_HIT, F32_SPHERE_NORMAL};
 use smoothtri::mesh::{SharedEdge, close_cracks};
 use smoothtri::{Hit, LineField, Patch, Ray};
-use smoothtri_demo::scenes::{Mesh, cube, icosphere, teapot, tilted_normal_sphere, torus};
 use smoothtri_gpu::{Gpu, GpuScene};
+use smoothtri_testkit::random::{Rng, random_ray};
+use smoothtri_testkit::scenes::{
+    cube, icosphere, sphere_root, teapot, tilted_normal_sphere, torus,
+};
+use smoothtri_testkit::{Camera, Mesh, build_scene, patches32};
 use std::sync::Arc;
 
 /// The budget compared (the GPU's and the demo's default).
@@ -590,14 +594,7 @@ fn shared_line_field_matches_the_cpu() {
 
 /// Camera rays framing `mesh` (`w × h`, from the demo's camera).
 fn camera_rays(mesh: &Mesh, w: u32, h: u32) -> Vec<Ray> {
-    let cam = smoothtri_demo::camera::Camera::for_mesh(mesh, 30.0, 35.0, w, h);
-    (0..h)
-        .flat_map(|y| (0..w).map(move |x| (x, y)))
-        .map(|(x, y)| {
-            let (o, d) = cam.pixel_ray(x, y);
-            Ray::new(o.as_vec3(), d.as_vec3())
-        })
-        .collect()
+    Camera::for_mesh(mesh, 30.0, 35.0, w, h).rays_f32()
 }
 
 /// The seamless normal in WGSL (`Shading::Seamless`) against the CPU's `Scene::shading_normal`
@@ -608,9 +605,8 @@ fn camera_rays(mesh: &Mesh, w: u32, h: u32) -> Vec<Ray> {
 fn shading_normals_match_the_cpu() {
     let Some(gpu) = gpu() else { return };
     for (name, mesh) in [("torus", torus(8, 8, 1.0, 0.4)), ("teapot", teapot(4))] {
-        let scene = smoothtri_demo::tracer::Scene::<f32>::build_with(&mesh, LineField::Face, true)
-            .expect("scene");
-        let core = scene.core();
+        let scene = build_scene::<f32>(&mesh, LineField::Face, true).expect("scene");
+        let core = scene.scene();
         let rays = camera_rays(&mesh, 120, 90);
         let mut got = vec![None; rays.len()];
         GpuScene::smooth_seamless(&gpu, core.bvh(), core.seams())

@@ -8,10 +8,11 @@ use common::*;
 use glam::Vec3;
 use smoothtri::BVH_EMPTY_SLOT;
 use smoothtri::{Patch, PatchData, Ray};
-use smoothtri_demo::scenes::icosphere;
 use smoothtri_gpu::{
     FrameView, Gpu, GpuError, GpuFrame, GpuNode, GpuScene, MAX_ITERATIONS, SceneKind,
 };
+use smoothtri_testkit::patches32;
+use smoothtri_testkit::scenes::icosphere;
 use std::sync::Arc;
 
 /// A correct trace after the adversarial ones: the device is alive.

@@ -4,8 +4,8 @@
 use std::process::ExitCode;
 
 use clap::{Args, Parser, Subcommand};
+use smoothtri_testkit::scenes::SCENE_NAMES;
 
-use crate::camera::Up;
 use crate::commands::eval::EvalOptions;
 use crate::commands::inspect::InspectOptions;
 use crate::commands::precision::PrecisionOptions;
@@ -15,9 +15,9 @@ use crate::commands::trace::TraceOptions;
 use crate::commands::view::ViewOptions;
 use crate::commands::{self, MeshSource};
 use crate::error::Result;
-use crate::scenes::SCENE_NAMES;
 use crate::tessellate::Level;
 use crate::tracer::{Field, Mode, Normals, Precision};
+use crate::up::Up;
 
 /// Ray tracing of smooth surfaces from triangle meshes with vertex normals.
 #[derive(Parser, Debug)]

@@ -73,7 +73,7 @@ pub(crate) fn rows<'a>(
 /// A finite number in precision `F`, parsed in that precision directly so that printed values
 /// read back exactly.
 pub(crate) fn num<F: Prec>(tok: &str, path: &str, line: usize) -> Result<F> {
-    let v = crate::mesh::obj::parse_f64(tok, path, line)?;
+    let v = smoothtri_io::obj::parse_f64(tok, path, line)?;
     Ok(F::parse(tok).unwrap_or_else(|| F::from_f64(v)))
 }
 

@@ -1,30 +1,26 @@
 //! Library side of the `smoothtri` demo over the `smoothtri` core.
 //!
-//! - [`mesh`]: the [`Mesh`] type, normal generation, the file loaders (OBJ, PLY, glTF/GLB,
-//!   glTF scenes walked node by node) and writers (OBJ, PLY, GLB: [`mesh::save`]);
-//!   [`scenes`]: the built-in scenes.
+//! - Meshes come from [`smoothtri_io`] (the [`Mesh`](smoothtri_io::Mesh) type, the file loaders
+//!   and writers) and the built-in scenes, the camera and the builder's executor from
+//!   [`smoothtri_testkit`]; [`up`]: the up axis of a mesh ([`up::Up`]).
 //! - [`tracer`]: patches and BVH of a mesh in a [`Precision`] ([`Scene`]), and the smooth, flat
-//!   and Phong ray queries; [`camera`]: the camera and the up axis ([`camera::Up`]);
-//!   [`renderer`]: shading an image.
+//!   and Phong ray queries; [`renderer`]: shading an image on the CPU; [`gpu`]: the same on the
+//!   GPU (`smoothtri-gpu`), for every command with `--gpu`.
 //! - [`tessellate`]: the smooth surface sampled into welded triangles (for other renderers).
 //! - [`commands`]: one module per subcommand, each with a plain options struct and `run`;
 //!   [`cli`]: argument parsing (clap) and dispatch to them.
 //! - [`image`] (PNG, labels), [`csvio`] (CSV in and out), [`error`] ([`DemoError`]).
 
-pub mod camera;
 pub mod cli;
 pub mod commands;
 pub mod csvio;
 pub mod error;
+pub mod gpu;
 pub mod image;
-pub mod mesh;
 pub mod renderer;
-pub mod scenes;
-pub mod teapot_data;
 pub mod tessellate;
 pub mod tracer;
+pub mod up;
 
-pub use camera::Camera;
 pub use error::{DemoError, Result};
-pub use mesh::Mesh;
 pub use tracer::{Mode, Prec, Precision, Scene};

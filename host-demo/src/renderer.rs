@@ -8,8 +8,8 @@ use std::io::IsTerminal;
 use glam::DVec3;
 use rayon::prelude::*;
 use smoothtri::{Hit, Ray};
+use smoothtri_testkit::{Camera, SHADOW_OFFSET_F32, SHADOW_OFFSET_F64};
 
-use crate::camera::Camera;
 use crate::image::Image;
 use crate::tracer::{Prec, Precision, Scene, Tracer};
 
@@ -49,11 +49,6 @@ pub fn background(y: u32, h: u32) -> [u8; 3] {
     ]
 }
 
-/// Direction towards the light for a camera: upper left, slightly behind the viewer.
-pub fn light_dir(cam: &Camera) -> DVec3 {
-    (cam.right * -0.55 + cam.up * 0.75 - cam.forward * 0.35).normalize()
-}
-
 fn to_u8(x: f64) -> u8 {
     (x.clamp(0.0, 1.0).powf(1.0 / 2.2) * 255.0 + 0.5) as u8
 }
@@ -84,11 +79,11 @@ pub fn render<F: Prec>(
     let bvh = scene.bvh();
     let core = scene.core();
     let seamless = tracer.smooth() && scene.normals == crate::tracer::Normals::Seamless;
-    let light = light_dir(cam);
+    let light = cam.light_dir();
     let eps = diag
         * match F::PRECISION {
-            Precision::F32 => 2e-4,
-            Precision::F64 => 1e-7,
+            Precision::F32 => SHADOW_OFFSET_F32,
+            Precision::F64 => SHADOW_OFFSET_F64,
         };
     let (w, h) = (cam.width, cam.height);
     let bar = if progress && std::io::stderr().is_terminal() {

@@ -58,9 +58,9 @@ use std::collections::HashMap;
 use glam::DVec3;
 use rayon::prelude::*;
 use smoothtri::Patch;
+use smoothtri_io::Mesh;
 
 use crate::error::{DemoError, Result};
-use crate::mesh::Mesh;
 use crate::tracer::{Prec, Scene};
 
 /// How finely each patch is sampled.
@@ -587,7 +587,7 @@ pub fn surface_distance_to<F: Prec>(scene: &Scene<F>, dist: impl Fn(DVec3) -> f6
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scenes;
+    use smoothtri_testkit::scenes;
 
     /// Every undirected output edge is used by exactly two triangles, in opposite directions:
     /// the output is closed and consistently oriented, without T-junctions.

@@ -5,9 +5,10 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 
 use glam::DVec3;
-use smoothtri_demo::Camera;
 use smoothtri_demo::commands::precision::CSV_HEADER;
-use smoothtri_demo::scenes::{Mesh, cube, icosphere};
+use smoothtri_testkit::Camera;
+use smoothtri_testkit::Mesh;
+use smoothtri_testkit::scenes::{cube, icosphere};
 
 const W: u32 = 96;
 const H: u32 = 72;
@@ -484,7 +485,7 @@ fn ply_headers_with_bare_text_lines_load() {
 /// header line loads, a glTF 1.0 file is refused by name, a truncated binary PLY is one line.
 #[test]
 fn real_exports_load_or_fail_in_one_line() {
-    let Some(root) = smoothtri_demo::mesh::assimp_models().unwrap() else {
+    let Some(root) = smoothtri_testkit::assimp_models().unwrap() else {
         return;
     };
     let d = tmp();
@@ -1054,7 +1055,7 @@ fn gltf_scenes_through_the_cli() {
             r#""indices":2}]},{"name":"wire","primitives":[{"attributes":{"POSITION":0},"mode":1}]}]"#,
         );
     assert_ne!(scene, json, "template changed");
-    let glb = smoothtri_demo::mesh::glb::build(scene.as_bytes(), Some(&bin));
+    let glb = smoothtri_io::glb::build(scene.as_bytes(), Some(&bin));
     std::fs::write(p.join("s.glb"), &glb).expect("glb");
     let r = ok(p, &["inspect", "--mesh", "s.glb"]);
     assert!(r.out.contains("triangles: 24"), "{}", r.out);
@@ -1080,7 +1081,7 @@ fn gltf_scenes_through_the_cli() {
     assert_ne!(bad, scene, "template changed");
     std::fs::write(
         p.join("bad.glb"),
-        smoothtri_demo::mesh::glb::build(bad.as_bytes(), Some(&bin)),
+        smoothtri_io::glb::build(bad.as_bytes(), Some(&bin)),
     )
     .expect("glb");
     let r = fails(
@@ -1124,7 +1125,7 @@ fn figure(text: &str, key: &str) -> f64 {
 
 fn load(dir: &Path, name: &str) -> Mesh {
     let path = dir.join(name);
-    smoothtri_demo::mesh::load(path.to_str().expect("utf-8 path"))
+    smoothtri_io::load(path.to_str().expect("utf-8 path"))
         .expect("reload")
         .mesh
 }
@@ -1224,7 +1225,7 @@ fn tessellation_reloads_with_the_welding_rules_counts() {
 #[test]
 fn tessellated_torus_tends_to_the_smooth_surfaces_distance() {
     use smoothtri::DPatch;
-    use smoothtri_demo::scenes::{torus, torus_distance};
+    use smoothtri_testkit::scenes::{torus, torus_distance};
     let d = tmp();
     let p = d.path();
     let mesh = torus(8, 8, 1.0, 0.4);

@@ -7,12 +7,12 @@ use std::io::Write as _;
 use std::process::{Command, Stdio};
 use std::sync::Arc;
 
-use smoothtri_demo::Camera;
-use smoothtri_demo::commands::render::{frame_view, gpu_scene, render_gpu};
+use smoothtri_demo::gpu::{frame_view, gpu_scene, render_gpu};
 use smoothtri_demo::renderer::render;
-use smoothtri_demo::scenes::torus;
 use smoothtri_demo::tracer::{Mode, Scene, tracer};
 use smoothtri_gpu::{Gpu, GpuError, GpuFrame};
+use smoothtri_testkit::Camera;
+use smoothtri_testkit::scenes::torus;
 
 /// Largest per-channel difference (of 255) allowed on any pixel.
 const PIXEL_TOL: u8 = 2;

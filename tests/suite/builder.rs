@@ -12,7 +12,7 @@ use smoothtri::{
     BuildError, BuildOptions, Bvh, BvhNode, EdgeWork, Executor, Float, LineField, OwnedScene,
     Patch, PatchError, Ray, Scene, SceneSizes, SceneStorage, Vertices,
 };
-use smoothtri_demo::scenes::{self, Mesh};
+use smoothtri_testkit::{Mesh, scenes};
 
 fn flat(v: &[DVec3]) -> Vec<f64> {
     v.iter().flat_map(|p| p.to_array()).collect()
@@ -494,7 +494,7 @@ fn parallel_builds_are_bit_identical() {
             &m.triangles,
             &options,
             &mut (),
-            &smoothtri_demo::tracer::RayonExecutor,
+            &smoothtri_testkit::RayonExecutor,
         )
         .unwrap();
         let back =

@@ -6,7 +6,7 @@ use smoothtri::accuracy::F64_SPHERE_HIT;
 use smoothtri::internal::MAX_LEAF;
 use smoothtri::{Aabb, BVH_EMPTY_SLOT, BVH_WIDTH, MAX_DEPTH};
 use smoothtri::{Bvh, BvhError, BvhNode, DPatch, DRay, Float, Hit, Patch, Ray};
-use smoothtri_demo::scenes::{icosphere, torus};
+use smoothtri_testkit::scenes::{icosphere, torus};
 
 #[test]
 fn closest_and_any_hit_equal_brute_force() {

@@ -9,21 +9,14 @@ use smoothtri::accuracy::*;
 use smoothtri::internal::{EARLY_STOP, WORST_SHRINK};
 use smoothtri::{DEFAULT_SAMPLES, DPatch, DRay, Float, Patch, Ray};
 use smoothtri::{max_height_evals, max_lane_calls};
-use smoothtri_demo::scenes::{Mesh, cube, icosphere, torus};
+use smoothtri_testkit::scenes::{cube, icosphere, sphere_root, torus};
+use smoothtri_testkit::{Mesh, patches32};
 
 fn patches64(m: &Mesh) -> Vec<DPatch> {
     (0..m.triangles.len())
         .map(|t| {
             let (p, n) = m.triangle(t);
             DPatch::new(p, n).unwrap()
-        })
-        .collect()
-}
-fn patches32(m: &Mesh) -> Vec<Patch> {
-    (0..m.triangles.len())
-        .map(|t| {
-            let (p, n) = m.triangle(t);
-            Patch::new(p.map(|x| x.as_vec3()), n.map(|x| x.as_vec3())).unwrap()
         })
         .collect()
 }
@@ -48,29 +41,6 @@ fn closest32<const N: usize>(ps: &[Patch], ray: &Ray) -> Option<smoothtri::Hit> 
         }
     }
     best
-}
-
-/// Analytic first intersection of a ray with the sphere |x| = r, and the ray's closest approach.
-fn sphere_root(o: DVec3, d: DVec3, r: f64) -> (Option<f64>, f64) {
-    let a = d.dot(d);
-    let b = o.dot(d);
-    let c = o.dot(o) - r * r;
-    let closest = (o - d * (b / a)).length();
-    let disc = b * b - a * c;
-    if disc < 0.0 {
-        return (None, closest);
-    }
-    let q = -(b + b.signum() * disc.sqrt());
-    let (t1, t2) = (q / a, c / q);
-    let t = t1.min(t2);
-    (if t > 0.0 { Some(t) } else { None }, closest)
-}
-
-fn random_ray(rng: &mut Rng, target_radius: f64) -> (DVec3, DVec3) {
-    let o = rng.unit() * rng.range(4.0, 8.0);
-    let aim = rng.unit() * target_radius * rng.f().cbrt();
-    let d = (aim - o) * rng.range(0.3, 3.0); // not unit length on purpose
-    (o, d)
 }
 
 /// Closest hits (N = 8) of 3000 random rays on a mesh that is exactly the sphere of radius `r`

@@ -12,7 +12,7 @@
 use glam::DVec3;
 use smoothtri::accuracy::SEAM_JUMP_DEG;
 use smoothtri::{BuildOptions, DEFAULT_SAMPLES, LineField, OwnedScene, Ray, Vertices};
-use smoothtri_demo::tracer::RayonExecutor;
+use smoothtri_testkit::RayonExecutor;
 
 /// `(file under /usr/share/assimp/models, triangles, rejected, remedied)`.
 const MODELS: &[(&str, usize, usize, usize)] = &[
@@ -38,13 +38,13 @@ fn flat(v: &[DVec3]) -> Vec<f64> {
 
 #[test]
 fn real_meshes_build_and_trace() {
-    let Some(root) = smoothtri_demo::mesh::assimp_models().unwrap() else {
+    let Some(root) = smoothtri_testkit::assimp_models().unwrap() else {
         return;
     };
     for &(file, triangles, rejected, remedied) in MODELS {
         let path = root.join(file);
-        let loaded = smoothtri_demo::mesh::load(path.to_str().unwrap())
-            .unwrap_or_else(|e| panic!("{file}: {e}"));
+        let loaded =
+            smoothtri_io::load(path.to_str().unwrap()).unwrap_or_else(|e| panic!("{file}: {e}"));
         let m = &loaded.mesh;
         let (p, n) = (flat(&m.positions), flat(&m.normals));
         let options = BuildOptions {
@@ -150,13 +150,13 @@ const JUMPS: &[(&str, usize, usize, usize)] = &[
 /// (the animal's 219 edges next to clamped patches included); what is not joined is counted.
 #[test]
 fn real_meshes_shading_jumps() {
-    let Some(root) = smoothtri_demo::mesh::assimp_models().unwrap() else {
+    let Some(root) = smoothtri_testkit::assimp_models().unwrap() else {
         return;
     };
     for &(file, edges, creases, unjoined) in JUMPS {
-        let loaded = smoothtri_demo::mesh::load(root.join(file).to_str().unwrap())
+        let loaded = smoothtri_io::load(root.join(file).to_str().unwrap())
             .unwrap_or_else(|e| panic!("{file}: {e}"));
-        let c = smoothtri_demo::commands::inspect::cracks(&loaded.mesh, LineField::Face);
+        let c = smoothtri_testkit::cracks(&loaded.mesh, LineField::Face);
         eprintln!(
             "{file}: {} edges measured ({} next to clamped patches), {} creases, {} without a \
              seam (max {:.4}°); shading jump max {:.6}° mean {:.2e}° (surface normal: max \

@@ -10,7 +10,7 @@ use smoothtri::Patch;
 use smoothtri::accuracy::*;
 use smoothtri::internal::{FIT_SAMPLES, TWIST_TERMS};
 use smoothtri::mesh::{MeshError, Seam, SharedEdge, fit_seams};
-use smoothtri_demo::scenes::{self, Mesh};
+use smoothtri_testkit::{Mesh, scenes};
 
 /// The patches of `mesh` (every triangle accepted, some perhaps with clamped normals:
 /// [`Patch::new_or_tilted`]) and their fitted seams, with the number of shared edges fitted.

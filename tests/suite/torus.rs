@@ -6,7 +6,7 @@ use crate::common::pins::{TORUS_8X8_DISTANCE, TORUS_16X16_DISTANCE};
 use crate::common::*;
 use glam::DVec3;
 use smoothtri::DPatch;
-use smoothtri_demo::scenes::{torus, torus_distance};
+use smoothtri_testkit::scenes::{torus, torus_distance};
 
 /// Maximum distance to the torus over a barycentric grid of `m` subdivisions per triangle, of
 /// the smooth patches and of the flat triangles.

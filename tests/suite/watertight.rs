@@ -9,7 +9,7 @@ use crate::common::*;
 use glam::DVec3;
 use smoothtri::mesh::{SharedEdge, VertexClamp, clamp_vertex_normals, close_cracks};
 use smoothtri::{Bvh, BvhNode, LineField, Patch, Ray};
-use smoothtri_demo::scenes::{self, Mesh};
+use smoothtri_testkit::{Mesh, scenes};
 
 fn diagonal(mesh: &Mesh) -> f64 {
     let (mut lo, mut hi) = (DVec3::splat(f64::MAX), DVec3::splat(f64::MIN));

@@ -1,13 +1,13 @@
-//! Shared helpers of the GPU tests: the device (or the skip), scenes, and the ray sets of the
-//! CPU kernel's tests (`tests/suite/kernel.rs`: the same generator, seeds and distributions).
+//! Shared helpers of the GPU tests: the device (or the skip) and BVH storage. The scenes, the
+//! patches and the random rays of the CPU kernel's tests (`tests/suite/kernel.rs`: the same
+//! generator, seeds and distributions) come from the test kit.
 #![allow(dead_code)]
 
 use std::io::Write as _;
 use std::sync::{Arc, OnceLock};
 
-use glam::{DVec3, Vec3};
+use glam::Vec3;
 use smoothtri::{Bvh, BvhNode, Patch};
-use smoothtri_demo::scenes::Mesh;
 use smoothtri_gpu::{Gpu, GpuError};
 
 /// Set (to anything but `0`) to make a missing adapter a test failure instead of a skip
@@ -40,16 +40,6 @@ pub fn gpu() -> Option<Arc<Gpu>> {
     }
 }
 
-/// The f32 patches of a mesh (every triangle must be accepted, as in `tests/suite/kernel.rs`).
-pub fn patches32(m: &Mesh) -> Vec<Patch> {
-    (0..m.triangles.len())
-        .map(|t| {
-            let (p, n) = m.triangle(t);
-            Patch::new(p.map(|x| x.as_vec3()), n.map(|x| x.as_vec3())).expect("patch")
-        })
-        .collect()
-}
-
 /// BVH storage over `patches`.
 pub struct Tree {
     pub nodes: Vec<BvhNode<f32>>,
@@ -69,36 +59,6 @@ impl Tree {
     pub fn bvh<'a>(&'a self, patches: &'a [Patch]) -> Bvh<'a, f32> {
         Bvh::from_parts(patches, &self.nodes, &self.order).expect("a tree made by Bvh::build")
     }
-}
-
-// The suite's PRNG and random geometry (SplitMix64 `Rng`), shared by file.
-#[path = "../../../tests/suite/common/random.rs"]
-mod random;
-pub use random::Rng;
-
-/// The random rays of `tests/suite/kernel.rs`: from 4–8 away, aimed within `target_radius` of the
-/// origin, directions not of unit length.
-pub fn random_ray(rng: &mut Rng, target_radius: f64) -> (DVec3, DVec3) {
-    let o = rng.unit() * rng.range(4.0, 8.0);
-    let aim = rng.unit() * target_radius * rng.f().cbrt();
-    let d = (aim - o) * rng.range(0.3, 3.0);
-    (o, d)
-}
-
-/// Analytic first intersection with the sphere |x| = r, and the ray's closest approach.
-pub fn sphere_root(o: DVec3, d: DVec3, r: f64) -> (Option<f64>, f64) {
-    let a = d.dot(d);
-    let b = o.dot(d);
-    let c = o.dot(o) - r * r;
-    let closest = (o - d * (b / a)).length();
-    let disc = b * b - a * c;
-    if disc < 0.0 {
-        return (None, closest);
-    }
-    let q = -(b + b.signum() * disc.sqrt());
-    let (t1, t2) = (q / a, c / q);
-    let t = t1.min(t2);
-    (if t > 0.0 { Some(t) } else { None }, closest)
 }
 
 /// Two unit vectors perpendicular to `d` and to each other.

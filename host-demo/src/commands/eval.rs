@@ -3,10 +3,11 @@
 
 use std::fmt::Write as _;
 
-use super::MeshSource;
+use smoothtri_io::Mesh;
+
+use super::source::MeshSource;
 use crate::csvio::{display_name, num, read_text, rows, vec3};
 use crate::error::{DemoError, Result};
-use crate::mesh::Mesh;
 use crate::tracer::{Normals, Prec, Precision, Scene};
 
 /// Options of `eval`.

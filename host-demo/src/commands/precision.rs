@@ -8,13 +8,14 @@ use std::sync::Arc;
 use glam::DVec3;
 use smoothtri::Ray;
 use smoothtri_gpu::{Gpu, GpuScene};
+use smoothtri_io::Mesh;
+use smoothtri_testkit::Camera;
 
-use super::MeshSource;
-use crate::camera::{Camera, Up};
+use super::source::MeshSource;
 use crate::error::{DemoError, Result};
 use crate::image::{Image, heat};
-use crate::mesh::Mesh;
 use crate::tracer::{Mode, Prec, Precision, Scene, tracer};
+use crate::up::Up;
 
 /// Options of `precision`.
 #[derive(Clone, Debug)]
@@ -48,7 +49,7 @@ pub fn run(a: PrecisionOptions) -> Result<()> {
         ));
     }
     let gpu = if a.gpu {
-        Some(super::render::open_gpu()?)
+        Some(crate::gpu::open_gpu()?)
     } else {
         None
     };
@@ -197,10 +198,10 @@ fn trace_gpu(
     let mut hits = vec![None; batch.len()];
     // Compile the pipeline before the clock starts.
     gs.closest_hit_with(n, &[], 0.0, f32::MAX, &mut [])
-        .map_err(super::render::gpu_error)?;
+        .map_err(crate::gpu::gpu_error)?;
     let start = std::time::Instant::now();
     gs.closest_hit_with(n, &batch, 0.0, f32::MAX, &mut hits)
-        .map_err(super::render::gpu_error)?;
+        .map_err(crate::gpu::gpu_error)?;
     let secs = start.elapsed().as_secs_f64();
     let out = hits
         .iter()
@@ -287,7 +288,7 @@ pub fn sweep_with(mesh: &Mesh, cam: &Camera, gpu: Option<&Arc<Gpu>>) -> Result<S
     let (rf, _) = trace_all(&s64, &rays, REFERENCE_N)?;
     let reference: Vec<Option<Ref>> = rf.iter().map(|r| r.map(|(t, p, _)| Ref { t, p })).collect();
     let gs = match gpu {
-        Some(g) => Some(GpuScene::smooth(g, &s32.bvh()).map_err(super::render::gpu_error)?),
+        Some(g) => Some(GpuScene::smooth(g, &s32.bvh()).map_err(crate::gpu::gpu_error)?),
         None => None,
     };
     let mut rows = Vec::new();
@@ -494,7 +495,7 @@ pub fn strip_with(
     );
     for (k, &n) in BUDGETS.iter().enumerate() {
         let r = match gpu {
-            Some(g) => super::render::render_gpu(g, &s32, &cam, Mode::Smooth, n, diag)?,
+            Some(g) => crate::gpu::render_gpu(g, &s32, &cam, Mode::Smooth, n, diag)?,
             None => {
                 crate::renderer::render(&s32, &cam, tracer::<f32>(Mode::Smooth, n)?, diag, false)
             }

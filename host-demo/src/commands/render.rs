@@ -1,5 +1,6 @@
 //! `smoothtri render`: a mesh (default: the built-in torus) to a PNG, one mode or smooth, flat
-//! and phong side by side; on the CPU, or with `--gpu` on the GPU kernel ([`render_gpu`]).
+//! and phong side by side; on the CPU, or with `--gpu` on the GPU kernel
+//! ([`crate::gpu::render_gpu`]).
 
 use std::any::Any;
 use std::cell::RefCell;
@@ -7,16 +8,17 @@ use std::rc::Rc;
 use std::sync::Arc;
 
 use smoothtri::LineField;
-use smoothtri_gpu::{FrameStats, FrameView, Gpu, GpuFrame, GpuScene};
+use smoothtri_gpu::Gpu;
+use smoothtri_io::Mesh;
+use smoothtri_testkit::Camera;
 
-use crate::camera::{Camera, Up};
 use crate::error::{DemoError, Result};
+use crate::gpu::{open_gpu, render_gpu};
 use crate::image::Image;
-use crate::mesh::Mesh;
-use crate::renderer::{PixelHit, Rendered, light_dir};
 use crate::tracer::{Mode, Normals, Prec, Precision, Scene, tracer};
+use crate::up::Up;
 
-use super::MeshSource;
+use super::source::MeshSource;
 
 /// Options of `render`.
 #[derive(Clone, Debug)]
@@ -214,17 +216,6 @@ impl From<crate::renderer::Rendered> for Panel {
     }
 }
 
-/// Opens the GPU for `--gpu`: its error (no adapter, no device) becomes the one-line message
-/// the command exits with.
-pub fn open_gpu() -> Result<Arc<Gpu>> {
-    Gpu::new().map_err(gpu_error)
-}
-
-/// A GPU failure as the demo's error (one line).
-pub fn gpu_error(e: smoothtri_gpu::GpuError) -> DemoError {
-    DemoError::Usage(format!("--gpu: {e}"))
-}
-
 /// [`render_panel`] on the GPU (f32).
 #[allow(clippy::too_many_arguments)]
 fn render_panel_gpu(
@@ -244,96 +235,6 @@ fn render_panel_gpu(
     scene.normals = normals;
     let r = render_gpu(gpu, &scene, cam, mode, n, mesh.diagonal())?;
     Ok(Panel::from(r))
-}
-
-/// The GPU scene of `scene` for `mode`: the smooth patches with the seamless normal when the
-/// scene shades with it (built with seams), else with the geometric one; the flat triangles,
-/// with their vertex normals for `Mode::Phong`.
-pub fn gpu_scene(gpu: &Arc<Gpu>, scene: &Scene<f32>, mode: Mode) -> Result<GpuScene> {
-    let bvh = scene.bvh();
-    let seams = scene.seams();
-    match mode {
-        Mode::Smooth
-            if scene.normals == Normals::Seamless && seams.len() == bvh.patches().len() =>
-        {
-            GpuScene::smooth_seamless(gpu, &bvh, seams)
-        }
-        Mode::Smooth => GpuScene::smooth(gpu, &bvh),
-        Mode::Flat => GpuScene::flat(gpu, &bvh),
-        Mode::Phong => GpuScene::phong(gpu, &bvh),
-    }
-    .map_err(gpu_error)
-}
-
-/// The frame pass's view of `cam`: its camera, [`light_dir`], the shadow-ray offset of the
-/// CPU renderer in `f32` (`diag` · 2e-4, `diag` the scene's bounding-box diagonal), and the
-/// heat map of `t_error` relative to `diag` when `heat`.
-pub fn frame_view(cam: &Camera, diag: f64, heat: bool) -> FrameView {
-    FrameView {
-        eye: cam.eye.as_vec3(),
-        forward: cam.forward.as_vec3(),
-        right: cam.right.as_vec3(),
-        up: cam.up.as_vec3(),
-        tan_half: cam.tan_half as f32,
-        light: light_dir(cam).as_vec3(),
-        eps: (diag * 2e-4) as f32,
-        heat: heat.then(|| (1.0 / diag.max(f64::MIN_POSITIVE)) as f32),
-    }
-}
-
-/// The frame in `frame` as the CPU renderer returns one: the image and each pixel's primary
-/// hit (`triangle` the mesh triangle of the hit patch).
-pub fn read_frame(scene: &Scene<f32>, frame: &GpuFrame, stats: FrameStats) -> Result<Rendered> {
-    let (data, pixels) = frame.read().map_err(gpu_error)?;
-    let hits = pixels
-        .iter()
-        .map(|p| match p.patch {
-            Some(patch) => PixelHit {
-                hit: true,
-                point: p.point.as_dvec3(),
-                t_error: f64::from(p.t_error),
-                triangle: scene
-                    .tri_ids()
-                    .get(patch as usize)
-                    .copied()
-                    .unwrap_or(u32::MAX),
-            },
-            None => PixelHit::default(),
-        })
-        .collect();
-    Ok(Rendered {
-        image: Image {
-            width: frame.width(),
-            height: frame.height(),
-            data,
-        },
-        hits,
-        rays: stats.rays,
-        seconds: stats.seconds,
-    })
-}
-
-/// Renders `scene` through `cam` on the GPU, as [`crate::renderer::render`] does on the CPU
-/// (the same camera, shading, light and shadow-ray offset), in one frame pass
-/// ([`GpuScene::render_frame`]: rays, closest hits, shading normals and shadow rays all on the
-/// GPU), then reads the frame back. `Mode::Smooth` traces the patches with budget `n` and
-/// shades with the scene's normal (seamless when built with seams); `Flat` and `Phong` trace
-/// the flat triangles, Phong with the interpolated vertex normals. `diag` is the scene's
-/// bounding-box diagonal. The time is the frame pass's (without the upload, the pipeline's
-/// compilation and the readback of the pixels).
-pub fn render_gpu(
-    gpu: &Arc<Gpu>,
-    scene: &Scene<f32>,
-    cam: &Camera,
-    mode: Mode,
-    n: usize,
-    diag: f64,
-) -> Result<Rendered> {
-    let gs = gpu_scene(gpu, scene, mode)?;
-    let mut frame = GpuFrame::new(gpu, cam.width, cam.height).map_err(gpu_error)?;
-    let view = frame_view(cam, diag, false);
-    let stats = gs.render_frame(n, &view, &mut frame).map_err(gpu_error)?;
-    read_frame(scene, &frame, stats)
 }
 
 /// Renders [`RenderOptions::source`] (the torus when unset) to a PNG and reports the ray rate

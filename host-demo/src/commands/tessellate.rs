@@ -4,14 +4,16 @@
 
 use std::fmt::Write as _;
 
-use super::MeshSource;
-use crate::camera::{Camera, Up};
+use smoothtri_io::Mesh;
+use smoothtri_testkit::Camera;
+
+use super::source::MeshSource;
 use crate::error::{DemoError, Result};
-use crate::mesh::Mesh;
 use crate::tessellate::{
     Level, Tessellation, max_distance, max_distance_to, surface_distance_to, tessellate,
 };
 use crate::tracer::{Mode, Prec, Precision};
+use crate::up::Up;
 
 /// Options of `tessellate`.
 #[derive(Clone, Debug)]
@@ -63,7 +65,7 @@ fn check(a: &TessellateOptions) -> Result<()> {
         Level::Uniform(_) => {}
     }
     if !matches!(
-        crate::mesh::extension(&a.out).as_deref(),
+        smoothtri_io::extension(&a.out).as_deref(),
         Some("obj" | "ply" | "glb")
     ) {
         return Err(DemoError::Usage(format!(
@@ -131,7 +133,7 @@ fn run_in<F: Prec>(a: &TessellateOptions, name: &str, mesh: &Mesh) -> Result<Str
         t.mesh.triangles.len(),
         t.mesh.positions.len()
     );
-    let bytes = crate::mesh::save(&t.mesh, &a.out, F::PRECISION, &comment)?;
+    let bytes = smoothtri_io::save(&t.mesh, &a.out, F::PRECISION.into(), &comment)?;
     let secs = start.elapsed().as_secs_f64();
     let diag = mesh.diagonal();
     let dist = max_distance(&t, &scene);
@@ -193,7 +195,7 @@ fn run_in<F: Prec>(a: &TessellateOptions, name: &str, mesh: &Mesh) -> Result<Str
         .source
         .scene
         .as_deref()
-        .and_then(crate::scenes::exact_distance)
+        .and_then(smoothtri_testkit::scenes::exact_distance)
     {
         let _ = writeln!(
             s,
@@ -202,7 +204,7 @@ fn run_in<F: Prec>(a: &TessellateOptions, name: &str, mesh: &Mesh) -> Result<Str
             surface_distance_to(&scene, f)
         );
     }
-    if F::PRECISION == Precision::F64 && crate::mesh::extension(&a.out).as_deref() == Some("glb") {
+    if F::PRECISION == Precision::F64 && smoothtri_io::extension(&a.out).as_deref() == Some("glb") {
         let _ = writeln!(s, "note: glTF stores f32: the numbers were rounded to f32");
     }
     if let Some(pic) = &a.picture {

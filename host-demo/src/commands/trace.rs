@@ -3,11 +3,11 @@
 use std::fmt::Write as _;
 
 use smoothtri::{LineField, Ray};
+use smoothtri_io::Mesh;
 
-use super::MeshSource;
+use super::source::MeshSource;
 use crate::csvio::{display_name, num, read_text, rows, vec3};
 use crate::error::{DemoError, Result};
-use crate::mesh::Mesh;
 use crate::tracer::{Mode, Normals, Prec, Precision, Scene, tracer};
 
 /// Options of `trace`.

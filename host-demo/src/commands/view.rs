@@ -20,6 +20,8 @@ use std::time::{Duration, Instant};
 use glam::DVec3;
 use smoothtri::LineField;
 use smoothtri_gpu::{FrameStats, Gpu, GpuFrame, GpuScene, GpuSurface};
+use smoothtri_io::Mesh;
+use smoothtri_testkit::Camera;
 use winit::application::ApplicationHandler;
 use winit::dpi::PhysicalSize;
 use winit::event::{ElementState, MouseButton, MouseScrollDelta, WindowEvent};
@@ -27,14 +29,14 @@ use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
 use winit::keyboard::{Key, NamedKey};
 use winit::window::{Window, WindowId};
 
-use super::MeshSource;
-use super::render::{Note, build_scene, frame_view, gpu_error, gpu_scene, open_gpu, read_frame};
-use crate::camera::{Camera, Up};
+use super::render::{Note, build_scene};
+use super::source::MeshSource;
 use crate::error::{DemoError, Result};
+use crate::gpu::{frame_view, gpu_error, gpu_scene, open_gpu, read_frame};
 use crate::image::{Image, heat};
-use crate::mesh::Mesh;
 use crate::renderer::{PixelHit, Rendered};
 use crate::tracer::{Mode, Normals, Prec, Precision, Scene, tracer};
+use crate::up::Up;
 
 /// The keys of the viewer, as its help line and the README list them.
 pub const KEYS: &[(&str, &str)] = &[

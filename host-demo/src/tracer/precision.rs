@@ -31,6 +31,16 @@ impl std::fmt::Display for Precision {
     }
 }
 
+impl From<Precision> for smoothtri_io::FloatWidth {
+    /// The width a mesh writer stores numbers in, so that they read back exactly in `p`.
+    fn from(p: Precision) -> Self {
+        match p {
+            Precision::F32 => smoothtri_io::FloatWidth::F32,
+            Precision::F64 => smoothtri_io::FloatWidth::F64,
+        }
+    }
+}
+
 /// The two primitive precisions, with conversions from and to the `f64` mesh data.
 pub trait Prec: Float + Send + Sync + std::fmt::Display + 'static {
     /// Which precision this is.

@@ -5,15 +5,16 @@ use std::collections::BTreeMap;
 
 use std::time::Instant;
 
-use rayon::prelude::*;
 use smoothtri::{
-    BuildObserver, BuildOptions, BuildReport, BuildStage, Bvh, Executor, Float, Hit, LineField,
-    OwnedScene, Patch, PatchError, Vertices,
+    BuildObserver, BuildOptions, BuildReport, BuildStage, Bvh, Float, Hit, LineField, OwnedScene,
+    Patch, PatchError,
 };
+use smoothtri_io::Mesh;
+use smoothtri_testkit::RayonExecutor;
 
-use super::{Normals, Prec};
+use super::modes::Normals;
+use super::precision::Prec;
 use crate::error::{DemoError, Result};
-use crate::mesh::Mesh;
 
 /// A mesh's scene: the core's [`OwnedScene`] (patches, crack closure, optional seams, BVH),
 /// the rejected triangles with their reasons, and the normal to shade with.
@@ -27,21 +28,6 @@ pub struct Scene<F: Float> {
     pub normals: Normals,
     /// Wall-clock seconds of each step of the build, in order.
     pub stage_seconds: Vec<(BuildStage, f64)>,
-}
-
-/// The core builder's [`Executor`] over rayon's global pool: each block of per-edge work in
-/// chunks of at least 64 edges, a few per thread.
-#[derive(Clone, Copy, Debug, Default)]
-pub struct RayonExecutor;
-
-impl Executor for RayonExecutor {
-    fn run_chunks<T: Send>(&self, items: &mut [T], work: &(dyn Fn(usize, &mut [T]) + Sync)) {
-        let chunk = (items.len() / (4 * rayon::current_num_threads())).max(64);
-        items
-            .par_chunks_mut(chunk)
-            .enumerate()
-            .for_each(|(i, c)| work(i * chunk, c));
-    }
 }
 
 /// Triangles from which a build shows a progress bar (on a terminal only).
@@ -91,9 +77,6 @@ impl<F: Prec> Scene<F> {
     /// per shared edge). Crack closure and the seam fit run on rayon's pool ([`RayonExecutor`]); the scene
     /// is the same bit for bit on any number of threads.
     pub fn build_with(mesh: &Mesh, field: LineField, seams: bool) -> Result<Self> {
-        let flat =
-            |v: &[glam::DVec3]| -> Vec<f64> { v.iter().flat_map(|p| p.to_array()).collect() };
-        let (pos, nrm) = (flat(&mesh.positions), flat(&mesh.normals));
         use std::io::IsTerminal;
         let bar =
             if mesh.triangles.len() >= PROGRESS_FROM_TRIANGLES && std::io::stderr().is_terminal() {
@@ -113,15 +96,9 @@ impl<F: Prec> Scene<F> {
             current: None,
             bar,
         };
-        let owned = OwnedScene::<F>::build_parallel(
-            Vertices::packed(&pos),
-            Vertices::packed(&nrm),
-            &mesh.triangles,
-            &BuildOptions { field, seams },
-            &mut rec,
-            &RayonExecutor,
-        )
-        .map_err(|e| DemoError::Empty { msg: e.to_string() })?;
+        let owned: OwnedScene<F> = mesh
+            .build_scene(&BuildOptions { field, seams }, &mut rec, &RayonExecutor)
+            .map_err(|e| DemoError::Empty { msg: e.to_string() })?;
         Ok(Scene {
             owned,
             rejected: rec.rejected,

@@ -6,11 +6,10 @@ use std::collections::HashMap;
 
 use glam::DVec3;
 use smoothtri::Float;
-use smoothtri_demo::scenes::{self, Mesh};
+use smoothtri_testkit::{Mesh, scenes};
 
 pub mod pins;
-mod random;
-pub use random::*;
+pub use smoothtri_testkit::random::*;
 
 /// Asserts `|a − b| ≤ tol`, printing both values (glam's `assert_approx_eq!` style).
 #[macro_export]
@@ -267,7 +266,7 @@ pub fn cylinder(k: usize) -> M {
 }
 
 pub fn noisy_sphere(rng: &mut Rng, noise_deg: f64) -> M {
-    let ico = smoothtri_demo::scenes::icosphere(2, 1.0);
+    let ico = smoothtri_testkit::scenes::icosphere(2, 1.0);
     let n = ico
         .normals
         .iter()

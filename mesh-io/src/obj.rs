@@ -4,24 +4,25 @@ use std::fmt::Write as _;
 
 use glam::DVec3;
 
-use super::{Builder, LoadedMesh, Mesh};
-use crate::error::{DemoError, Result};
-use crate::tracer::Precision;
+use crate::error::{Error, Result};
+use crate::mesh::{FloatWidth, LoadedMesh, Mesh};
+use crate::weld::Builder;
 
-/// Reads and parses an OBJ file (invalid UTF-8 is replaced, not rejected).
+/// Reads and parses an OBJ file (invalid UTF-8 is replaced, not rejected); [`Error::Io`] when
+/// it cannot be read, else as [`parse`].
 pub fn load(path: &str) -> Result<LoadedMesh> {
-    let bytes = std::fs::read(path).map_err(|e| DemoError::io(path, e))?;
+    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
     parse(&String::from_utf8_lossy(&bytes), path)
 }
 
-/// Parses a finite number, or reports `path:line` with what is wrong. Also used by the CSV
-/// readers ([`crate::csvio`]).
-pub(crate) fn parse_f64(tok: &str, path: &str, line: usize) -> Result<f64> {
+/// Parses a finite number, or reports [`Error::Parse`] at `path:line` with what is wrong
+/// (malformed, or not finite). Also for other line-based text files (the demo's CSV readers).
+pub fn parse_f64(tok: &str, path: &str, line: usize) -> Result<f64> {
     let v: f64 = tok
         .parse()
-        .map_err(|_| DemoError::parse(path, line, format!("malformed number '{tok}'")))?;
+        .map_err(|_| Error::parse(path, line, format!("malformed number '{tok}'")))?;
     if !v.is_finite() {
-        return Err(DemoError::parse(
+        return Err(Error::parse(
             path,
             line,
             format!("non-finite value '{tok}'"),
@@ -33,7 +34,7 @@ pub(crate) fn parse_f64(tok: &str, path: &str, line: usize) -> Result<f64> {
 /// Resolves an OBJ index (1-based, or negative relative to the current count).
 fn obj_index(tok: &str, count: usize, what: &str, path: &str, line: usize) -> Result<usize> {
     let i: i64 = tok.parse().map_err(|_| {
-        DemoError::parse(
+        Error::parse(
             path,
             line,
             format!("malformed {what} index '{tok}' in face"),
@@ -47,7 +48,7 @@ fn obj_index(tok: &str, count: usize, what: &str, path: &str, line: usize) -> Re
         -1
     };
     if r < 0 || r as usize >= count {
-        return Err(DemoError::parse(
+        return Err(Error::parse(
             path,
             line,
             format!("{what} index {i} out of range (1..={count} defined so far)"),
@@ -72,7 +73,7 @@ pub fn parse(text: &str, path: &str) -> Result<LoadedMesh> {
             "v" | "vn" => {
                 let nums: Vec<&str> = toks.collect();
                 if nums.len() < 3 {
-                    return Err(DemoError::parse(
+                    return Err(Error::parse(
                         path,
                         line,
                         format!("'{kw}' needs 3 coordinates, found {}", nums.len()),
@@ -114,7 +115,7 @@ pub fn parse(text: &str, path: &str) -> Result<LoadedMesh> {
                         None => None,
                     };
                     if parts.next().is_some() {
-                        return Err(DemoError::parse(
+                        return Err(Error::parse(
                             path,
                             line,
                             format!("malformed face vertex '{tok}'"),
@@ -123,7 +124,7 @@ pub fn parse(text: &str, path: &str) -> Result<LoadedMesh> {
                     corners.push((vi, vn));
                 }
                 if corners.len() < 3 {
-                    return Err(DemoError::parse(
+                    return Err(Error::parse(
                         path,
                         line,
                         format!("face with {} vertices (need at least 3)", corners.len()),
@@ -141,19 +142,19 @@ pub fn parse(text: &str, path: &str) -> Result<LoadedMesh> {
 
 /// OBJ text of `mesh`: `comment` as `#` lines, then `v x y z`, `vn nx ny nz` (unit length) and
 /// `f a//a b//b c//c` (1-based; positions and normals share indices). Numbers are printed
-/// shortest-round-trip in `precision`, so they read back exactly in it.
-pub fn write(mesh: &Mesh, precision: Precision, comment: &str) -> Vec<u8> {
+/// shortest-round-trip in `width`, so they read back exactly in it.
+pub fn write(mesh: &Mesh, width: FloatWidth, comment: &str) -> Vec<u8> {
     let mut s = String::new();
     for line in comment.lines() {
         let _ = writeln!(s, "# {line}");
     }
     let mut vec3 = |kw: &str, v: DVec3| {
-        let _ = match precision {
-            Precision::F32 => {
+        let _ = match width {
+            FloatWidth::F32 => {
                 let [x, y, z] = v.as_vec3().to_array();
                 writeln!(s, "{kw} {x} {y} {z}")
             }
-            Precision::F64 => writeln!(s, "{kw} {} {} {}", v.x, v.y, v.z),
+            FloatWidth::F64 => writeln!(s, "{kw} {} {} {}", v.x, v.y, v.z),
         };
     };
     for p in &mesh.positions {

@@ -1,12 +1,15 @@
-//! Random triangles and patches for the tests, with no dependency beyond glam and std: shared
-//! by the suite (`tests/suite/common`), the GPU tests (`gpu/tests/common`) and the core's own
-//! `FastF32` test (`core/tests/fast.rs`), which cannot depend on the demo.
+//! Random numbers and random geometry for the tests, with no dependency beyond glam and std:
+//! the suite (`tests/suite`), the GPU tests (`gpu/tests`) and the benchmarks use it through this
+//! crate, and the core's own `FastF32` test (`core/tests/fast.rs`), which cannot depend on a
+//! crate above the core, includes this file by path.
 
 use glam::DVec3;
 
-/// A tiny deterministic PRNG (SplitMix64) so tests are reproducible without extra crates.
+/// A tiny deterministic PRNG (SplitMix64) so tests are reproducible without extra crates; the
+/// field is the state (any seed).
 pub struct Rng(pub u64);
 impl Rng {
+    /// The next 64 random bits.
     pub fn next_u64(&mut self) -> u64 {
         self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
         let mut z = self.0;
@@ -18,6 +21,7 @@ impl Rng {
     pub fn f(&mut self) -> f64 {
         (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
     }
+    /// Uniform in `[a, b)`.
     pub fn range(&mut self, a: f64, b: f64) -> f64 {
         a + (b - a) * self.f()
     }
@@ -110,6 +114,16 @@ pub fn sphere_patch(rng: &mut Rng, o: DVec3, r: f64, cap_deg: f64) -> [DVec3; 3]
         }
         return q.map(|d| o + d * r);
     }
+}
+
+/// A random ray of the kernel's sphere tests (`tests/suite/kernel.rs`, `gpu/tests`): from 4–8
+/// away from the origin, aimed within `target_radius` of it, the direction not of unit length
+/// on purpose. Returns `(origin, direction)`.
+pub fn random_ray(rng: &mut Rng, target_radius: f64) -> (DVec3, DVec3) {
+    let o = rng.unit() * rng.range(4.0, 8.0);
+    let aim = rng.unit() * target_radius * rng.f().cbrt();
+    let d = (aim - o) * rng.range(0.3, 3.0);
+    (o, d)
 }
 
 /// Barycentric sample points on a grid of `m` subdivisions (inclusive of the boundary).

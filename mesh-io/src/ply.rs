@@ -3,9 +3,9 @@
 
 use glam::DVec3;
 
-use super::{Builder, LoadedMesh, Mesh};
-use crate::error::{DemoError, Result};
-use crate::tracer::Precision;
+use crate::error::{Error, Result};
+use crate::mesh::{FloatWidth, LoadedMesh, Mesh};
+use crate::weld::Builder;
 
 fn prop_f64(p: &ply_rs_bw::ply::Property) -> Option<f64> {
     use ply_rs_bw::ply::Property as P;
@@ -38,7 +38,7 @@ fn prop_list(p: &ply_rs_bw::ply::Property) -> Option<Vec<i64>> {
 /// Reads a PLY file: `vertex` elements with `x, y, z` (and optionally `nx, ny, nz`), `face`
 /// elements with a `vertex_indices` (or `vertex_index`) list, fan-triangulated.
 pub fn load(path: &str) -> Result<LoadedMesh> {
-    let bytes = std::fs::read(path).map_err(|e| DemoError::io(path, e))?;
+    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
     parse(&bytes, path)
 }
 
@@ -121,31 +121,31 @@ pub fn parse(bytes: &[u8], path: &str) -> Result<LoadedMesh> {
     let parser = ply_rs_bw::parser::Parser::<ply_rs_bw::ply::DefaultElement>::new();
     let ply = parser
         .read_ply(&mut reader)
-        .map_err(|e| DemoError::format(path, format!("malformed PLY: {}", one_line(&e))))?;
+        .map_err(|e| Error::format(path, format!("malformed PLY: {}", one_line(&e))))?;
     let verts = ply
         .payload
         .get("vertex")
-        .ok_or_else(|| DemoError::format(path, "PLY has no 'vertex' element"))?;
+        .ok_or_else(|| Error::format(path, "PLY has no 'vertex' element"))?;
     let mut positions = Vec::with_capacity(verts.len());
     let mut file_normals = Vec::with_capacity(verts.len());
     for (i, v) in verts.iter().enumerate() {
         let get = |k: &str| v.get(k).and_then(prop_f64);
         let (Some(x), Some(y), Some(z)) = (get("x"), get("y"), get("z")) else {
-            return Err(DemoError::format(
+            return Err(Error::format(
                 path,
                 format!("vertex {i} lacks numeric x, y, z"),
             ));
         };
         let p = DVec3::new(x, y, z);
         if !p.is_finite() {
-            return Err(DemoError::format(path, format!("vertex {i} is not finite")));
+            return Err(Error::format(path, format!("vertex {i} is not finite")));
         }
         positions.push(p);
         let n = match (get("nx"), get("ny"), get("nz")) {
             (Some(x), Some(y), Some(z)) => {
                 let n = DVec3::new(x, y, z);
                 if !n.is_finite() {
-                    return Err(DemoError::format(
+                    return Err(Error::format(
                         path,
                         format!("normal of vertex {i} is not finite"),
                     ));
@@ -164,10 +164,10 @@ pub fn parse(bytes: &[u8], path: &str) -> Result<LoadedMesh> {
                 .or_else(|| f.get("vertex_index"))
                 .and_then(prop_list)
                 .ok_or_else(|| {
-                    DemoError::format(path, format!("face {fi} has no vertex_indices list"))
+                    Error::format(path, format!("face {fi} has no vertex_indices list"))
                 })?;
             if list.len() < 3 {
-                return Err(DemoError::format(
+                return Err(Error::format(
                     path,
                     format!("face {fi} has {} vertices (need at least 3)", list.len()),
                 ));
@@ -175,7 +175,7 @@ pub fn parse(bytes: &[u8], path: &str) -> Result<LoadedMesh> {
             let mut corners = Vec::with_capacity(list.len());
             for &i in &list {
                 if i < 0 || i as usize >= positions.len() {
-                    return Err(DemoError::format(
+                    return Err(Error::format(
                         path,
                         format!(
                             "face {fi}: vertex index {i} out of range (0..{})",
@@ -194,13 +194,13 @@ pub fn parse(bytes: &[u8], path: &str) -> Result<LoadedMesh> {
 }
 
 /// A binary little-endian PLY of `mesh`: `vertex` elements with `x, y, z, nx, ny, nz` (`float`
-/// for [`Precision::F32`], `double` for [`Precision::F64`]; normals unit length), `face`
+/// for [`FloatWidth::F32`], `double` for [`FloatWidth::F64`]; normals unit length), `face`
 /// elements with a `uchar`-counted `uint` list `vertex_indices`, and `comment` lines, one per
 /// line of `comment`.
-pub fn write(mesh: &Mesh, precision: Precision, comment: &str) -> Vec<u8> {
-    let ty = match precision {
-        Precision::F32 => "float",
-        Precision::F64 => "double",
+pub fn write(mesh: &Mesh, width: FloatWidth, comment: &str) -> Vec<u8> {
+    let ty = match width {
+        FloatWidth::F32 => "float",
+        FloatWidth::F64 => "double",
     };
     let mut head = String::from("ply\nformat binary_little_endian 1.0\n");
     for line in comment.lines() {
@@ -221,9 +221,9 @@ pub fn write(mesh: &Mesh, precision: Precision, comment: &str) -> Vec<u8> {
             .into_iter()
             .chain(n.normalize_or_zero().to_array())
         {
-            match precision {
-                Precision::F32 => out.extend((c as f32).to_le_bytes()),
-                Precision::F64 => out.extend(c.to_le_bytes()),
+            match width {
+                FloatWidth::F32 => out.extend((c as f32).to_le_bytes()),
+                FloatWidth::F64 => out.extend(c.to_le_bytes()),
             }
         }
     }

@@ -1,12 +1,10 @@
-//! Built-in scenes (`--scene`): torus, icosphere, cube with averaged normals (exactly a sphere
-//! for the method) and Newell's teapot ([`crate::teapot_data`]), with analytic vertex normals,
-//! and the torus's exact surface for measuring fidelity.
+//! Built-in scenes (the demo's `--scene`, the tests' and benchmarks' meshes): torus,
+//! icosphere, cube with averaged normals (exactly a sphere for the method) and Newell's teapot,
+//! with analytic vertex normals, and the exact surfaces they sample for measuring fidelity
+//! ([`torus_distance`], [`exact_distance`], [`sphere_root`]).
 
 use glam::DVec3;
-
-/// Re-export of [`crate::mesh::Mesh`], the type every scene returns, so that
-/// `smoothtri_demo::scenes::Mesh` (used by the workspace's tests and benches) still resolves.
-pub use crate::mesh::Mesh;
+use smoothtri_io::Mesh;
 
 /// Torus of major radius `big_r` and minor radius `r` around the z axis, on a `nu × nv` grid
 /// split into two triangles per quad, with analytic normals.
@@ -244,10 +242,21 @@ pub fn teapot(k: usize) -> Mesh {
     m
 }
 
-/// The up axis of a built-in scene, the default of `--up` for it: `z` for all four (the torus
-/// lies in the xy plane, the teapot stands on it, the sphere and the cube are symmetric).
-pub fn builtin_up(_name: &str) -> crate::camera::Up {
-    crate::camera::Up::Z
+/// Analytic first intersection of the ray `o + t·d` (`t > 0`) with the sphere `|x| = r`, and the
+/// ray's closest approach to the centre (the reference of the kernel's sphere tests).
+pub fn sphere_root(o: DVec3, d: DVec3, r: f64) -> (Option<f64>, f64) {
+    let a = d.dot(d);
+    let b = o.dot(d);
+    let c = o.dot(o) - r * r;
+    let closest = (o - d * (b / a)).length();
+    let disc = b * b - a * c;
+    if disc < 0.0 {
+        return (None, closest);
+    }
+    let q = -(b + b.signum() * disc.sqrt());
+    let (t1, t2) = (q / a, c / q);
+    let t = t1.min(t2);
+    (if t > 0.0 { Some(t) } else { None }, closest)
 }
 
 /// A distance function to an exact surface.

@@ -2,7 +2,7 @@
 //! URIs) or binary (`.glb`, or any file that starts with the GLB magic).
 //!
 //! Everything the `gltf` crate would index blindly is checked here first, so malformed input
-//! is a [`DemoError`], never a panic: the GLB container ([`super::glb`]; the crate's own GLB
+//! is an [`Error`], never a panic: the GLB container ([`crate::glb`]; the crate's own GLB
 //! reader is not used), each primitive's POSITION accessor index before the crate's validation
 //! (which looks it up unchecked), and, before a primitive is read, the type, count, stride and
 //! byte range of each accessor the loader reads (POSITION, NORMAL, indices), sparse parts
@@ -22,12 +22,14 @@ use std::path::Path;
 use ::gltf::accessor::{DataType, Dimensions};
 use glam::{DMat3, DMat4, DQuat, DVec3};
 
-use super::{Builder, Corner, LoadedMesh, Mesh, glb};
-use crate::error::{DemoError, Result};
+use crate::error::{Error, Result};
+use crate::glb;
+use crate::mesh::{LoadedMesh, Mesh};
+use crate::weld::{Builder, Corner};
 
 /// Reads a `.gltf` or `.glb` file (see the module documentation).
 pub fn load(path: &str) -> Result<LoadedMesh> {
-    let bytes = std::fs::read(path).map_err(|e| DemoError::io(path, e))?;
+    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
     parse(&bytes, path)
 }
 
@@ -53,22 +55,21 @@ pub fn parse(bytes: &[u8], path: &str) -> Result<LoadedMesh> {
             .is_some_and(|e| e.eq_ignore_ascii_case("glb"));
     let (json, blob) = if is_glb {
         let g = glb::parse(bytes)
-            .map_err(|e| DemoError::format(path, format!("malformed glTF binary: {e}")))?;
+            .map_err(|e| Error::format(path, format!("malformed glTF binary: {e}")))?;
         (g.json, g.bin)
     } else {
         (bytes, None)
     };
     if let Some(v) = version_1(json) {
-        return Err(DemoError::format(
+        return Err(Error::format(
             path,
             format!("glTF {v} is not supported (only glTF 2.0; convert the file to 2.0 first)"),
         ));
     }
-    let doc =
-        document(json).map_err(|e| DemoError::format(path, format!("malformed glTF: {e}")))?;
+    let doc = document(json).map_err(|e| Error::format(path, format!("malformed glTF: {e}")))?;
     let buffers = buffers(&doc, blob, path)?;
     let mut warnings = Vec::new();
-    let instances = instances(&doc, &mut warnings).map_err(|m| DemoError::format(path, m))?;
+    let instances = instances(&doc, &mut warnings).map_err(|m| Error::format(path, m))?;
     let mut decoded: HashMap<usize, Vec<Prim>> = HashMap::new();
     // Skipped primitives, (mesh, primitive) → (why, the nodes that draw it), in order.
     let mut skipped: Vec<((usize, usize), String, Vec<String>)> = Vec::new();
@@ -82,7 +83,7 @@ pub fn parse(bytes: &[u8], path: &str) -> Result<LoadedMesh> {
             std::collections::hash_map::Entry::Occupied(e) => e.into_mut(),
             std::collections::hash_map::Entry::Vacant(e) => e.insert(
                 decode_mesh(&inst.mesh, &inst.label, &buffers)
-                    .map_err(|msg| DemoError::format(path, msg))?,
+                    .map_err(|msg| Error::format(path, msg))?,
             ),
         };
         for (p, prim) in prims.iter().enumerate() {
@@ -94,7 +95,7 @@ pub fn parse(bytes: &[u8], path: &str) -> Result<LoadedMesh> {
             }
         }
         if !add_instance(&mut builder, prims, inst.world)
-            .map_err(|msg| DemoError::format(path, format!("{}: {msg}", inst.label)))?
+            .map_err(|msg| Error::format(path, format!("{}: {msg}", inst.label)))?
         {
             warnings.push(format!(
                 "{}: its world transform is singular (a zero scale), {} skipped",
@@ -424,9 +425,7 @@ fn add_instance(
 /// mesh is an error (glTF accessors need at least one element).
 pub fn write_glb(mesh: &Mesh, generator: &str) -> Result<Vec<u8>> {
     if mesh.positions.is_empty() || mesh.triangles.is_empty() {
-        return Err(DemoError::Empty {
-            msg: "cannot write an empty mesh as glTF".into(),
-        });
+        return Err(Error::EmptyGltf);
     }
     let nv = mesh.positions.len();
     let mut bin = Vec::with_capacity(nv * 24 + mesh.triangles.len() * 12);
@@ -539,23 +538,23 @@ fn buffers(doc: &::gltf::Document, blob: Option<&[u8]>, path: &str) -> Result<Ve
         let data = match b.source() {
             ::gltf::buffer::Source::Bin => blob
                 .map(<[u8]>::to_vec)
-                .ok_or_else(|| DemoError::format(path, "GLB has no binary chunk"))?,
+                .ok_or_else(|| Error::format(path, "GLB has no binary chunk"))?,
             ::gltf::buffer::Source::Uri(uri) => {
                 if let Some(rest) = uri.strip_prefix("data:") {
                     let b64 = rest.split_once(";base64,").map(|(_, d)| d).ok_or_else(|| {
-                        DemoError::format(path, "unsupported data URI (expected base64)")
+                        Error::format(path, "unsupported data URI (expected base64)")
                     })?;
                     base64_decode(b64)
-                        .ok_or_else(|| DemoError::format(path, "malformed base64 data URI"))?
+                        .ok_or_else(|| Error::format(path, "malformed base64 data URI"))?
                 } else {
                     let p = base.join(uri);
                     let ps = p.display().to_string();
-                    std::fs::read(&p).map_err(|e| DemoError::io(&ps, e))?
+                    std::fs::read(&p).map_err(|e| Error::io(&ps, e))?
                 }
             }
         };
         if data.len() < b.length() {
-            return Err(DemoError::format(
+            return Err(Error::format(
                 path,
                 format!(
                     "buffer {} is shorter ({} bytes) than declared ({})",
@@ -747,10 +746,36 @@ fn base64_decode(s: &str) -> Option<Vec<u8>> {
 mod tests {
     use super::*;
 
-    /// The cube `[-1, 1]³` with radial normals: 8 positions, 8 normals (`f32`), 36 `u32`
-    /// indices.
+    /// The cube `[-1, 1]³` with radial unit normals, 12 triangles counter-clockwise seen from
+    /// outside (the data of the built-in `cube` scene).
+    pub(super) fn cube() -> Mesh {
+        const X: [f64; 8] = [-1.0, 1.0, -1.0, 1.0, -1.0, 1.0, -1.0, 1.0];
+        const Y: [f64; 8] = [-1.0, -1.0, 1.0, 1.0, -1.0, -1.0, 1.0, 1.0];
+        const Z: [f64; 8] = [-1.0, -1.0, -1.0, -1.0, 1.0, 1.0, 1.0, 1.0];
+        let positions: Vec<DVec3> = (0..8).map(|k| DVec3::new(X[k], Y[k], Z[k])).collect();
+        Mesh {
+            normals: positions.iter().map(|p| p.normalize()).collect(),
+            positions,
+            triangles: vec![
+                [0, 2, 3],
+                [0, 3, 1],
+                [4, 5, 7],
+                [4, 7, 6],
+                [0, 1, 5],
+                [0, 5, 4],
+                [2, 6, 7],
+                [2, 7, 3],
+                [0, 4, 6],
+                [0, 6, 2],
+                [1, 3, 7],
+                [1, 7, 5],
+            ],
+        }
+    }
+
+    /// [`cube`]: 8 positions, 8 normals (`f32`), 36 `u32` indices.
     fn cube_bin() -> Vec<u8> {
-        let m = crate::scenes::cube();
+        let m = cube();
         let mut bin = Vec::new();
         for v in m.positions.iter().chain(&m.normals) {
             for c in v.to_array() {
@@ -804,7 +829,7 @@ mod tests {
     }
 
     fn assert_is_the_cube(m: &LoadedMesh) {
-        let cube = crate::scenes::cube();
+        let cube = cube();
         assert_eq!(m.mesh.triangles.len(), 12);
         assert_eq!(m.mesh.positions.len(), 8);
         assert!(!m.computed_normals && m.warnings.is_empty());
@@ -1352,7 +1377,9 @@ mod scene_tests {
 
     #[test]
     fn written_glbs_load_back() {
-        let m = crate::scenes::torus(4, 4, 1.0, 0.4);
+        // The cube with normals of length √3: written unit length.
+        let mut m = super::tests::cube();
+        m.normals.clone_from(&m.positions);
         let bytes = write_glb(&m, "test \"quoted\"").unwrap();
         let back = parse(&bytes, "t.glb").unwrap();
         assert!(back.warnings.is_empty() && !back.computed_normals);

@@ -1,0 +1,358 @@
+//! The device: [`Gpu`] opens a Vulkan adapter, compiles the shader and its pipelines (one per
+//! [`PipelineKey`], cached), makes storage buffers within the device's limits, and submits work
+//! and reads results back; every device error is caught in an error scope ([`scoped`]).
+
+use std::collections::HashMap;
+use std::fmt;
+use std::sync::{Arc, Mutex};
+
+use wgpu::util::DeviceExt;
+
+use crate::error::GpuError;
+use crate::records::GpuNode;
+use crate::shader::{HIT_BYTES, MAX_ITERATIONS, SHADER, Shading, WORKGROUP};
+
+/// Largest batch of rays per dispatch.
+const MAX_CHUNK: usize = 1 << 20;
+
+/// A GPU device with the kernel's shader compiled: create one per process with [`Gpu::new`]
+/// and share it (`Arc`) between scenes.
+pub struct Gpu {
+    pub(crate) instance: wgpu::Instance,
+    pub(crate) adapter: wgpu::Adapter,
+    pub(crate) device: wgpu::Device,
+    pub(crate) queue: wgpu::Queue,
+    pub(crate) info: wgpu::AdapterInfo,
+    pub(crate) limits: wgpu::Limits,
+    pub(crate) layout: wgpu::BindGroupLayout,
+    pub(crate) pipeline_layout: wgpu::PipelineLayout,
+    /// Group 1 of the frame pass: the view, the image, the pixels and the frame's counters.
+    pub(crate) frame_layout: wgpu::BindGroupLayout,
+    pub(crate) frame_pipeline_layout: wgpu::PipelineLayout,
+    pub(crate) module: wgpu::ShaderModule,
+    pub(crate) pipelines: Mutex<HashMap<PipelineKey, wgpu::ComputePipeline>>,
+    pub(crate) uncaptured: Arc<Mutex<Option<String>>>,
+    /// The device was created with timestamp queries (kernel timings for benchmarks).
+    pub(crate) timestamps: bool,
+}
+
+impl fmt::Debug for Gpu {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("Gpu")
+            .field("adapter", &self.info.name)
+            .field("backend", &self.info.backend)
+            .finish()
+    }
+}
+
+/// Ranks adapters: discrete GPUs first, software ones last.
+fn rank(t: wgpu::DeviceType) -> u8 {
+    match t {
+        wgpu::DeviceType::DiscreteGpu => 0,
+        wgpu::DeviceType::IntegratedGpu => 1,
+        wgpu::DeviceType::VirtualGpu => 2,
+        wgpu::DeviceType::Other => 3,
+        wgpu::DeviceType::Cpu => 4,
+    }
+}
+
+/// Runs `f` inside validation and out-of-memory error scopes; the first captured error is
+/// returned as `wrap(message)`.
+pub(crate) fn scoped<T>(
+    device: &wgpu::Device,
+    wrap: fn(String) -> GpuError,
+    f: impl FnOnce() -> T,
+) -> Result<T, GpuError> {
+    let oom = device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
+    let val = device.push_error_scope(wgpu::ErrorFilter::Validation);
+    let out = f();
+    let v = pollster::block_on(val.pop());
+    let o = pollster::block_on(oom.pop());
+    match v.or(o) {
+        Some(e) => Err(wrap(e.to_string())),
+        None => Ok(out),
+    }
+}
+
+impl Gpu {
+    /// Opens the best Vulkan adapter (a discrete GPU before an integrated, virtual or software
+    /// one), creates a device with the adapter's own limits and compiles the shader.
+    ///
+    /// Returns [`GpuError::NoAdapter`] when there is none (no driver, no Mesa), so callers can
+    /// say so and stop.
+    pub fn new() -> Result<Arc<Gpu>, GpuError> {
+        let mut desc = wgpu::InstanceDescriptor::new_without_display_handle();
+        desc.backends = wgpu::Backends::VULKAN;
+        desc.flags = wgpu::InstanceFlags::empty();
+        let instance = wgpu::Instance::new(desc);
+        let adapters = pollster::block_on(instance.enumerate_adapters(wgpu::Backends::VULKAN));
+        let adapter = adapters
+            .into_iter()
+            .min_by_key(|a| rank(a.get_info().device_type))
+            .ok_or(GpuError::NoAdapter)?;
+        let info = adapter.get_info();
+        let limits = adapter.limits();
+        // Timestamp queries only time the kernel for benchmarks ([`GpuScene::closest_hit_timed`]);
+        // adapters without them work the same.
+        let timestamps = adapter.features().contains(wgpu::Features::TIMESTAMP_QUERY);
+        let features = if timestamps {
+            wgpu::Features::TIMESTAMP_QUERY
+        } else {
+            wgpu::Features::empty()
+        };
+        let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
+            label: Some("smoothtri"),
+            required_features: features,
+            required_limits: limits.clone(),
+            ..Default::default()
+        }))
+        .map_err(|e| GpuError::RequestDevice(e.to_string()))?;
+        // Errors outside a scope are recorded, never a panic (wgpu's default handler panics).
+        let uncaptured = Arc::new(Mutex::new(None));
+        let sink = Arc::clone(&uncaptured);
+        device.on_uncaptured_error(Arc::new(move |e: wgpu::Error| {
+            if let Ok(mut slot) = sink.lock() {
+                slot.get_or_insert_with(|| e.to_string());
+            }
+        }));
+        let entry = |binding: u32, ty: wgpu::BufferBindingType| wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: wgpu::ShaderStages::COMPUTE,
+            ty: wgpu::BindingType::Buffer {
+                ty,
+                has_dynamic_offset: false,
+                min_binding_size: None,
+            },
+            count: None,
+        };
+        let ro = wgpu::BufferBindingType::Storage { read_only: true };
+        let rw = wgpu::BufferBindingType::Storage { read_only: false };
+        let (layout, pipeline_layout, frame_layout, frame_pipeline_layout, module) =
+            scoped(&device, GpuError::Shader, || {
+                let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                    label: Some("smoothtri"),
+                    entries: &[
+                        entry(0, wgpu::BufferBindingType::Uniform),
+                        entry(1, ro),
+                        entry(2, ro),
+                        entry(3, ro),
+                        entry(4, ro),
+                        entry(5, rw),
+                        entry(6, rw),
+                        entry(7, ro),
+                    ],
+                });
+                let pipeline_layout =
+                    device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                        label: Some("smoothtri"),
+                        bind_group_layouts: &[Some(&layout)],
+                        immediate_size: 0,
+                    });
+                let frame_layout =
+                    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                        label: Some("smoothtri frame"),
+                        entries: &[
+                            entry(0, wgpu::BufferBindingType::Uniform),
+                            entry(1, rw),
+                            entry(2, rw),
+                            entry(3, rw),
+                        ],
+                    });
+                let frame_pipeline_layout =
+                    device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                        label: Some("smoothtri frame"),
+                        bind_group_layouts: &[Some(&layout), Some(&frame_layout)],
+                        immediate_size: 0,
+                    });
+                let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                    label: Some("smoothtri kernel"),
+                    source: wgpu::ShaderSource::Wgsl(SHADER.into()),
+                });
+                (
+                    layout,
+                    pipeline_layout,
+                    frame_layout,
+                    frame_pipeline_layout,
+                    module,
+                )
+            })?;
+        Ok(Arc::new(Gpu {
+            instance,
+            adapter,
+            device,
+            queue,
+            info,
+            limits,
+            layout,
+            pipeline_layout,
+            frame_layout,
+            frame_pipeline_layout,
+            module,
+            pipelines: Mutex::new(HashMap::new()),
+            uncaptured,
+            timestamps,
+        }))
+    }
+
+    /// The adapter's name and driver, e.g. `llvmpipe (LLVM 15.0.6, 256 bits) (Mesa 22.3.6)`.
+    pub fn adapter_name(&self) -> String {
+        if self.info.driver_info.is_empty() {
+            self.info.name.clone()
+        } else {
+            format!("{} ({})", self.info.name, self.info.driver_info)
+        }
+    }
+
+    /// `true` for a software adapter (a CPU implementation of Vulkan, such as lavapipe): its
+    /// timings say nothing about GPUs.
+    pub fn is_software(&self) -> bool {
+        self.info.device_type == wgpu::DeviceType::Cpu
+    }
+
+    /// The pipeline of `key` (compiled once).
+    pub(crate) fn pipeline(&self, key: PipelineKey) -> Result<wgpu::ComputePipeline, GpuError> {
+        if key.n > MAX_ITERATIONS {
+            return Err(GpuError::Iterations(key.n));
+        }
+        let mut map = self
+            .pipelines
+            .lock()
+            .map_err(|_| GpuError::Device("pipeline cache poisoned".into()))?;
+        if let Some(p) = map.get(&key) {
+            return Ok(p.clone());
+        }
+        let constants = [
+            ("ITERATIONS", key.n as f64),
+            ("FLAT", f64::from(u8::from(key.flat))),
+            ("ANY_HIT", f64::from(u8::from(key.any))),
+            ("TILTED", f64::from(u8::from(key.tilted))),
+            ("SHADING", f64::from(key.shading as u8)),
+        ];
+        let (layout, entry) = if key.frame {
+            (&self.frame_pipeline_layout, "frame")
+        } else {
+            (&self.pipeline_layout, "main")
+        };
+        let p = scoped(&self.device, GpuError::Shader, || {
+            self.device
+                .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                    label: Some("smoothtri kernel"),
+                    layout: Some(layout),
+                    module: &self.module,
+                    entry_point: Some(entry),
+                    compilation_options: wgpu::PipelineCompilationOptions {
+                        constants: &constants,
+                        zero_initialize_workgroup_memory: false,
+                    },
+                    cache: None,
+                })
+        })?;
+        map.insert(key, p.clone());
+        Ok(p)
+    }
+
+    /// A storage buffer with `bytes` (at least 16 bytes: an empty slice gets one zero record,
+    /// ignored through the counts), checked against the device's limits.
+    pub(crate) fn storage(
+        &self,
+        what: &'static str,
+        mut bytes: Vec<u8>,
+    ) -> Result<wgpu::Buffer, GpuError> {
+        let limit = self.buffer_limit();
+        if bytes.len() as u64 > limit {
+            return Err(GpuError::TooLarge {
+                what,
+                bytes: bytes.len() as u64,
+                limit,
+            });
+        }
+        // Empty arrays are not bindable: at least one element of the largest (a node).
+        if bytes.len() < size_of::<GpuNode>() {
+            bytes.resize(size_of::<GpuNode>(), 0);
+        }
+        scoped(&self.device, GpuError::Device, || {
+            self.device
+                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some(what),
+                    contents: &bytes,
+                    usage: wgpu::BufferUsages::STORAGE,
+                })
+        })
+    }
+
+    /// Submits `enc`, waits for it, and returns `range` of `read_buf` (a `MAP_READ` buffer the
+    /// commands copied into). Call inside [`scoped`].
+    pub(crate) fn submit_and_read(
+        &self,
+        enc: wgpu::CommandEncoder,
+        read_buf: &wgpu::Buffer,
+        range: std::ops::Range<u64>,
+    ) -> Result<Vec<u8>, GpuError> {
+        self.queue.submit([enc.finish()]);
+        let done = Arc::new(Mutex::new(None));
+        let flag = Arc::clone(&done);
+        read_buf.map_async(wgpu::MapMode::Read, range.clone(), move |r| {
+            if let Ok(mut slot) = flag.lock() {
+                *slot = Some(r);
+            }
+        });
+        let polled = self.device.poll(wgpu::PollType::wait_indefinitely());
+        let mapped = done.lock().ok().and_then(|mut s| s.take());
+        let out = match (polled, mapped) {
+            (Err(e), _) => Err(GpuError::Device(e.to_string())),
+            (_, Some(Ok(()))) => {
+                let view = read_buf
+                    .get_mapped_range(range)
+                    .map_err(|e| GpuError::Device(e.to_string()))?;
+                let v = view.to_vec();
+                drop(view);
+                read_buf.unmap();
+                Ok(v)
+            }
+            (_, Some(Err(e))) => Err(GpuError::Device(e.to_string())),
+            (_, None) => Err(GpuError::Device("the readback was never mapped".into())),
+        };
+        if let Ok(mut slot) = self.uncaptured.lock()
+            && let Some(msg) = slot.take()
+        {
+            return Err(GpuError::Device(msg));
+        }
+        out
+    }
+
+    /// The largest storage buffer the device binds, in bytes.
+    pub(crate) fn buffer_limit(&self) -> u64 {
+        self.limits
+            .max_storage_buffer_binding_size
+            .min(self.limits.max_buffer_size)
+    }
+
+    /// Rays per dispatch: bounded by the device's buffer and dispatch limits.
+    pub(crate) fn chunk(&self) -> usize {
+        let by_buffer = (self.buffer_limit() / HIT_BYTES as u64).min(usize::MAX as u64) as usize;
+        let by_dispatch =
+            self.limits.max_compute_workgroups_per_dimension as usize * WORKGROUP as usize;
+        MAX_CHUNK.min(by_buffer).min(by_dispatch).max(1)
+    }
+}
+
+/// What a compute pipeline is compiled for: the budget `n`, flat or smooth records, closest or
+/// any hit, with or without the tilted-section branches, the shading normal, and the batch
+/// entry point (`main`) or the frame pass (`frame`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub(crate) struct PipelineKey {
+    pub(crate) n: usize,
+    pub(crate) flat: bool,
+    pub(crate) any: bool,
+    pub(crate) tilted: bool,
+    pub(crate) shading: Shading,
+    pub(crate) frame: bool,
+}
+
+/// A buffer bound whole at `binding`.
+pub(crate) fn bind_entry(binding: u32, b: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
+    wgpu::BindGroupEntry {
+        binding,
+        resource: b.as_entire_binding(),
+    }
+}

@@ -1,0 +1,221 @@
+//! Scene upload: a [`GpuScene`] holds a scene's records (smooth patches or flat triangles), its
+//! BVH nodes and order and its shading data in storage buffers on a [`Gpu`]'s device.
+
+use std::fmt;
+use std::sync::Arc;
+
+use smoothtri::mesh::Seam;
+use smoothtri::{Bvh, PatchData};
+
+use crate::device::{Gpu, PipelineKey, bind_entry};
+use crate::error::GpuError;
+use crate::records::{GpuNode, f32_bytes, flat_record, seam_record, smooth_record};
+use crate::shader::Shading;
+
+/// What a scene's records are.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SceneKind {
+    /// The smooth patches (the kernel).
+    Smooth,
+    /// The patches' flat triangles (Möller–Trumbore, the baseline), on the same traversal.
+    Flat,
+}
+
+/// A scene uploaded to the GPU: patch records, BVH nodes and order.
+pub struct GpuScene {
+    pub(crate) gpu: Arc<Gpu>,
+    pub(crate) kind: SceneKind,
+    pub(crate) patches: wgpu::Buffer,
+    pub(crate) nodes: wgpu::Buffer,
+    pub(crate) order: wgpu::Buffer,
+    pub(crate) counts: [u32; 3],
+    pub(crate) bytes: u64,
+    /// Some smooth patch has tilted sections (`smoothtri::LineField::Vertex`): traced by the
+    /// pipeline with the tilted branches (`TILTED` in the shader), all others without them.
+    pub(crate) tilted: bool,
+    /// The shading normal of closest hits and frames, with its data (`shade_in`: seam records
+    /// or vertex normals; one zero record for [`Shading::Geometric`]).
+    pub(crate) shading: Shading,
+    pub(crate) shade_in: wgpu::Buffer,
+}
+
+impl fmt::Debug for GpuScene {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("GpuScene")
+            .field("kind", &self.kind)
+            .field("patches", &self.counts[2])
+            .field("nodes", &self.counts[0])
+            .finish()
+    }
+}
+
+impl GpuScene {
+    /// Uploads the smooth patches and the BVH of `bvh`.
+    pub fn smooth(gpu: &Arc<Gpu>, bvh: &Bvh<'_, f32>) -> Result<GpuScene, GpuError> {
+        let data: Vec<PatchData<f32>> = bvh.patches().iter().map(|p| p.data()).collect();
+        let nodes: Vec<GpuNode> = bvh.nodes().iter().map(GpuNode::from_node).collect();
+        Self::from_parts(gpu, SceneKind::Smooth, &data, &nodes, bvh.order())
+    }
+
+    /// Uploads the smooth patches and the BVH of `bvh` with the patches' seams (`seams[i]` the
+    /// seam of `bvh.patches()[i]`, as `smoothtri::Scene::seams`): closest hits and frames then
+    /// carry the seamless shading normal ([`Shading::Seamless`], the CPU's
+    /// `Scene::shading_normal`). Returns [`GpuError::LengthMismatch`] when the lengths differ.
+    pub fn smooth_seamless(
+        gpu: &Arc<Gpu>,
+        bvh: &Bvh<'_, f32>,
+        seams: &[Seam<f32>],
+    ) -> Result<GpuScene, GpuError> {
+        if seams.len() != bvh.patches().len() {
+            return Err(GpuError::LengthMismatch {
+                rays: bvh.patches().len(),
+                out: seams.len(),
+            });
+        }
+        let data = f32_bytes(seams.iter().flat_map(seam_record));
+        Self::smooth(gpu, bvh)?.with_shading(Shading::Seamless, data)
+    }
+
+    /// Uploads the flat triangles of `bvh`'s patches with their world vertex normals: closest
+    /// hits and frames carry the Phong normal ([`Shading::Phong`]: the vertex normals
+    /// interpolated at the hit's barycentrics, normalised; the face normal where that vanishes).
+    pub fn phong(gpu: &Arc<Gpu>, bvh: &Bvh<'_, f32>) -> Result<GpuScene, GpuError> {
+        let data = f32_bytes(
+            bvh.patches()
+                .iter()
+                .flat_map(|p| p.normals().into_iter().flat_map(|n| [n.x, n.y, n.z, 0.0])),
+        );
+        Self::flat(gpu, bvh)?.with_shading(Shading::Phong, data)
+    }
+
+    fn with_shading(mut self, shading: Shading, data: Vec<u8>) -> Result<GpuScene, GpuError> {
+        self.bytes += data.len() as u64;
+        self.shade_in = self.gpu.storage("shading", data)?;
+        self.shading = shading;
+        Ok(self)
+    }
+
+    /// The shading normal of the scene's closest hits and frames.
+    pub fn shading(&self) -> Shading {
+        self.shading
+    }
+
+    /// Uploads the flat triangles of `bvh`'s patches (their world vertices) with the same BVH:
+    /// the baseline on the same traversal code.
+    pub fn flat(gpu: &Arc<Gpu>, bvh: &Bvh<'_, f32>) -> Result<GpuScene, GpuError> {
+        let data: Vec<PatchData<f32>> = bvh.patches().iter().map(|p| p.data()).collect();
+        let nodes: Vec<GpuNode> = bvh.nodes().iter().map(GpuNode::from_node).collect();
+        Self::from_parts(gpu, SceneKind::Flat, &data, &nodes, bvh.order())
+    }
+
+    /// Uploads arbitrary parts: patch data, nodes and order (node 0 the root). Storage not
+    /// made by [`Bvh::build`] is traced without any read outside the buffers: queries then
+    /// return [`GpuError::CorruptTree`] or [`GpuError::StackOverflow`] where the shader notices,
+    /// misses or wrong answers otherwise, never a panic or a device loss.
+    pub fn from_parts(
+        gpu: &Arc<Gpu>,
+        kind: SceneKind,
+        patches: &[PatchData<f32>],
+        nodes: &[GpuNode],
+        order: &[u32],
+    ) -> Result<GpuScene, GpuError> {
+        let too_many = |what: &'static str, n: usize| GpuError::TooLarge {
+            what,
+            bytes: n as u64,
+            limit: u32::MAX as u64,
+        };
+        let count = |what, n: usize| u32::try_from(n).map_err(|_| too_many(what, n));
+        let counts = [
+            count("node", nodes.len())?,
+            count("order", order.len())?,
+            count("patch", patches.len())?,
+        ];
+        let records = match kind {
+            SceneKind::Smooth => f32_bytes(patches.iter().flat_map(smooth_record)),
+            SceneKind::Flat => f32_bytes(patches.iter().flat_map(flat_record)),
+        };
+        let node_bytes: Vec<u8> = nodes
+            .iter()
+            .flat_map(|n| {
+                // The shader's `Node`: lo[3], hi[3], child, count (vec4 each).
+                let mut b = Vec::with_capacity(128);
+                for x in n.lo.iter().chain(&n.hi).flatten() {
+                    b.extend_from_slice(&x.to_ne_bytes());
+                }
+                for x in n.child.iter().chain(&n.count) {
+                    b.extend_from_slice(&x.to_ne_bytes());
+                }
+                b
+            })
+            .collect();
+        let order_bytes: Vec<u8> = order.iter().flat_map(|i| i.to_ne_bytes()).collect();
+        let bytes = (records.len() + node_bytes.len() + order_bytes.len()) as u64;
+        Ok(GpuScene {
+            gpu: Arc::clone(gpu),
+            kind,
+            patches: gpu.storage("patch", records)?,
+            nodes: gpu.storage("node", node_bytes)?,
+            order: gpu.storage("order", order_bytes)?,
+            counts,
+            bytes,
+            tilted: kind == SceneKind::Smooth
+                && patches.iter().any(|pd| pd.d.iter().any(|d| d[2] != 1.0)),
+            shading: Shading::Geometric,
+            shade_in: gpu.storage("shading", Vec::new())?,
+        })
+    }
+
+    /// The shader's group 0 for this scene with the query's own buffers (the frame pass binds
+    /// unused ones for `rays` and `hits`). Call inside [`scoped`].
+    pub(crate) fn bind_group(
+        &self,
+        params: &wgpu::Buffer,
+        rays: &wgpu::Buffer,
+        hits: &wgpu::Buffer,
+        status: &wgpu::Buffer,
+    ) -> wgpu::BindGroup {
+        self.gpu
+            .device
+            .create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("smoothtri"),
+                layout: &self.gpu.layout,
+                entries: &[
+                    bind_entry(0, params),
+                    bind_entry(1, &self.patches),
+                    bind_entry(2, &self.nodes),
+                    bind_entry(3, &self.order),
+                    bind_entry(4, rays),
+                    bind_entry(5, hits),
+                    bind_entry(6, status),
+                    bind_entry(7, &self.shade_in),
+                ],
+            })
+    }
+
+    /// The pipeline key of this scene's queries.
+    pub(crate) fn key(&self, n: usize, any: bool, frame: bool) -> PipelineKey {
+        PipelineKey {
+            n,
+            flat: self.kind == SceneKind::Flat,
+            any,
+            tilted: self.tilted,
+            shading: self.shading,
+            frame,
+        }
+    }
+
+    /// Whether the records are smooth patches or flat triangles.
+    pub fn kind(&self) -> SceneKind {
+        self.kind
+    }
+
+    /// Bytes uploaded (records, nodes, order).
+    pub fn memory_bytes(&self) -> u64 {
+        self.bytes
+    }
+
+    /// The device.
+    pub fn gpu(&self) -> &Arc<Gpu> {
+        &self.gpu
+    }
+}

@@ -1,0 +1,93 @@
+//! From the corners a loader reads to a [`Mesh`]: one vertex per distinct (position, normal)
+//! pair, and angle-weighted normals ([`angle_weighted_normals`]) where the file has none.
+
+use std::collections::HashMap;
+
+use glam::DVec3;
+
+use crate::mesh::{LoadedMesh, Mesh};
+
+/// One triangle corner as a loader reads it: an index into [`Builder::positions`] and the
+/// file's normal for that corner, if it has one.
+pub(crate) type Corner = (usize, Option<DVec3>);
+
+/// Builds a [`Mesh`] from triangles of [`Corner`]s, computing angle-weighted normals for
+/// corners without one. Shared by all loaders.
+pub(crate) struct Builder {
+    /// Positions the corners index.
+    pub positions: Vec<DVec3>,
+    /// Triangles in file order.
+    pub tris: Vec<[Corner; 3]>,
+}
+
+impl Builder {
+    /// The mesh (one vertex per distinct (position, normal) pair) and whether any normal was
+    /// computed.
+    pub fn finish(self) -> (Mesh, bool) {
+        let needs = self.tris.iter().any(|t| t.iter().any(|(_, n)| n.is_none()));
+        let computed = if needs {
+            angle_weighted_normals(
+                &self.positions,
+                self.tris.iter().map(|t| [t[0].0, t[1].0, t[2].0]),
+            )
+        } else {
+            Vec::new()
+        };
+        let mut mesh = Mesh::default();
+        let mut map: HashMap<(usize, [u64; 3]), u32> = HashMap::new();
+        for t in &self.tris {
+            let mut ids = [0u32; 3];
+            for (slot, &(p, n)) in ids.iter_mut().zip(t.iter()) {
+                let normal = n.unwrap_or_else(|| computed.get(p).copied().unwrap_or(DVec3::ZERO));
+                let key = (p, normal.to_array().map(f64::to_bits));
+                *slot = *map.entry(key).or_insert_with(|| {
+                    mesh.positions.push(self.positions[p]);
+                    mesh.normals.push(normal);
+                    (mesh.positions.len() - 1) as u32
+                });
+            }
+            mesh.triangles.push(ids);
+        }
+        (mesh, needs)
+    }
+
+    /// [`Builder::finish`] as a [`LoadedMesh`] with the given warnings.
+    pub fn into_loaded(self, warnings: Vec<String>) -> LoadedMesh {
+        let (mesh, computed_normals) = self.finish();
+        LoadedMesh {
+            mesh,
+            computed_normals,
+            warnings,
+        }
+    }
+}
+
+/// Angle-weighted vertex normals (Thürmer & Wüthrich): each triangle adds its unit face normal
+/// times its corner angle to its three vertices. Degenerate triangles add nothing; a vertex no
+/// triangle adds to gets the zero vector. Returns one unit (or zero) normal per position.
+///
+/// # Panics
+/// When an index of `tris` is not an index of `positions`.
+pub fn angle_weighted_normals(
+    positions: &[DVec3],
+    tris: impl Iterator<Item = [usize; 3]>,
+) -> Vec<DVec3> {
+    let mut acc = vec![DVec3::ZERO; positions.len()];
+    for [a, b, c] in tris {
+        let (pa, pb, pc) = (positions[a], positions[b], positions[c]);
+        let Some(nf) = (pb - pa).cross(pc - pa).try_normalize() else {
+            continue;
+        };
+        for (i, o1, o2) in [(a, pb, pc), (b, pc, pa), (c, pa, pb)] {
+            let p = positions[i];
+            let (Some(u), Some(v)) = ((o1 - p).try_normalize(), (o2 - p).try_normalize()) else {
+                continue;
+            };
+            let ang = u.dot(v).clamp(-1.0, 1.0).acos();
+            acc[i] += nf * ang;
+        }
+    }
+    acc.into_iter()
+        .map(|n| n.try_normalize().unwrap_or(DVec3::ZERO))
+        .collect()
+}
