@@ -5,9 +5,9 @@
 use crate::common::*;
 use glam::Vec3;
 use smoothtri::{Aabb, BoxBvh, Bvh, BvhError, BvhNode, Patch, Ray, moller_trumbore};
-use smoothtri_demo::scenes::{teapot, torus};
+use smoothtri_testkit::scenes::{teapot, torus};
 
-fn patches_of(mesh: &smoothtri_demo::Mesh) -> Vec<Patch> {
+fn patches_of(mesh: &smoothtri_io::Mesh) -> Vec<Patch> {
     (0..mesh.triangles.len())
         .filter_map(|t| {
             let (p, n) = mesh.triangle(t);
@@ -53,7 +53,7 @@ fn box_tree_over_patch_boxes_is_the_patch_tree() {
 }
 
 /// Rays from a ring of eyes around `mesh` toward points near its centre.
-fn camera_rays_around(mesh: &smoothtri_demo::Mesh, k: usize) -> Vec<Ray> {
+fn camera_rays_around(mesh: &smoothtri_io::Mesh, k: usize) -> Vec<Ray> {
     let (lo, hi) = mesh.positions.iter().fold(
         (glam::DVec3::splat(f64::MAX), glam::DVec3::splat(f64::MIN)),
         |(a, b), p| (a.min(*p), b.max(*p)),
