@@ -124,7 +124,7 @@ struct PixelOut {
     pad2: u32,
 }
 
-// A four-wide node (core/src/bvh.rs `BvhNode`): the four children's boxes by coordinate (lo[axis],
+// A four-wide node (core/src/bvh/node.rs `BvhNode`): the four children's boxes by coordinate (lo[axis],
 // hi[axis]), and per
 // slot a child node (count 0), a leaf `order[child..child + count]`, or EMPTY_SLOT.
 struct Node {
@@ -1362,7 +1362,7 @@ fn flat_crossing(id: u32, o: vec3<f32>, d: vec3<f32>, t_min: f32, t_max: f32) ->
 }
 
 // ---------------------------------------------------------------------------------------------
-// Traversal (core/src/bvh.rs `traverse`: four-wide nodes, entered children pushed farthest first
+// Traversal (core/src/bvh/tree.rs `traverse`: four-wide nodes, entered children pushed farthest first
 // so the nearest is visited next, leaves tested when popped)
 
 struct Traced {
@@ -1406,7 +1406,7 @@ fn trace(o: vec3<f32>, d: vec3<f32>, t_min: f32, t_max: f32, any: bool) -> Trace
     st_count[0] = 0u;
     st_t[0] = t_min;
     var sp = 1u;
-    // Slab test per axis as core/src/bvh.rs `SlabRay`: 1/d where finite; d = 0: the origin
+    // Slab test per axis as core/src/bvh/node.rs `SlabRay`: 1/d where finite; d = 0: the origin
     // between the planes; 1/d not finite: the axis is not tested (conservative).
     let slab = vec3<bool>(d.x != 0.0 && fin(inv.x), d.y != 0.0 && fin(inv.y),
         d.z != 0.0 && fin(inv.z));
