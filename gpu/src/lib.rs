@@ -63,7 +63,9 @@ use smoothtri::mesh::Seam;
 use smoothtri::{Bvh, Hit, PatchData, Ray};
 use wgpu::util::DeviceExt;
 
+mod flat_tris;
 mod frame;
+pub use flat_tris::{FLAT_SHADER, FlatHit, FlatScene};
 pub use frame::{FramePixel, FrameStats, FrameView, GpuFrame, GpuSurface};
 
 /// The shader (WGSL), as compiled by [`Gpu::new`].
