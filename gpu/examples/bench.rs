@@ -117,22 +117,11 @@ fn rate(
         f32::MAX,
         &mut hits[..rays.len().min(256)],
     )?;
-    let mut best = f64::INFINITY;
-    let mut best_kernel: Option<f64> = None;
-    for _ in 0..repeat {
-        let t = Instant::now();
-        let kernel = scene.closest_hit_timed(n, rays, 0.0, f32::MAX, &mut hits)?;
-        best = best.min(t.elapsed().as_secs_f64());
-        if let Some(k) = kernel {
-            best_kernel = Some(best_kernel.map_or(k, |b| b.min(k)));
-        }
-    }
-    let m = rays.len() as f64 / 1e6;
-    Ok(Rate {
-        call: m / best,
-        kernel: best_kernel.map(|k| m / k),
-        hits: hits.iter().flatten().count(),
-    })
+    let (call, kernel) = best_of(repeat, rays.len(), || {
+        scene.closest_hit_timed(n, rays, 0.0, f32::MAX, &mut hits)
+    })?;
+    let hits = hits.iter().flatten().count();
+    Ok(Rate { call, kernel, hits })
 }
 
 /// [`rate`] for the flat triangles' own pipeline ([`FlatScene`]), after one whole warm-up pass
@@ -144,22 +133,32 @@ fn rate_own(
 ) -> Result<Rate, smoothtri_gpu::GpuError> {
     let mut hits = vec![None; rays.len()];
     scene.closest_hit(rays, 0.0, f32::MAX, &mut hits)?;
+    let (call, kernel) = best_of(repeat.max(3), rays.len(), || {
+        scene.closest_hit_timed(rays, 0.0, f32::MAX, &mut hits)
+    })?;
+    let hits = hits.iter().flatten().count();
+    Ok(Rate { call, kernel, hits })
+}
+
+/// The best of `repeat` calls of `call` (which returns the kernel's GPU time, if timed), as
+/// Mrays/s for `rays` rays: over the whole call and over the kernel's time.
+fn best_of(
+    repeat: usize,
+    rays: usize,
+    mut call: impl FnMut() -> Result<Option<f64>, smoothtri_gpu::GpuError>,
+) -> Result<(f64, Option<f64>), smoothtri_gpu::GpuError> {
     let mut best = f64::INFINITY;
     let mut best_kernel: Option<f64> = None;
-    for _ in 0..repeat.max(3) {
+    for _ in 0..repeat {
         let t = Instant::now();
-        let kernel = scene.closest_hit_timed(rays, 0.0, f32::MAX, &mut hits)?;
+        let kernel = call()?;
         best = best.min(t.elapsed().as_secs_f64());
         if let Some(k) = kernel {
             best_kernel = Some(best_kernel.map_or(k, |b| b.min(k)));
         }
     }
-    let m = rays.len() as f64 / 1e6;
-    Ok(Rate {
-        call: m / best,
-        kernel: best_kernel.map(|k| m / k),
-        hits: hits.iter().flatten().count(),
-    })
+    let m = rays as f64 / 1e6;
+    Ok((m / best, best_kernel.map(|k| m / k)))
 }
 
 /// `12.345` or `—` where the adapter has no timestamp queries.

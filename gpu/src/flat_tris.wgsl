@@ -3,24 +3,13 @@
 // stack, Möller–Trumbore in the leaves, one invocation per ray. No smooth code: the baseline
 // the smooth kernel is compared with (`FlatScene`, flat_tris.rs).
 
-struct Params {
-    n_rays: u32,
-    n_nodes: u32,
-    n_order: u32,
-    n_tris: u32,
-}
-
-struct Node {
-    lo: array<vec4<f32>, 3>,
-    hi: array<vec4<f32>, 3>,
-    child: vec4<u32>,
-    count: vec4<u32>,
-}
-
-@group(0) @binding(0) var<uniform> params: Params;
+// (rays, nodes, order entries, triangles).
+@group(0) @binding(0) var<uniform> params: vec4<u32>;
 // Per triangle: (p0, 0), (p1 − p0, 0), (p2 − p0, 0).
 @group(0) @binding(1) var<storage, read> tris: array<vec4<f32>>;
-@group(0) @binding(2) var<storage, read> nodes: array<Node>;
+// Per node (smoothtri's `BvhNode`, 128 bytes): lo.x, lo.y, lo.z, hi.x, hi.y, hi.z of the four
+// slots, then their children and counts as bits.
+@group(0) @binding(2) var<storage, read> nodes: array<vec4<f32>>;
 @group(0) @binding(3) var<storage, read> order: array<u32>;
 // Per ray: (origin, t_min), (dir, t_max).
 @group(0) @binding(4) var<storage, read> rays: array<vec4<f32>>;
@@ -35,7 +24,7 @@ const STACK: u32 = 192u;
 @compute @workgroup_size(64)
 fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     let i = gid.x;
-    if (i >= params.n_rays) {
+    if (i >= params.x) {
         return;
     }
     let a = rays[2u * i];
@@ -57,32 +46,34 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     var stack_t: array<f32, STACK>;
     var sp = 0u;
     var node = 0u;
-    var visits = params.n_nodes;
-    var tests = params.n_order;
+    var visits = params.y;
+    var tests = params.z;
     var flags = 0u;
     loop {
-        if (node >= params.n_nodes || visits == 0u) {
+        if (node >= params.y || visits == 0u) {
             flags |= 2u;
             break;
         }
         visits -= 1u;
-        let nd = nodes[node];
-        let t0 = (nd.lo[0] - vec4<f32>(o.x)) * inv.x;
-        let t1 = (nd.hi[0] - vec4<f32>(o.x)) * inv.x;
-        let u0 = (nd.lo[1] - vec4<f32>(o.y)) * inv.y;
-        let u1 = (nd.hi[1] - vec4<f32>(o.y)) * inv.y;
-        let v0 = (nd.lo[2] - vec4<f32>(o.z)) * inv.z;
-        let v1 = (nd.hi[2] - vec4<f32>(o.z)) * inv.z;
+        let at = 8u * node;
+        let child = bitcast<vec4<u32>>(nodes[at + 6u]);
+        let count = bitcast<vec4<u32>>(nodes[at + 7u]);
+        let t0 = (nodes[at] - vec4<f32>(o.x)) * inv.x;
+        let t1 = (nodes[at + 3u] - vec4<f32>(o.x)) * inv.x;
+        let u0 = (nodes[at + 1u] - vec4<f32>(o.y)) * inv.y;
+        let u1 = (nodes[at + 4u] - vec4<f32>(o.y)) * inv.y;
+        let v0 = (nodes[at + 2u] - vec4<f32>(o.z)) * inv.z;
+        let v1 = (nodes[at + 5u] - vec4<f32>(o.z)) * inv.z;
         let near = max(max(min(t0, t1), min(u0, u1)), max(min(v0, v1), vec4<f32>(t_min)));
         let far = min(min(max(t0, t1), max(u0, u1)), min(max(v0, v1), vec4<f32>(best)));
         var kids: array<u32, 4>;
         var kt: array<f32, 4>;
         var nk = 0u;
         for (var k = 0u; k < 4u; k++) {
-            if (nd.child[k] == EMPTY || near[k] > far[k]) {
+            if (child[k] == EMPTY || near[k] > far[k]) {
                 continue;
             }
-            let c = nd.count[k];
+            let c = count[k];
             if (c == 0u) {
                 // Insertion by entry distance, nearest last.
                 var j = nk;
@@ -91,21 +82,21 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
                     kt[j] = kt[j - 1u];
                     j -= 1u;
                 }
-                kids[j] = nd.child[k];
+                kids[j] = child[k];
                 kt[j] = near[k];
                 nk += 1u;
                 continue;
             }
             // A leaf: Möller–Trumbore on its triangles.
-            let first = nd.child[k];
-            if (c > tests || first >= params.n_order || c > params.n_order - first) {
+            let first = child[k];
+            if (c > tests || first >= params.z || c > params.z - first) {
                 flags |= 2u;
                 continue;
             }
             tests -= c;
             for (var m = 0u; m < c; m++) {
                 let id = order[first + m];
-                if (id >= params.n_tris) {
+                if (id >= params.w) {
                     flags |= 2u;
                     continue;
                 }

@@ -7,7 +7,7 @@ mod common;
 
 use common::*;
 use glam::Vec3;
-use smoothtri::{Aabb, BoxBvh, BvhNode, Ray, moller_trumbore};
+use smoothtri::{Aabb, BoxBvh, BvhNode, Ray, flat_hit, moller_trumbore};
 use smoothtri_demo::scenes::{Mesh, teapot, torus};
 use smoothtri_gpu::FlatScene;
 
@@ -47,17 +47,7 @@ fn flat_pipeline_equals_cpu_moller_trumbore() {
         let (mut hits, mut max_dt) = (0, 0.0f32);
         for (r, g) in rays.iter().zip(&got) {
             let want = tree.closest_with(r, 0.0, f32::MAX, |i, a, b| {
-                let (t, w1, w2) = moller_trumbore(&tris[i as usize], r, a, b)?;
-                Some(smoothtri::Hit {
-                    t,
-                    t_error: 0.0,
-                    point: Vec3::ZERO,
-                    normal: Vec3::ZERO,
-                    w1,
-                    w2,
-                    front_face: true,
-                    patch: 0,
-                })
+                flat_hit(&tris[i as usize], None, r, a, b)
             });
             match (g, want) {
                 (Some(g), Some(w)) => {

@@ -18,6 +18,7 @@ pub mod csvio;
 pub mod error;
 pub mod image;
 pub mod mesh;
+pub mod peers;
 pub mod renderer;
 pub mod scenes;
 pub mod teapot_data;

@@ -72,19 +72,27 @@ impl<F: Real> V3<F> {
     pub const fn new(x: F, y: F, z: F) -> Self {
         V3 { x, y, z }
     }
+    /// Component-wise product.
+    #[inline(always)]
+    fn times(self, o: Self) -> Self {
+        V3::new(self.x * o.x, self.y * o.y, self.z * o.z)
+    }
+    /// The components rotated: `(y, z, x)`.
+    #[inline(always)]
+    fn yzx(self) -> Self {
+        V3::new(self.y, self.z, self.x)
+    }
     /// Dot product.
     #[inline(always)]
     pub fn dot(self, o: Self) -> F {
-        self.x * o.x + self.y * o.y + self.z * o.z
+        let p = self.times(o);
+        p.x + p.y + p.z
     }
-    /// Cross product.
+    /// Cross product: `a.yzx·b.zxy − a.zxy·b.yzx`, component-wise.
     #[inline(always)]
     pub fn cross(self, o: Self) -> Self {
-        V3::new(
-            self.y * o.z - self.z * o.y,
-            self.z * o.x - self.x * o.z,
-            self.x * o.y - self.y * o.x,
-        )
+        let (a, b) = (self.yzx(), o.yzx());
+        a.times(b.yzx()) - a.yzx().times(b)
     }
     /// Squared length.
     #[inline(always)]
@@ -129,20 +137,20 @@ impl<F: Real> V3<F> {
     }
 }
 
-impl<F: Real> Add for V3<F> {
-    type Output = Self;
-    #[inline(always)]
-    fn add(self, o: Self) -> Self {
-        V3::new(self.x + o.x, self.y + o.y, self.z + o.z)
-    }
+/// Component-wise `V3 ∘ V3` operators.
+macro_rules! vector_op {
+    ($($tr:ident $f:ident $op:tt),*) => {$(
+        impl<F: Real> $tr for V3<F> {
+            type Output = Self;
+            #[inline(always)]
+            fn $f(self, o: Self) -> Self {
+                V3::new(self.x $op o.x, self.y $op o.y, self.z $op o.z)
+            }
+        }
+    )*};
 }
-impl<F: Real> Sub for V3<F> {
-    type Output = Self;
-    #[inline(always)]
-    fn sub(self, o: Self) -> Self {
-        V3::new(self.x - o.x, self.y - o.y, self.z - o.z)
-    }
-}
+vector_op!(Add add +, Sub sub -);
+
 impl<F: Real> Mul<F> for V3<F> {
     type Output = Self;
     #[inline(always)]
@@ -150,6 +158,7 @@ impl<F: Real> Mul<F> for V3<F> {
         V3::new(self.x * s, self.y * s, self.z * s)
     }
 }
+
 impl<F: Real> Neg for V3<F> {
     type Output = Self;
     #[inline(always)]

@@ -21,6 +21,12 @@ pub enum Mode {
     Flat,
     /// Flat triangles, interpolated vertex normals (Phong shading).
     Phong,
+    /// Phong tessellation (Boubekeur & Alexa 2008, α = 3/4), traced exactly
+    /// ([`crate::peers`]; `render` and `trace` only).
+    PhongTess,
+    /// Nagata patches (Nagata 2005), traced exactly ([`crate::peers`]; `render` and `trace`
+    /// only).
+    Nagata,
 }
 
 impl Mode {
@@ -30,6 +36,8 @@ impl Mode {
             Mode::Smooth => "smooth",
             Mode::Flat => "flat",
             Mode::Phong => "phong",
+            Mode::PhongTess => "phong-tess",
+            Mode::Nagata => "nagata",
         }
     }
 }
@@ -173,5 +181,9 @@ pub fn tracer<F: Float>(mode: Mode, n: usize) -> Result<&'static dyn Tracer<F>> 
         }),
         Mode::Flat => Ok(&Flat { phong: false }),
         Mode::Phong => Ok(&Flat { phong: true }),
+        Mode::PhongTess | Mode::Nagata => Err(DemoError::Usage(format!(
+            "--mode {} is traced by `render` and `trace` only (on the CPU)",
+            mode.name()
+        ))),
     }
 }
