@@ -120,9 +120,7 @@ mod surface;
 pub mod internal;
 
 pub use aabb::Aabb;
-pub use bvh::{
-    BVH_EMPTY_SLOT, BVH_STACK, BVH_WIDTH, BoxBvh, Bvh, BvhError, BvhNode, MAX_DEPTH,
-};
+pub use bvh::{BVH_EMPTY_SLOT, BVH_STACK, BVH_WIDTH, BoxBvh, Bvh, BvhError, BvhNode, MAX_DEPTH};
 pub use error::PatchError;
 pub use geometry::PatchData;
 pub use kernel::flat::{flat_hit, moller_trumbore};
