@@ -26,7 +26,7 @@ mod executor;
 mod patches;
 pub mod random;
 pub mod scenes;
-mod teapot_data;
+pub mod teapot_data;
 pub mod twist;
 
 pub use assets::assimp_models;
