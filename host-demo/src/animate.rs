@@ -22,8 +22,8 @@ use crate::up::Up;
 /// K`: frame `k` shows `--time` + `k · FRAME_STEP`), seconds.
 pub const FRAME_STEP: f64 = 1.0 / 30.0;
 
-/// Poses sampled over a clip to frame it ([`Animation::sphere`]).
-const FRAMING_SAMPLES: usize = 32;
+/// Poses sampled over a clip, plus one, to frame it ([`Animation::sphere`]).
+pub const FRAMING_SAMPLES: usize = 32;
 
 /// What is animated.
 enum Source {
@@ -180,7 +180,7 @@ pub fn check_time(t: f64) -> Result<f64> {
 /// The scene of a posed `mesh` in precision `F` (on `field`, with seams when `seams`), given
 /// the scene of the previous pose of the same animation when there is one (same triangles,
 /// same options): the one place where an animation turns posed vertices into a scene. It
-/// builds afresh ([`build_scene`]); a scene update from `previous` goes here.
+/// builds afresh (as `render` builds a scene); a scene update from `previous` goes here.
 pub fn scene_of_pose<F: Prec>(
     previous: Option<Scene<F>>,
     mesh: &Mesh,
