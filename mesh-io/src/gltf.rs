@@ -1091,12 +1091,13 @@ mod tests {
 /// Scenes: nodes, transforms, instancing, sparse accessors, primitive modes. Each test writes a
 /// small GLB with [`scene_tests::Doc`].
 #[cfg(test)]
-mod scene_tests {
+pub(crate) mod scene_tests {
     use super::*;
 
-    /// A glTF document under construction: one binary buffer, its views and accessors.
+    /// A glTF document under construction: one binary buffer, its views and accessors (also
+    /// the animation tests' documents).
     #[derive(Default)]
-    pub(super) struct Doc {
+    pub(crate) struct Doc {
         bin: Vec<u8>,
         views: Vec<String>,
         accessors: Vec<String>,
@@ -1120,7 +1121,7 @@ mod scene_tests {
         }
 
         /// A `VEC3`/`FLOAT` accessor of `v` (with `min`/`max`).
-        pub(super) fn vec3(&mut self, v: &[[f32; 3]]) -> usize {
+        pub(crate) fn vec3(&mut self, v: &[[f32; 3]]) -> usize {
             let view = self.view(&Self::f32s(v));
             let (mut lo, mut hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
             for p in v {
@@ -1157,13 +1158,28 @@ mod scene_tests {
             ))
         }
 
+        /// An accessor of `count` elements of `ty` (`SCALAR`, `VEC4`…) and `component` (5126
+        /// float, 5123 unsigned short…) over `bytes`, in a view of its own.
+        pub(crate) fn raw(
+            &mut self,
+            bytes: &[u8],
+            component: u32,
+            count: usize,
+            ty: &str,
+        ) -> usize {
+            let view = self.view(bytes);
+            self.accessor(format!(
+                r#"{{"bufferView":{view},"componentType":{component},"count":{count},"type":"{ty}"}}"#
+            ))
+        }
+
         fn accessor(&mut self, json: String) -> usize {
             self.accessors.push(json);
             self.accessors.len() - 1
         }
 
         /// The GLB with `rest` (scenes, nodes, meshes: JSON members without braces).
-        pub(super) fn glb(&self, rest: &str) -> Vec<u8> {
+        pub(crate) fn glb(&self, rest: &str) -> Vec<u8> {
             let json = format!(
                 r#"{{"asset":{{"version":"2.0"}},{rest},"buffers":[{{"byteLength":{}}}],"bufferViews":[{}],"accessors":[{}]}}"#,
                 self.bin.len(),
