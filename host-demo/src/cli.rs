@@ -29,7 +29,8 @@ pub struct Cli {
 
 #[derive(Subcommand, Debug)]
 enum Cmd {
-    /// Render a mesh (default: the built-in 8×8 torus) to a PNG.
+    /// Render a mesh (default: the built-in 8×8 torus) to a PNG; --time SECONDS: one frame of
+    /// its animation.
     Render(RenderArgs),
     /// Sweep the iteration budget and measure hit-point error against an f64 reference.
     Precision(PrecisionArgs),
@@ -43,7 +44,7 @@ enum Cmd {
     Tessellate(TessellateArgs),
     /// Show the kernel in real time in a window: orbit with the mouse, zoom with the wheel;
     /// keys M (mode), S (seamless/geometric), Up/Down (N), P (f32/f64), H (error heat map),
-    /// R (reset), Esc/Q (quit).
+    /// R (reset), Space (pause the animation), Esc/Q (quit).
     View(ViewArgs),
 }
 
@@ -65,6 +66,12 @@ struct ViewArgs {
     /// Headless: write the last frame's primary-hit mask as a plain PBM.
     #[arg(long, value_name = "FILE.pbm")]
     mask: Option<String>,
+    /// Play the animation of the glTF file (or --scene twist), looping; Space pauses. Headless,
+    /// frame k shows --time + k/30 s.
+    #[arg(long)]
+    animate: bool,
+    #[command(flatten)]
+    anim: AnimArgs,
 }
 
 #[derive(Args, Debug, Clone)]
@@ -100,6 +107,56 @@ struct RenderArgs {
     /// (shadowing term).
     #[arg(long, value_enum)]
     terminator: Option<crate::peers::TerminatorFix>,
+    #[command(flatten)]
+    anim: AnimArgs,
+}
+
+/// The animation options of `render` and `view`.
+#[derive(Args, Debug)]
+struct AnimArgs {
+    /// Pose the animation at this time, seconds: a glTF file's animation (clamped to its keys)
+    /// or --scene twist. render: several comma-separated times render side by side, labelled;
+    /// view --animate: the time to start from.
+    #[arg(long, value_name = "SECONDS", allow_hyphen_values = true)]
+    time: Option<String>,
+    /// The glTF animation to play, by index [default: 0].
+    #[arg(long, value_name = "INDEX")]
+    clip: Option<usize>,
+}
+
+impl AnimArgs {
+    /// `--time` as seconds, each a finite number at least 0 (one-line usage errors naming the
+    /// value otherwise); empty without `--time`.
+    fn times(&self) -> Result<Vec<f64>> {
+        let Some(text) = self.time.as_deref() else {
+            return Ok(Vec::new());
+        };
+        text.split(',')
+            .map(|s| {
+                s.trim()
+                    .parse::<f64>()
+                    .ok()
+                    .and_then(|t| crate::animate::check_time(t).ok())
+                    .ok_or_else(|| {
+                        crate::error::DemoError::Usage(format!(
+                            "--time {}: expected a finite number of seconds, at least 0",
+                            s.trim()
+                        ))
+                    })
+            })
+            .collect()
+    }
+
+    /// `--time` as one time (`view`).
+    fn time(&self) -> Result<Option<f64>> {
+        match self.times()?.as_slice() {
+            [] => Ok(None),
+            [t] => Ok(Some(*t)),
+            _ => Err(crate::error::DemoError::Usage(
+                "view: --time takes one time (the start of --animate)".into(),
+            )),
+        }
+    }
 }
 
 /// What `render` and `view` share: the kernel, the frame and the camera (`view` starts from
@@ -299,6 +356,8 @@ pub fn run(cli: Cli) -> Result<()> {
             field: a.shot.field.into(),
             verbose: a.verbose,
             terminator: a.terminator,
+            time: a.anim.times()?,
+            clip: a.anim.clip,
         }),
         Cmd::View(a) => commands::view::run(ViewOptions {
             source: a.src.into(),
@@ -316,6 +375,9 @@ pub fn run(cli: Cli) -> Result<()> {
             frames: a.frames,
             screenshot: a.screenshot,
             mask: a.mask,
+            animate: a.animate,
+            time: a.anim.time()?,
+            clip: a.anim.clip,
         }),
         Cmd::Precision(a) => commands::precision::run(PrecisionOptions {
             source: a.src.into(),

@@ -7,10 +7,13 @@
 //!   and Phong ray queries; [`renderer`]: shading an image on the CPU; [`gpu`]: the same on the
 //!   GPU (`smoothtri-gpu`), for every command with `--gpu`.
 //! - [`tessellate`]: the smooth surface sampled into welded triangles (for other renderers).
+//! - [`animate`]: a glTF file's animation or the twisting torus posed frame by frame
+//!   (`render --time`, `view --animate`).
 //! - [`commands`]: one module per subcommand, each with a plain options struct and `run`;
 //!   [`cli`]: argument parsing (clap) and dispatch to them.
 //! - [`image`] (PNG, labels), [`csvio`] (CSV in and out), [`error`] ([`DemoError`]).
 
+pub mod animate;
 pub mod cli;
 pub mod commands;
 pub mod csvio;

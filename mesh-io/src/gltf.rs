@@ -196,13 +196,14 @@ struct Instance<'a> {
     world: DMat4,
 }
 
-/// A node's local transform in `f64`: its `matrix`, or `T · R · S` from its `translation`,
-/// `rotation` (renormalised; a zero or non-finite quaternion is an error) and `scale`.
-pub(crate) fn local_matrix(n: &::gltf::Node<'_>) -> std::result::Result<DMat4, String> {
-    let m = match n.transform() {
-        ::gltf::scene::Transform::Matrix { matrix } => {
-            DMat4::from_cols_array_2d(&matrix.map(|c| c.map(f64::from)))
-        }
+/// A node's translation, rotation (unit) and scale in `f64`.
+pub(crate) type Trs = (DVec3, DQuat, DVec3);
+
+/// The [`Trs`] of node `n`, its rotation renormalised (a zero or non-finite quaternion is an
+/// error), or `None` when the node has a `matrix`.
+pub(crate) fn local_trs(n: &::gltf::Node<'_>) -> std::result::Result<Option<Trs>, String> {
+    match n.transform() {
+        ::gltf::scene::Transform::Matrix { .. } => Ok(None),
         ::gltf::scene::Transform::Decomposed {
             translation,
             rotation,
@@ -216,12 +217,24 @@ pub(crate) fn local_matrix(n: &::gltf::Node<'_>) -> std::result::Result<DMat4, S
                     node_label(n)
                 ));
             }
-            DMat4::from_scale_rotation_translation(
-                DVec3::from_array(scale.map(f64::from)),
-                DQuat::from_xyzw(x / len, y / len, z / len, w / len),
+            Ok(Some((
                 DVec3::from_array(translation.map(f64::from)),
-            )
+                DQuat::from_xyzw(x / len, y / len, z / len, w / len),
+                DVec3::from_array(scale.map(f64::from)),
+            )))
         }
+    }
+}
+
+/// A node's local transform in `f64`: its `matrix`, or `T · R · S` from its [`local_trs`].
+pub(crate) fn local_matrix(n: &::gltf::Node<'_>) -> std::result::Result<DMat4, String> {
+    let m = match (local_trs(n)?, n.transform()) {
+        (Some((t, r, s)), _) => DMat4::from_scale_rotation_translation(s, r, t),
+        (None, ::gltf::scene::Transform::Matrix { matrix }) => {
+            DMat4::from_cols_array_2d(&matrix.map(|c| c.map(f64::from)))
+        }
+        // `local_trs` is `None` for a matrix only.
+        (None, _) => DMat4::IDENTITY,
     };
     if !m.is_finite() {
         return Err(format!("{}: its transform is not finite", node_label(n)));
@@ -815,6 +828,33 @@ fn base64_decode(s: &str) -> Option<Vec<u8>> {
     Some(out)
 }
 
+/// `count` copies of `good`, each with one to four random bytes changed (half the time a digit
+/// by a digit, so that JSON numbers change but stay numbers), from a xorshift generator seeded
+/// with `seed`: the corrupted files the never-panic tests feed the loaders.
+#[cfg(test)]
+pub(crate) fn corruptions(good: &[u8], seed: u64, count: usize) -> impl Iterator<Item = Vec<u8>> {
+    let mut state = seed;
+    let mut next = move || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        state
+    };
+    let good = good.to_vec();
+    (0..count).map(move |_| {
+        let mut b = good.clone();
+        for _ in 0..1 + next() % 4 {
+            let at = (next() % b.len() as u64) as usize;
+            b[at] = if next() % 2 == 0 && b[at].is_ascii_digit() {
+                b"0123456789"[(next() % 10) as usize]
+            } else {
+                next() as u8
+            };
+        }
+        b
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -1029,25 +1069,7 @@ mod tests {
         let bin = cube_bin();
         let json = cube_json(&format!(r#"{{"byteLength":{}}}"#, bin.len()), |s| s);
         let good = glb_file(&json, &bin);
-        let mut state = 0x9e37_79b9_7f4a_7c15u64;
-        let mut next = move || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            state
-        };
-        let digits = b"0123456789";
-        for _ in 0..3000 {
-            let mut b = good.clone();
-            for _ in 0..1 + next() % 4 {
-                let at = (next() % b.len() as u64) as usize;
-                // Half the time a digit, so that JSON numbers change but stay numbers.
-                b[at] = if next() % 2 == 0 && b[at].is_ascii_digit() {
-                    digits[(next() % 10) as usize]
-                } else {
-                    next() as u8
-                };
-            }
+        for b in corruptions(&good, 0x9e37_79b9_7f4a_7c15, 3000) {
             let _ = parse(&b, "/nonexistent-smoothtri-test/m.glb");
         }
     }
@@ -1069,12 +1091,13 @@ mod tests {
 /// Scenes: nodes, transforms, instancing, sparse accessors, primitive modes. Each test writes a
 /// small GLB with [`scene_tests::Doc`].
 #[cfg(test)]
-mod scene_tests {
+pub(crate) mod scene_tests {
     use super::*;
 
-    /// A glTF document under construction: one binary buffer, its views and accessors.
+    /// A glTF document under construction: one binary buffer, its views and accessors (also
+    /// the animation tests' documents).
     #[derive(Default)]
-    pub(super) struct Doc {
+    pub(crate) struct Doc {
         bin: Vec<u8>,
         views: Vec<String>,
         accessors: Vec<String>,
@@ -1098,7 +1121,7 @@ mod scene_tests {
         }
 
         /// A `VEC3`/`FLOAT` accessor of `v` (with `min`/`max`).
-        pub(super) fn vec3(&mut self, v: &[[f32; 3]]) -> usize {
+        pub(crate) fn vec3(&mut self, v: &[[f32; 3]]) -> usize {
             let view = self.view(&Self::f32s(v));
             let (mut lo, mut hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
             for p in v {
@@ -1135,13 +1158,28 @@ mod scene_tests {
             ))
         }
 
+        /// An accessor of `count` elements of `ty` (`SCALAR`, `VEC4`…) and `component` (5126
+        /// float, 5123 unsigned short…) over `bytes`, in a view of its own.
+        pub(crate) fn raw(
+            &mut self,
+            bytes: &[u8],
+            component: u32,
+            count: usize,
+            ty: &str,
+        ) -> usize {
+            let view = self.view(bytes);
+            self.accessor(format!(
+                r#"{{"bufferView":{view},"componentType":{component},"count":{count},"type":"{ty}"}}"#
+            ))
+        }
+
         fn accessor(&mut self, json: String) -> usize {
             self.accessors.push(json);
             self.accessors.len() - 1
         }
 
         /// The GLB with `rest` (scenes, nodes, meshes: JSON members without braces).
-        pub(super) fn glb(&self, rest: &str) -> Vec<u8> {
+        pub(crate) fn glb(&self, rest: &str) -> Vec<u8> {
             let json = format!(
                 r#"{{"asset":{{"version":"2.0"}},{rest},"buffers":[{{"byteLength":{}}}],"bufferViews":[{}],"accessors":[{}]}}"#,
                 self.bin.len(),

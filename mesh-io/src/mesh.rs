@@ -3,7 +3,9 @@
 //! numbers a writer stores).
 
 use glam::DVec3;
-use smoothtri::{BuildError, BuildObserver, BuildOptions, Executor, Float, OwnedScene, Vertices};
+use smoothtri::{
+    BuildError, BuildObserver, BuildOptions, BuildReport, Executor, Float, OwnedScene, Vertices,
+};
 
 /// An indexed triangle mesh with per-vertex normals, in `f64`.
 #[derive(Clone, Debug, Default)]
@@ -55,14 +57,41 @@ impl Mesh {
         &self,
         options: &mut BuildOptions<O, E>,
     ) -> Result<OwnedScene<F>, BuildError> {
-        let packed = |v: &[DVec3]| -> Vec<f64> { v.iter().flat_map(|p| p.to_array()).collect() };
-        let (positions, normals) = (packed(&self.positions), packed(&self.normals));
+        let (positions, normals) = self.packed();
         OwnedScene::build(
             Vertices::packed(&positions),
             Vertices::packed(&normals),
             &self.triangles,
             options,
         )
+    }
+
+    /// Moves `scene` (built from this mesh's triangles by [`Mesh::build_scene`], with the same
+    /// field and seams in `options`) to this mesh's vertices: [`OwnedScene::update`], the
+    /// scene equal to a fresh build of them (hits within their `t_error` where the BVH was
+    /// refitted rather than rebuilt).
+    ///
+    /// Returns [`OwnedScene::update`]'s errors (another vertex count, other options,
+    /// non-finite coordinates), the scene then unchanged.
+    pub fn update_scene<F: Float, O: BuildObserver, E: Executor>(
+        &self,
+        scene: &mut OwnedScene<F>,
+        options: &mut BuildOptions<O, E>,
+    ) -> Result<BuildReport, BuildError> {
+        let (positions, normals) = self.packed();
+        scene
+            .update(
+                Vertices::packed(&positions),
+                Vertices::packed(&normals),
+                options,
+            )
+            .copied()
+    }
+
+    /// Positions and normals as packed `x, y, z` coordinates, for the core's [`Vertices`].
+    fn packed(&self) -> (Vec<f64>, Vec<f64>) {
+        let packed = |v: &[DVec3]| -> Vec<f64> { v.iter().flat_map(|p| p.to_array()).collect() };
+        (packed(&self.positions), packed(&self.normals))
     }
 }
 

@@ -55,6 +55,12 @@ pub struct RenderOptions {
     pub verbose: bool,
     /// A shadow-terminator fix for `Mode::Phong` ([`crate::peers`]).
     pub terminator: Option<crate::peers::TerminatorFix>,
+    /// Render the source's animation at these times, seconds (`--time`; [`crate::animate`]):
+    /// one frame, or several side by side ([`crate::animate::render_strip`]); empty: the static
+    /// mesh.
+    pub time: Vec<f64>,
+    /// The animation's clip (`--clip`, with `time`; default the first).
+    pub clip: Option<usize>,
 }
 
 /// One rendered panel and its primary-hit mask.
@@ -105,7 +111,7 @@ pub(crate) fn render_panel_in(
 
 /// [`render_panel_in`] shading smooth hits with `normals`, the patches on `field`.
 #[allow(clippy::too_many_arguments)]
-fn render_panel_with(
+pub(crate) fn render_panel_with(
     cache: &SceneCache,
     prec: Precision,
     mesh: &Mesh,
@@ -248,7 +254,15 @@ pub fn run(a: RenderOptions) -> Result<()> {
         ));
     }
     tracer::<f32>(Mode::Smooth, a.iterations)?;
+    if a.time.len() > 1 {
+        return crate::animate::render_strip(&a);
+    }
     if !a.compare && (crate::peers::peer_of(a.mode).is_some() || a.terminator.is_some()) {
+        if !a.time.is_empty() {
+            return Err(DemoError::Usage(
+                "--time renders smoothtri's own modes: leave --mode phong-tess|nagata and --terminator out".into(),
+            ));
+        }
         return render_peers(&a);
     }
     let gpu = if a.gpu {
@@ -261,8 +275,17 @@ pub fn run(a: RenderOptions) -> Result<()> {
     } else {
         None
     };
-    let (_, mesh, _) = a.source.load_upright(true, a.up)?;
-    let cam = Camera::for_mesh(&mesh, a.view.0, a.view.1, a.width, a.height);
+    let (mesh, cam) = match a.time.as_slice() {
+        &[t] => crate::animate::frame(&a.source, a.up, a.clip, t, a.view, (a.width, a.height))?,
+        _ if a.clip.is_some() => {
+            return Err(DemoError::Usage("--clip needs --time SECONDS".into()));
+        }
+        _ => {
+            let (_, mesh, _) = a.source.load_upright(true, a.up)?;
+            let cam = Camera::for_mesh(&mesh, a.view.0, a.view.1, a.width, a.height);
+            (mesh, cam)
+        }
+    };
     let modes: Vec<Mode> = if a.compare {
         vec![Mode::Smooth, Mode::Flat, Mode::Phong]
     } else {

@@ -9,6 +9,12 @@
 //! Headless (`--frames K --screenshot FILE.png`): K full frames at the fixed camera, then the
 //! last one is written (equal, pixel for pixel, to `render` with the same camera, mode and
 //! size) and the viewer exits. Under `xvfb-run` this runs without a screen.
+//!
+//! `--animate` plays the source's animation ([`crate::animate`]: a glTF file's clip, or
+//! `--scene twist`) from `--time` on, looping over the clip, each frame's scene built from the
+//! pose ([`crate::animate::scene_of_pose`]); the camera frames the whole clip. Space pauses.
+//! Headless, frame `k` shows `--time` + `k ·` [`FRAME_STEP`], so the last of K frames equals
+//! `render --time` at that time.
 
 use std::any::Any;
 use std::collections::HashMap;
@@ -29,8 +35,9 @@ use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
 use winit::keyboard::{Key, NamedKey};
 use winit::window::{Window, WindowId};
 
-use super::render::{Note, build_scene};
+use super::render::Note;
 use super::source::MeshSource;
+use crate::animate::{Animation, FRAME_STEP, scene_of_pose};
 use crate::error::{DemoError, Result};
 use crate::gpu::{frame_view, gpu_error, gpu_scene, open_gpu, read_frame};
 use crate::image::{Image, heat};
@@ -46,6 +53,7 @@ pub const KEYS: &[(&str, &str)] = &[
     ("P", "precision: f32 ↔ f64 (CPU)"),
     ("H", "heat map of each pixel's certified t_error"),
     ("R", "reset the camera"),
+    ("Space", "pause / play the animation (`--animate`)"),
     ("Esc / Q", "quit"),
 ];
 
@@ -91,6 +99,12 @@ pub struct ViewOptions {
     pub screenshot: Option<String>,
     /// Headless: write the last frame's primary-hit mask here (PBM).
     pub mask: Option<String>,
+    /// Play the source's animation ([`crate::animate`]).
+    pub animate: bool,
+    /// With `animate`: the time to start from, seconds.
+    pub time: Option<f64>,
+    /// With `animate`: the glTF clip (default the first).
+    pub clip: Option<usize>,
 }
 
 /// What the keys and the mouse change.
@@ -106,27 +120,82 @@ struct Settings {
     zoom: f64,
 }
 
-/// The scenes built so far, by precision and seams (built on first use).
+/// The scenes built so far, by precision and seams (built on first use), and those of the
+/// previous pose of an animation (what the next pose's scene is made from).
 #[derive(Default)]
-struct Scenes(HashMap<(Precision, bool), Rc<dyn Any>>);
+struct Scenes {
+    built: HashMap<(Precision, bool), Rc<dyn Any>>,
+    previous: HashMap<(Precision, bool), Rc<dyn Any>>,
+    /// Whether the note about skipped triangles was printed.
+    noted: bool,
+}
 
 impl Scenes {
     fn get<F: Prec>(&mut self, mesh: &Mesh, field: LineField, seams: bool) -> Result<Rc<Scene<F>>> {
         let key = (F::PRECISION, seams);
         if let Some(s) = self
-            .0
+            .built
             .get(&key)
             .and_then(|s| Rc::clone(s).downcast::<Scene<F>>().ok())
         {
             return Ok(s);
         }
         let note = Note {
-            skipped: self.0.is_empty(),
+            skipped: !std::mem::replace(&mut self.noted, true),
             timing: false,
         };
-        let scene = Rc::new(build_scene::<F>(mesh, note, field, seams)?);
-        self.0.insert(key, Rc::clone(&scene) as Rc<dyn Any>);
+        let previous = self
+            .previous
+            .remove(&key)
+            .and_then(|s| s.downcast::<Scene<F>>().ok())
+            .and_then(|s| Rc::try_unwrap(s).ok());
+        let scene = Rc::new(scene_of_pose::<F>(previous, mesh, note, field, seams)?);
+        self.built.insert(key, Rc::clone(&scene) as Rc<dyn Any>);
         Ok(scene)
+    }
+
+    /// The mesh moved: the scenes built so far become the previous pose's.
+    fn posed(&mut self) {
+        self.previous.clear();
+        self.previous.extend(self.built.drain());
+    }
+}
+
+/// The animation being played: the source, where it started and the clock, or the time it is
+/// paused at.
+struct Playing {
+    animation: Animation,
+    /// The clip time at `clock`'s start, seconds.
+    offset: f64,
+    clock: Instant,
+    paused: Option<f64>,
+    /// The time of the pose in the viewer's mesh.
+    shown: f64,
+}
+
+impl Playing {
+    /// The clip time now (interactive: by the wall clock, looping over the clip).
+    fn now(&self) -> f64 {
+        let t = self
+            .paused
+            .unwrap_or_else(|| self.offset + self.clock.elapsed().as_secs_f64());
+        self.wrap(t)
+    }
+
+    /// `t` looped into the clip (the twisting torus repeats with its period anyway).
+    fn wrap(&self, t: f64) -> f64 {
+        let d = self.animation.duration;
+        if d > 0.0 { t % d } else { 0.0 }
+    }
+
+    fn toggle_pause(&mut self) {
+        match self.paused.take() {
+            Some(t) => {
+                self.offset = t;
+                self.clock = Instant::now();
+            }
+            None => self.paused = Some(self.now()),
+        }
     }
 }
 
@@ -188,6 +257,8 @@ struct Viewer {
     totals: (f64, u64),
     last: Option<Frame>,
     error: Option<DemoError>,
+    /// `--animate`: what is played.
+    playing: Option<Playing>,
 }
 
 impl Viewer {
@@ -207,11 +278,37 @@ impl Viewer {
     /// The camera of the current settings for a `w`×`h` frame: `render`'s camera at zoom 1.
     fn camera(&self, w: u32, h: u32) -> Camera {
         let s = &self.settings;
-        if s.zoom == 1.0 {
+        if s.zoom == 1.0 && self.playing.is_none() {
             return Camera::for_mesh(&self.mesh, s.az, s.el, w, h);
         }
         let (c, r) = self.sphere;
         Camera::look_at_sphere(c, r * s.zoom, s.az, s.el, w, h)
+    }
+
+    /// `--animate`: poses the mesh at the animation's time for this frame (headless: frame
+    /// `k` at `--time` + `k ·` [`FRAME_STEP`]) when that time changed; the scenes follow.
+    fn advance(&mut self) -> Result<()> {
+        let headless = self.options.frames.is_some();
+        let frame = f64::from(self.frames_done);
+        let Some(p) = self.playing.as_mut() else {
+            return Ok(());
+        };
+        let t = if headless {
+            p.wrap(p.offset + frame * FRAME_STEP)
+        } else {
+            p.now()
+        };
+        if t == p.shown {
+            return Ok(());
+        }
+        p.animation.pose(t, &mut self.mesh)?;
+        p.shown = t;
+        self.diag = self.mesh.diagonal();
+        self.scenes.posed();
+        if let Some(g) = self.gpu.as_mut() {
+            g.scenes.clear();
+        }
+        Ok(())
     }
 
     /// Renders one `w`×`h` frame with the current settings.
@@ -294,8 +391,13 @@ impl Viewer {
             String::new()
         };
         let device = if self.gpu.is_some() { "GPU" } else { "CPU" };
+        let time = match &self.playing {
+            Some(p) if p.paused.is_some() => format!(" t={:.2} s (paused)", p.shown),
+            Some(p) => format!(" t={:.2} s", p.shown),
+            None => String::new(),
+        };
         format!(
-            "smoothtri view — {}{n} {}{normals}{} ({device}) — {:.1} ms, {:.2} Mrays/s, max t_error {:.1e}{}",
+            "smoothtri view — {}{n} {}{normals}{} ({device}){time} — {:.1} ms, {:.2} Mrays/s, max t_error {:.1e}{}",
             s.mode.name(),
             if self.gpu.is_some() {
                 Precision::F32
@@ -336,6 +438,7 @@ impl Viewer {
         } else {
             (fw, fh)
         };
+        self.advance()?;
         let frame = self.render(rw, rh)?;
         window.set_title(&self.title(&frame, moving));
         match (self.surface.as_mut(), &frame.pixels, self.gpu.as_mut()) {
@@ -397,6 +500,10 @@ impl Viewer {
                 "h" => s.heat = !s.heat,
                 "r" => *s = Self::initial_settings(&self.options),
                 _ => return,
+            },
+            Key::Named(NamedKey::Space) => match self.playing.as_mut() {
+                Some(p) => p.toggle_pause(),
+                None => return,
             },
             _ => return,
         }
@@ -622,6 +729,14 @@ impl ApplicationHandler for Viewer {
         if self.options.frames.is_some() {
             return;
         }
+        // A playing animation: the next frame at once.
+        if self.playing.as_ref().is_some_and(|p| p.paused.is_none()) {
+            if let Some(w) = &self.window {
+                w.request_redraw();
+            }
+            event_loop.set_control_flow(ControlFlow::Wait);
+            return;
+        }
         // Once the camera rests, one full-resolution frame of what is shown.
         let size = self.window.as_ref().map(|_| self.size);
         let full = size.map(|s| (self.settings, s.width, s.height));
@@ -675,11 +790,36 @@ pub fn run(o: ViewOptions) -> Result<()> {
             "--gpu traces in f32: leave --precision out or set it to f32".into(),
         ));
     }
+    if !o.animate && (o.time.is_some() || o.clip.is_some()) {
+        return Err(DemoError::Usage("--time and --clip need --animate".into()));
+    }
+    if let Some(t) = o.time {
+        crate::animate::check_time(t)?;
+    }
     // Without X11 there is no window: say so before loading anything.
     if std::env::var_os("DISPLAY").is_none_or(|d| d.is_empty()) {
         return Err(no_display("DISPLAY is not set"));
     }
-    let (_, mesh, _) = o.source.load_upright(true, o.up)?;
+    let (mesh, sphere, playing) = if o.animate {
+        let mut animation = Animation::open(&o.source, o.up, o.clip)?;
+        let sphere = animation.sphere()?;
+        let start = o.time.unwrap_or(0.0);
+        let mut mesh = animation.rest();
+        let mut p = Playing {
+            animation,
+            offset: start,
+            clock: Instant::now(),
+            paused: None,
+            shown: 0.0,
+        };
+        p.shown = p.wrap(start);
+        p.animation.pose(p.shown, &mut mesh)?;
+        (mesh, sphere, Some(p))
+    } else {
+        let (_, mesh, _) = o.source.load_upright(true, o.up)?;
+        let sphere = Camera::mesh_sphere(&mesh);
+        (mesh, sphere, None)
+    };
     let gpu = if o.gpu {
         Some(GpuView {
             gpu: open_gpu()?,
@@ -692,7 +832,7 @@ pub fn run(o: ViewOptions) -> Result<()> {
     };
     let event_loop = EventLoop::new().map_err(no_display)?;
     let mut viewer = Viewer {
-        sphere: Camera::mesh_sphere(&mesh),
+        sphere,
         diag: mesh.diagonal(),
         settings: Viewer::initial_settings(&o),
         options: o,
@@ -712,6 +852,7 @@ pub fn run(o: ViewOptions) -> Result<()> {
         totals: (0.0, 0),
         last: None,
         error: None,
+        playing,
     };
     event_loop
         .run_app(&mut viewer)

@@ -116,6 +116,37 @@ impl<F: Prec> Scene<F> {
         })
     }
 
+    /// Moves the scene to `mesh`'s vertices in place ([`smoothtri::OwnedScene::update`]):
+    /// `mesh` has the triangles the scene was built from (another pose of the same animation)
+    /// and `field` and `seams` are those of the build. The rejected triangles and the step
+    /// times become the update's. The scene equals a fresh build of `mesh` (hits within their
+    /// `t_error` where the BVH was refitted).
+    ///
+    /// Returns [`DemoError::Empty`] with the core's message when the vertices do not fit the
+    /// scene (another count, non-finite coordinates) or the options differ; the scene is then
+    /// unchanged.
+    pub fn update(&mut self, mesh: &Mesh, field: LineField, seams: bool) -> Result<()> {
+        let mut rec = Recorder {
+            rejected: Vec::new(),
+            stages: Vec::new(),
+            current: None,
+            bar: indicatif::ProgressBar::hidden(),
+        };
+        mesh.update_scene(
+            &mut self.owned,
+            &mut BuildOptions {
+                field,
+                seams,
+                observer: &mut rec,
+                executor: RayonExecutor,
+            },
+        )
+        .map_err(|e| DemoError::Empty { msg: e.to_string() })?;
+        self.rejected = rec.rejected;
+        self.stage_seconds = rec.stages;
+        Ok(())
+    }
+
     /// The build's time per step, one line: `patches 0.012 s, cracks …; total 0.1 s (N
     /// triangles/s)`.
     pub fn timing_line(&self) -> String {

@@ -57,6 +57,7 @@ use std::ops::Range;
 use glam::{DMat3, DMat4, DQuat, DVec3};
 
 use crate::error::{Error, Result};
+use crate::gltf::Trs;
 use crate::mesh::Mesh;
 use crate::weld::angle_weighted_normals_into;
 
@@ -106,7 +107,7 @@ struct NodeRest {
     local: DMat4,
     /// Its translation, rotation (unit) and scale; `None` for a node with a `matrix` (which no
     /// channel may animate).
-    trs: Option<(DVec3, DQuat, DVec3)>,
+    trs: Option<Trs>,
     /// Its morph target weights in [`Scratch::weights`], when its mesh has morph targets.
     weights: Option<Range<usize>>,
 }
@@ -189,7 +190,7 @@ enum PartPose {
 /// The per-frame state, allocated once.
 #[derive(Clone, Debug)]
 struct Scratch {
-    trs: Vec<(DVec3, DQuat, DVec3)>,
+    trs: Vec<Trs>,
     animated: Vec<bool>,
     world: Vec<DMat4>,
     weights: Vec<f64>,

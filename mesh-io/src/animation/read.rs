@@ -19,7 +19,7 @@ use super::{
 };
 use crate::error::{Error, Result};
 use crate::gltf::{
-    Prim as StaticPrim, Walk, Want, check_accessor, local_matrix, mesh_label, node_label,
+    Prim as StaticPrim, Walk, Want, check_accessor, local_matrix, local_trs, mesh_label, node_label,
 };
 
 type Msg<T> = std::result::Result<T, String>;
@@ -390,23 +390,7 @@ fn node_rests(
     let mut out = Vec::new();
     for n in doc.nodes() {
         let local = local_matrix(&n)?;
-        let trs = match n.transform() {
-            ::gltf::scene::Transform::Matrix { .. } => None,
-            ::gltf::scene::Transform::Decomposed {
-                translation,
-                rotation,
-                scale,
-            } => {
-                // As `local_matrix`: the rotation renormalised (it checked its length).
-                let [x, y, z, w] = rotation.map(f64::from);
-                let len = (x * x + y * y + z * z + w * w).sqrt();
-                Some((
-                    DVec3::from_array(translation.map(f64::from)),
-                    DQuat::from_xyzw(x / len, y / len, z / len, w / len),
-                    DVec3::from_array(scale.map(f64::from)),
-                ))
-            }
-        };
+        let trs = local_trs(&n)?;
         let t = n
             .mesh()
             .and_then(|m| targets.get(m.index()).copied())

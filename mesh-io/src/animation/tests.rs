@@ -4,86 +4,39 @@
 use glam::{DMat3, DQuat, DVec3};
 
 use super::*;
+use crate::gltf::scene_tests::Doc;
 use crate::{angle_weighted_normals, glb};
 
-/// A glTF document under construction: one binary buffer, its views and accessors.
-#[derive(Default)]
-struct Doc {
-    bin: Vec<u8>,
-    views: Vec<String>,
-    accessors: Vec<String>,
+/// Components per element of `ty`.
+fn width(ty: &str) -> usize {
+    match ty {
+        "SCALAR" => 1,
+        "VEC3" => 3,
+        "VEC4" => 4,
+        "MAT4" => 16,
+        _ => panic!("{ty}"),
+    }
 }
 
-impl Doc {
-    /// An accessor over `bytes` (its own 4-byte aligned view): `component` (5126 float, 5123
-    /// unsigned short, 5121 unsigned byte), `count` elements of `ty`, `extra` JSON members.
-    fn raw(&mut self, bytes: &[u8], component: u32, count: usize, ty: &str, extra: &str) -> usize {
-        let at = self.bin.len();
-        self.bin.extend(bytes);
-        self.bin.resize(self.bin.len().div_ceil(4) * 4, 0);
-        self.views.push(format!(
-            r#"{{"buffer":0,"byteOffset":{at},"byteLength":{}}}"#,
-            bytes.len()
-        ));
-        self.accessors.push(format!(
-            r#"{{"bufferView":{},"componentType":{component},"count":{count},"type":"{ty}"{extra}}}"#,
-            self.views.len() - 1
-        ));
-        self.accessors.len() - 1
-    }
+/// The test documents' accessors of floats and unsigned shorts, the count from the length.
+trait Data {
+    fn f32s(&mut self, v: &[f32], ty: &str) -> usize;
+    fn u16s(&mut self, v: &[u16], ty: &str) -> usize;
+    /// POSITION data (with the `min`/`max` the specification asks for).
+    fn positions(&mut self, v: &[[f32; 3]]) -> usize;
+}
 
-    /// Components per element of `ty`.
-    fn width(ty: &str) -> usize {
-        match ty {
-            "SCALAR" => 1,
-            "VEC3" => 3,
-            "VEC4" => 4,
-            "MAT4" => 16,
-            _ => panic!("{ty}"),
-        }
-    }
-
-    /// A float accessor of `ty` over `v` (the count from its length).
+impl Data for Doc {
     fn f32s(&mut self, v: &[f32], ty: &str) -> usize {
         let bytes: Vec<u8> = v.iter().flat_map(|x| x.to_le_bytes()).collect();
-        self.raw(&bytes, 5126, v.len() / Self::width(ty), ty, "")
+        self.raw(&bytes, 5126, v.len() / width(ty), ty)
     }
-
-    /// POSITION data (with the `min`/`max` the specification asks for).
-    fn positions(&mut self, v: &[[f32; 3]]) -> usize {
-        let flat: Vec<f32> = v.iter().flatten().copied().collect();
-        let bytes: Vec<u8> = flat.iter().flat_map(|x| x.to_le_bytes()).collect();
-        let (mut lo, mut hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
-        for p in v {
-            for k in 0..3 {
-                lo[k] = lo[k].min(p[k]);
-                hi[k] = hi[k].max(p[k]);
-            }
-        }
-        self.raw(
-            &bytes,
-            5126,
-            v.len(),
-            "VEC3",
-            &format!(r#","min":{lo:?},"max":{hi:?}"#),
-        )
-    }
-
-    /// An unsigned-short accessor of `ty` over `v`.
     fn u16s(&mut self, v: &[u16], ty: &str) -> usize {
         let bytes: Vec<u8> = v.iter().flat_map(|x| x.to_le_bytes()).collect();
-        self.raw(&bytes, 5123, v.len() / Self::width(ty), ty, "")
+        self.raw(&bytes, 5123, v.len() / width(ty), ty)
     }
-
-    /// The GLB with `rest` (scenes, nodes, meshes, skins, animations: JSON members).
-    fn glb(&self, rest: &str) -> Vec<u8> {
-        let json = format!(
-            r#"{{"asset":{{"version":"2.0"}},{rest},"buffers":[{{"byteLength":{}}}],"bufferViews":[{}],"accessors":[{}]}}"#,
-            self.bin.len(),
-            self.views.join(","),
-            self.accessors.join(",")
-        );
-        glb::build(json.as_bytes(), Some(&self.bin))
+    fn positions(&mut self, v: &[[f32; 3]]) -> usize {
+        self.vec3(v)
     }
 }
 
@@ -728,30 +681,14 @@ fn the_normal_matrix_is_the_inverse_transpose_or_the_signed_cofactor() {
 /// error, and whatever loads poses (or fails to) without panicking, at many times.
 #[test]
 fn corrupted_animated_glbs_never_panic() {
-    let mut state = 0x2545_f491_4f6c_dd1du64;
-    let mut next = move || {
-        state ^= state << 13;
-        state ^= state >> 7;
-        state ^= state << 17;
-        state
-    };
-    let digits = b"0123456789";
-    for good in [
+    let goods = [
         skinned(&JOINTS, &WEIGHTS),
         morphed(true),
         morphed(false),
         rigid(),
-    ] {
-        for _ in 0..1500 {
-            let mut b = good.clone();
-            for _ in 0..1 + next() % 4 {
-                let at = (next() % b.len() as u64) as usize;
-                b[at] = if next() % 2 == 0 && b[at].is_ascii_digit() {
-                    digits[(next() % 10) as usize]
-                } else {
-                    next() as u8
-                };
-            }
+    ];
+    for good in goods {
+        for b in crate::gltf::corruptions(&good, 0x2545_f491_4f6c_dd1d, 1500) {
             let Ok(mut a) = parse_animated(&b, "/nonexistent-smoothtri-test/a.glb") else {
                 continue;
             };
