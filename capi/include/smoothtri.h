@@ -41,6 +41,14 @@
 #define ST_BUILD_SHARED_FIELD 2
 
 /**
+ * Build flag: the scene can be moved to new vertex positions and normals with
+ * `st_scene_update` (skinned and morphed meshes). The scene then keeps the whole memory of
+ * `st_scene_required_bytes`, the build's scratch included (`bytes_used` is all of it), and
+ * finds the shared edges of the index buffer once, at the build.
+ */
+#define ST_BUILD_UPDATABLE 4
+
+/**
  * A built scene in single precision (opaque; it lives inside the memory given to
  * `st_scene_build`).
  */
@@ -116,6 +124,16 @@ typedef struct st_scene_info {
    * The flags given to the build.
    */
   uint32_t flags;
+  /**
+   * Updates that succeeded since the build ([`ST_BUILD_UPDATABLE`]).
+   */
+  uint32_t update_count;
+  /**
+   * 1 when the last update refitted the BVH's boxes to the moved patches, 0 when it built
+   * the tree anew (a refitted tree whose cost grew past the core's `REBUILD_COST_RATIO`
+   * times a fresh one's, or the build itself).
+   */
+  uint32_t bvh_refitted;
 } st_scene_info;
 
 /**
@@ -658,6 +676,11 @@ typedef struct ST_ALIGNED(32) st_rayhit8_f64 {
  */
 #define ST_ERROR_INTERNAL 9
 
+/**
+ * `st_scene_update` was given a scene built without [`ST_BUILD_UPDATABLE`].
+ */
+#define ST_ERROR_NOT_UPDATABLE 10
+
 #ifdef __cplusplus
 extern "C" {
 #endif // __cplusplus
@@ -709,7 +732,7 @@ st_status st_scene_required_bytes_f64(size_t vertex_count,
  *   multiples of 4 and at least 12; the pointers are 4-byte aligned. Normals of any non-zero
  *   length, pointing to the side from which the triangles are counter-clockwise.
  * - `indices`: `triangle_count` × 3 vertex indices.
- * - `flags`: [`ST_BUILD_SEAMS`], [`ST_BUILD_SHARED_FIELD`], or 0.
+ * - `flags`: [`ST_BUILD_SEAMS`], [`ST_BUILD_SHARED_FIELD`], [`ST_BUILD_UPDATABLE`], or 0.
  * - `iterations`: the kernel's refinement steps `N` (0, 1, 2, 4, 8 or 16): the work per
  *   patch test is bounded by `N` plus a constant, and `t_error` shrinks at least five-fold
  *   per step (8 is a good default in `f32`).
@@ -762,6 +785,55 @@ st_status st_scene_build_f64(void *memory,
                              uint32_t flags,
                              uint32_t iterations,
                              struct st_scene_f64 **scene);
+
+/**
+ * Moves an updatable scene (built with [`ST_BUILD_UPDATABLE`]) to new vertex positions and
+ * normals, in place, for animated meshes: same index buffer, same memory, no allocation.
+ *
+ * - `positions`, `normals`, strides: as for [`st_scene_build`], `vertex_count` of each (the
+ *   build's count).
+ *
+ * The scene afterwards equals a fresh [`st_scene_build`] of the same vertices: the same
+ * patches, crack closure and seams bit for bit; the BVH's boxes are refitted (or the tree is
+ * built anew where a refit's cost passes the core's `REBUILD_COST_RATIO` times a fresh
+ * tree's; [`st_scene_info::bvh_refitted`] says which), so hits agree with a fresh build's
+ * within their `t_error`. A triangle that degenerates becomes an empty placeholder that no
+ * ray reaches, counted in [`st_scene_info`]; `patch_count` and the patch indices do not
+ * change. An update that leaves no usable triangle succeeds with a scene every ray misses.
+ *
+ * Errors, each leaving the scene as it was (the last good one): [`ST_ERROR_NULL_ARGUMENT`],
+ * [`ST_ERROR_WRONG_SCENE`], [`ST_ERROR_NOT_UPDATABLE`], [`ST_ERROR_INVALID_ARGUMENT`] (a
+ * stride or alignment as in [`st_scene_build`], or `vertex_count` not the build's),
+ * [`ST_ERROR_NON_FINITE`] (a NaN or infinite coordinate), [`ST_ERROR_TOO_LARGE`].
+ *
+ * Work: that of a build without the pairing of shared edges and, when it refits, without
+ * the BVH's build; single-threaded, no allocation. An Embree user geometry over the patches
+ * (`smoothtri_embree.h`) must be committed again, as its bounds moved.
+ *
+ * # Safety
+ * `scene` is NULL or a scene from [`st_scene_build`] whose memory is still valid, and no
+ * other thread uses it during the call; `positions` and `normals` are NULL or readable for
+ * `vertex_count` vertices at their strides and do not overlap the scene's memory.
+ */
+st_status st_scene_update(struct st_scene *scene,
+                          const float *positions,
+                          size_t position_stride,
+                          const float *normals,
+                          size_t normal_stride,
+                          size_t vertex_count);
+
+/**
+ * [`st_scene_update`] for a scene of [`st_scene_build_f64`]: `double` positions and normals.
+ *
+ * # Safety
+ * As [`st_scene_update`].
+ */
+st_status st_scene_update_f64(struct st_scene_f64 *scene,
+                              const double *positions,
+                              size_t position_stride,
+                              const double *normals,
+                              size_t normal_stride,
+                              size_t vertex_count);
 
 /**
  * Fills `*info` with what the build of `scene` did.

@@ -12,8 +12,9 @@
 //!   [`st_scene_build`] needs, the caller provides them (any alignment), and the scene lives in
 //!   them until the caller frees them (there is no destroy function);
 //! - vertex input is strided in bytes, so interleaved vertex buffers need no copy;
-//! - a built scene is immutable: every query takes a `const` scene and is thread-safe; there is
-//!   no global state;
+//! - every query takes a `const` scene and is thread-safe; only [`st_scene_update`] changes
+//!   a scene (one built with [`ST_BUILD_UPDATABLE`]), with no query running; there is no
+//!   global state;
 //! - a NULL pointer or a short buffer is an error status (or, for the `void` queries, a miss),
 //!   never a crash; panics never cross the boundary (the core does not panic; each entry point
 //!   also catches one and returns [`ST_ERROR_INTERNAL`]).
@@ -51,6 +52,7 @@ pub extern "C" fn st_status_str(status: st_status) -> *const c_char {
         ST_ERROR_TOO_LARGE => c"ST_ERROR_TOO_LARGE",
         ST_ERROR_WRONG_SCENE => c"ST_ERROR_WRONG_SCENE",
         ST_ERROR_INTERNAL => c"ST_ERROR_INTERNAL",
+        ST_ERROR_NOT_UPDATABLE => c"ST_ERROR_NOT_UPDATABLE",
         _ => c"ST_ERROR_UNKNOWN",
     };
     s.as_ptr()
@@ -107,7 +109,7 @@ pub unsafe extern "C" fn st_scene_required_bytes_f64(
 ///   multiples of 4 and at least 12; the pointers are 4-byte aligned. Normals of any non-zero
 ///   length, pointing to the side from which the triangles are counter-clockwise.
 /// - `indices`: `triangle_count` × 3 vertex indices.
-/// - `flags`: [`ST_BUILD_SEAMS`], [`ST_BUILD_SHARED_FIELD`], or 0.
+/// - `flags`: [`ST_BUILD_SEAMS`], [`ST_BUILD_SHARED_FIELD`], [`ST_BUILD_UPDATABLE`], or 0.
 /// - `iterations`: the kernel's refinement steps `N` (0, 1, 2, 4, 8 or 16): the work per
 ///   patch test is bounded by `N` plus a constant, and `t_error` shrinks at least five-fold
 ///   per step (8 is a good default in `f32`).
@@ -190,6 +192,77 @@ pub unsafe extern "C" fn st_scene_build_f64(
     };
     // SAFETY: forwarded contract.
     guard_status(|| unsafe { store::build_into(memory, bytes, &input, scene.cast()) })
+}
+
+/// Moves an updatable scene (built with [`ST_BUILD_UPDATABLE`]) to new vertex positions and
+/// normals, in place, for animated meshes: same index buffer, same memory, no allocation.
+///
+/// - `positions`, `normals`, strides: as for [`st_scene_build`], `vertex_count` of each (the
+///   build's count).
+///
+/// The scene afterwards equals a fresh [`st_scene_build`] of the same vertices: the same
+/// patches, crack closure and seams bit for bit; the BVH's boxes are refitted (or the tree is
+/// built anew where a refit's cost passes the core's `REBUILD_COST_RATIO` times a fresh
+/// tree's; [`st_scene_info::bvh_refitted`] says which), so hits agree with a fresh build's
+/// within their `t_error`. A triangle that degenerates becomes an empty placeholder that no
+/// ray reaches, counted in [`st_scene_info`]; `patch_count` and the patch indices do not
+/// change. An update that leaves no usable triangle succeeds with a scene every ray misses.
+///
+/// Errors, each leaving the scene as it was (the last good one): [`ST_ERROR_NULL_ARGUMENT`],
+/// [`ST_ERROR_WRONG_SCENE`], [`ST_ERROR_NOT_UPDATABLE`], [`ST_ERROR_INVALID_ARGUMENT`] (a
+/// stride or alignment as in [`st_scene_build`], or `vertex_count` not the build's),
+/// [`ST_ERROR_NON_FINITE`] (a NaN or infinite coordinate), [`ST_ERROR_TOO_LARGE`].
+///
+/// Work: that of a build without the pairing of shared edges and, when it refits, without
+/// the BVH's build; single-threaded, no allocation. An Embree user geometry over the patches
+/// (`smoothtri_embree.h`) must be committed again, as its bounds moved.
+///
+/// # Safety
+/// `scene` is NULL or a scene from [`st_scene_build`] whose memory is still valid, and no
+/// other thread uses it during the call; `positions` and `normals` are NULL or readable for
+/// `vertex_count` vertices at their strides and do not overlap the scene's memory.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn st_scene_update(
+    scene: *mut st_scene,
+    positions: *const f32,
+    position_stride: usize,
+    normals: *const f32,
+    normal_stride: usize,
+    vertex_count: usize,
+) -> st_status {
+    let moved = store::Moved {
+        positions,
+        position_stride,
+        normals,
+        normal_stride,
+        vertex_count,
+    };
+    // SAFETY: forwarded contract.
+    guard_status(|| unsafe { store::update::<f32>(scene.cast(), &moved) })
+}
+
+/// [`st_scene_update`] for a scene of [`st_scene_build_f64`]: `double` positions and normals.
+///
+/// # Safety
+/// As [`st_scene_update`].
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn st_scene_update_f64(
+    scene: *mut st_scene_f64,
+    positions: *const f64,
+    position_stride: usize,
+    normals: *const f64,
+    normal_stride: usize,
+    vertex_count: usize,
+) -> st_status {
+    let moved = store::Moved {
+        positions,
+        position_stride,
+        normals,
+        normal_stride,
+        vertex_count,
+    };
+    // SAFETY: forwarded contract.
+    guard_status(|| unsafe { store::update::<f64>(scene.cast(), &moved) })
 }
 
 /// Fills `*info` with what the build of `scene` did.

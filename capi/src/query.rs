@@ -30,9 +30,9 @@ pub(crate) fn guard_bool(f: impl FnOnce() -> bool) -> bool {
 }
 
 /// `Scene::closest_hit::<N>` for one `N`.
-type ClosestFn<F> = fn(&Scene<'static, F>, &Ray<F>, F, F) -> Option<SceneHit<F>>;
+type ClosestFn<F> = for<'s> fn(&Scene<'s, F>, &Ray<F>, F, F) -> Option<SceneHit<F>>;
 /// `Scene::any_hit::<N>` for one `N`.
-type AnyFn<F> = fn(&Scene<'static, F>, &Ray<F>, F, F) -> bool;
+type AnyFn<F> = for<'s> fn(&Scene<'s, F>, &Ray<F>, F, F) -> bool;
 /// `Patch::intersect::<N>` for one `N`.
 type PatchFn<F> = fn(&Patch<F>, &Ray<F>, F, F) -> Option<Hit<F>>;
 
@@ -46,8 +46,8 @@ struct Kernels<F: Float + 'static> {
 impl<F: Float + 'static> Kernels<F> {
     fn of<const N: usize>() -> Self {
         Kernels {
-            closest: Scene::closest_hit::<N>,
-            any: Scene::any_hit::<N>,
+            closest: |s, ray, t_min, t_max| s.closest_hit::<N>(ray, t_min, t_max),
+            any: |s, ray, t_min, t_max| s.any_hit::<N>(ray, t_min, t_max),
             patch: Patch::intersect::<N>,
         }
     }
@@ -231,8 +231,12 @@ pub(crate) trait Lanes8 {
 /// `st_intersect1` on one ray-hit.
 pub(crate) fn trace_one<R: CRayHit>(scene: &Stored<R::F>, rh: &mut R) {
     let q = rh.query();
-    match (Kernels::for_iterations(scene.iterations).closest)(&scene.scene, &q.ray, q.tnear, q.tfar)
-    {
+    match (Kernels::for_iterations(scene.iterations).closest)(
+        &scene.scene(),
+        &q.ray,
+        q.tnear,
+        q.tfar,
+    ) {
         Some(h) => rh.write_hit(&h),
         None => rh.write_miss(),
     }
@@ -266,7 +270,7 @@ pub(crate) unsafe fn occluded1<R: CRay>(scene: Option<&Stored<R::F>>, ray: *mut 
     // SAFETY: non-null, aligned, valid and not aliased during the call by the contract.
     let r = unsafe { &mut *ray };
     let q = r.query();
-    if (Kernels::for_iterations(s.iterations).any)(&s.scene, &q.ray, q.tnear, q.tfar) {
+    if (Kernels::for_iterations(s.iterations).any)(&s.scene(), &q.ray, q.tnear, q.tfar) {
         r.occlude();
     }
 }
@@ -352,7 +356,7 @@ pub(crate) unsafe fn patch_bounds<F: Prec>(
     let Some(s) = Stored::<F>::from_ptr(scene) else {
         return ST_ERROR_WRONG_SCENE;
     };
-    let Some(patch) = s.scene.patches().get(prim as usize) else {
+    let Some(patch) = s.scene().patches().get(prim as usize) else {
         return ST_ERROR_INDEX_OUT_OF_RANGE;
     };
     if !out.is_aligned() {
@@ -376,7 +380,7 @@ pub(crate) unsafe fn patch_intersect<R: CRayHit>(
     rayhit: *mut R,
 ) -> bool {
     let Some(s) = scene else { return false };
-    let Some(patch) = s.scene.patches().get(prim as usize) else {
+    let Some(patch) = s.scene().patches().get(prim as usize) else {
         return false;
     };
     if rayhit.is_null() || !rayhit.is_aligned() {
@@ -388,7 +392,7 @@ pub(crate) unsafe fn patch_intersect<R: CRayHit>(
     match (Kernels::for_iterations(s.iterations).patch)(patch, &q.ray, q.tnear, q.tfar) {
         Some(mut h) => {
             h.patch = prim;
-            rh.write_hit(&s.scene.scene_hit(h));
+            rh.write_hit(&s.scene().scene_hit(h));
             true
         }
         None => false,
@@ -410,7 +414,7 @@ pub(crate) unsafe fn patch_of_triangle<F: Prec>(
     let Some(s) = Stored::<F>::from_ptr(scene) else {
         return ST_ERROR_WRONG_SCENE;
     };
-    let Some(index) = s.scene.patch_index(triangle) else {
+    let Some(index) = s.scene().patch_index(triangle) else {
         return ST_ERROR_INDEX_OUT_OF_RANGE;
     };
     if !prim.is_aligned() {

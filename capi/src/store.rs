@@ -10,23 +10,26 @@
 //! ```
 //!
 //! Everything before `|` is the scene (`bytes_used`); the scratch is free once the build
-//! returns. `Stored` holds the core's `Scene`, which borrows the parts after it: the borrow's
-//! lifetime is the caller's promise to keep the memory in place while the scene is used.
+//! returns, unless the scene is updatable ([`ST_BUILD_UPDATABLE`]): it then keeps the scratch
+//! for its updates. `Stored` holds the core's `Scene` (or `DynamicScene`), which borrows the
+//! parts after it: the borrow's lifetime is the caller's promise to keep the memory in place
+//! while the scene is used.
 
 use core::ffi::c_void;
 use core::mem::{align_of, size_of};
 
 use smoothtri::mesh::{Seam, SharedEdge, VertexClamp};
 use smoothtri::{
-    BuildError, BuildOptions, BvhNode, EdgeWork, Float, LineField, Patch, PatchError, Scene,
-    SceneSizes, SceneStorage, Vertices,
+    BuildError, BuildOptions, BvhNode, DynamicScene, EdgeWork, Float, LineField, Patch, PatchError,
+    Scene, SceneSizes, SceneStorage, Vertices,
 };
 
 use crate::types::{
-    ST_BUILD_SEAMS, ST_BUILD_SHARED_FIELD, ST_ERROR_BUFFER_TOO_SMALL, ST_ERROR_INDEX_OUT_OF_RANGE,
-    ST_ERROR_INTERNAL, ST_ERROR_INVALID_ARGUMENT, ST_ERROR_NO_USABLE_TRIANGLES,
-    ST_ERROR_NON_FINITE, ST_ERROR_NULL_ARGUMENT, ST_ERROR_TOO_LARGE, ST_ERROR_WRONG_SCENE,
-    ST_INVALID_ID, ST_OK, st_scene_info, st_status,
+    ST_BUILD_SEAMS, ST_BUILD_SHARED_FIELD, ST_BUILD_UPDATABLE, ST_ERROR_BUFFER_TOO_SMALL,
+    ST_ERROR_INDEX_OUT_OF_RANGE, ST_ERROR_INTERNAL, ST_ERROR_INVALID_ARGUMENT,
+    ST_ERROR_NO_USABLE_TRIANGLES, ST_ERROR_NON_FINITE, ST_ERROR_NOT_UPDATABLE,
+    ST_ERROR_NULL_ARGUMENT, ST_ERROR_TOO_LARGE, ST_ERROR_WRONG_SCENE, ST_INVALID_ID, ST_OK,
+    st_scene_info, st_status,
 };
 
 /// The precisions of the C API, each with the tag that marks its scenes.
@@ -47,13 +50,21 @@ impl Prec for f64 {
 /// kernel.
 pub(crate) const ITERATIONS: [u32; 6] = [0, 1, 2, 4, 8, 16];
 
+/// A scene as built: fixed, or updatable ([`ST_BUILD_UPDATABLE`]).
+enum Kept<F: Float + 'static> {
+    /// A scene that never changes.
+    Fixed(Scene<'static, F>),
+    /// A scene that `st_scene_update` moves, with the number of its updates.
+    Dynamic(DynamicScene<'static, F>, u32),
+}
+
 /// The head of a built scene, at the (aligned) start of the caller's memory.
 #[repr(C)]
 pub(crate) struct Stored<F: Float + 'static> {
     /// [`Prec::MAGIC`]: tells a scene of this precision from anything else.
     magic: u64,
     /// The scene; borrows the memory after this head.
-    pub(crate) scene: Scene<'static, F>,
+    kept: Kept<F>,
     /// The kernel's `N`, one of [`ITERATIONS`].
     pub(crate) iterations: u32,
     /// The build flags.
@@ -85,11 +96,33 @@ impl<F: Prec> Stored<F> {
         // scene is used; the scene is never written through after the build.
         Some(unsafe { &*p })
     }
+
+    /// [`Stored::from_ptr`] for writing (`st_scene_update`).
+    ///
+    /// The pointer must be NULL or point to readable memory of at least 8 bytes, and while the
+    /// returned reference lives nothing else may use the scene (no query on another thread):
+    /// the C API's contract for `st_scene_update`.
+    pub(crate) fn from_ptr_mut<'a>(p: *mut c_void) -> Option<&'a mut Stored<F>> {
+        Stored::<F>::from_ptr(p)?;
+        // SAFETY: `from_ptr` checked that `p` is non-null, aligned and holds a `Stored<F>`
+        // written by `st_scene_build` into memory the caller gave for writing; the contract
+        // gives this call the only access to it while the reference lives, so no other
+        // reference to the head or to the parts it borrows is used meanwhile.
+        Some(unsafe { &mut *p.cast::<Stored<F>>() })
+    }
+
+    /// The scene, for queries.
+    pub(crate) fn scene(&self) -> Scene<'_, F> {
+        match &self.kept {
+            Kept::Fixed(scene) => *scene,
+            Kept::Dynamic(scene, _) => scene.scene(),
+        }
+    }
 }
 
 /// The build options a flag word asks for; `None` for unknown bits.
 fn options(flags: u32) -> Option<BuildOptions> {
-    if flags & !(ST_BUILD_SEAMS | ST_BUILD_SHARED_FIELD) != 0 {
+    if flags & !(ST_BUILD_SEAMS | ST_BUILD_SHARED_FIELD | ST_BUILD_UPDATABLE) != 0 {
         return None;
     }
     Some(BuildOptions {
@@ -225,10 +258,11 @@ fn status_of(e: BuildError) -> st_status {
             ..
         } => ST_ERROR_NON_FINITE,
         BuildError::NoUsableTriangles { .. } => ST_ERROR_NO_USABLE_TRIANGLES,
+        BuildError::NonFiniteVertex { .. } => ST_ERROR_NON_FINITE,
         BuildError::IndexOutOfRange { .. } => ST_ERROR_INDEX_OUT_OF_RANGE,
-        BuildError::VertexLayout { .. } | BuildError::VertexCountMismatch { .. } => {
-            ST_ERROR_INVALID_ARGUMENT
-        }
+        BuildError::VertexLayout { .. }
+        | BuildError::VertexCountMismatch { .. }
+        | BuildError::VertexCountChanged { .. } => ST_ERROR_INVALID_ARGUMENT,
         BuildError::StorageTooSmall { .. } => ST_ERROR_BUFFER_TOO_SMALL,
         BuildError::TooLarge => ST_ERROR_TOO_LARGE,
         _ => ST_ERROR_INTERNAL,
@@ -385,13 +419,20 @@ pub(crate) unsafe fn build_into<F: Prec>(
         return ST_ERROR_INTERNAL;
     };
     let mut options = options;
-    let scene = match Scene::build(positions, normals, indices, &mut options, storage) {
-        Ok(scene) => scene,
-        Err(e) => return status_of(e),
+    let (kept, bytes_used) = if input.flags & ST_BUILD_UPDATABLE != 0 {
+        match DynamicScene::build(positions, normals, indices, &mut options, storage) {
+            Ok(scene) => (Kept::Dynamic(scene, 0), arena.used),
+            Err(e) => return status_of(e),
+        }
+    } else {
+        match Scene::build(positions, normals, indices, &mut options, storage) {
+            Ok(scene) => (Kept::Fixed(scene), bytes_used),
+            Err(e) => return status_of(e),
+        }
     };
     let stored = Stored {
         magic: F::MAGIC,
-        scene,
+        kept,
         iterations: input.iterations,
         flags: input.flags,
         bytes_used,
@@ -422,7 +463,8 @@ pub(crate) unsafe fn info<F: Prec>(scene: *const c_void, info: *mut st_scene_inf
     if !info.is_aligned() {
         return ST_ERROR_INVALID_ARGUMENT;
     }
-    let r = stored.scene.report();
+    let scene = stored.scene();
+    let r = scene.report();
     let j = &r.rejected;
     let value = st_scene_info {
         triangle_count: r.triangles,
@@ -438,8 +480,68 @@ pub(crate) unsafe fn info<F: Prec>(scene: *const c_void, info: *mut st_scene_inf
         bvh_node_count: r.bvh_nodes,
         bytes_used: stored.bytes_used,
         flags: stored.flags,
+        update_count: match stored.kept {
+            Kept::Dynamic(_, n) => n,
+            Kept::Fixed(_) => 0,
+        },
+        bvh_refitted: u32::from(r.bvh_refitted),
     };
     // SAFETY: non-null, aligned, writable by the contract.
     unsafe { info.write(value) };
     ST_OK
+}
+
+/// The arguments of `st_scene_update`: the moved vertices.
+pub(crate) struct Moved<T> {
+    pub(crate) positions: *const T,
+    pub(crate) position_stride: usize,
+    pub(crate) normals: *const T,
+    pub(crate) normal_stride: usize,
+    pub(crate) vertex_count: usize,
+}
+
+/// `st_scene_update` in precision `F`.
+///
+/// # Safety
+/// As `st_scene_update`: `scene` NULL or a scene whose memory is valid, used by nothing else
+/// during the call; the vertices NULL or readable as described, not overlapping the scene's
+/// memory.
+pub(crate) unsafe fn update<F: Prec>(scene: *mut c_void, moved: &Moved<F>) -> st_status {
+    let vc = moved.vertex_count;
+    if scene.is_null() || (vc > 0 && (moved.positions.is_null() || moved.normals.is_null())) {
+        return ST_ERROR_NULL_ARGUMENT;
+    }
+    let Some(stored) = Stored::<F>::from_ptr_mut(scene) else {
+        return ST_ERROR_WRONG_SCENE;
+    };
+    let Some(mut options) = options(stored.flags) else {
+        return ST_ERROR_INTERNAL;
+    };
+    let Kept::Dynamic(dynamic, count) = &mut stored.kept else {
+        return ST_ERROR_NOT_UPDATABLE;
+    };
+    let (Some(ps), Some(ns)) = (
+        scalar_stride(moved.positions, moved.position_stride),
+        scalar_stride(moved.normals, moved.normal_stride),
+    ) else {
+        return ST_ERROR_INVALID_ARGUMENT;
+    };
+    // SAFETY: the contract makes each attribute readable for `vc` vertices at its stride; the
+    // pointers are non-null (vc > 0) or unused (vc == 0 reads nothing) and aligned (checked).
+    let (positions, normals) = match unsafe {
+        (
+            vertices(moved.positions, ps, vc),
+            vertices(moved.normals, ns, vc),
+        )
+    } {
+        (Ok(p), Ok(n)) => (p, n),
+        (Err(e), _) | (_, Err(e)) => return e,
+    };
+    match dynamic.update(positions, normals, &mut options) {
+        Ok(_) => {
+            *count = count.saturating_add(1);
+            ST_OK
+        }
+        Err(e) => status_of(e),
+    }
 }

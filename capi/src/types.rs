@@ -34,6 +34,8 @@ pub const ST_ERROR_WRONG_SCENE: st_status = 8;
 /// An internal failure that should not happen (a caught panic, an inconsistent BVH); please
 /// report it.
 pub const ST_ERROR_INTERNAL: st_status = 9;
+/// `st_scene_update` was given a scene built without [`ST_BUILD_UPDATABLE`].
+pub const ST_ERROR_NOT_UPDATABLE: st_status = 10;
 
 /// The `prim_id` / `geom_id` of no hit (Embree's `RTC_INVALID_GEOMETRY_ID`).
 pub const ST_INVALID_ID: u32 = 0xFFFF_FFFF;
@@ -45,6 +47,11 @@ pub const ST_BUILD_SEAMS: u32 = 1;
 /// Build flag: the shared line field (neighbours' edge curves meet exactly; adds a per-vertex
 /// normal remedy). Without it, the paper's per-face field; the kernel closes the cracks.
 pub const ST_BUILD_SHARED_FIELD: u32 = 2;
+/// Build flag: the scene can be moved to new vertex positions and normals with
+/// `st_scene_update` (skinned and morphed meshes). The scene then keeps the whole memory of
+/// `st_scene_required_bytes`, the build's scratch included (`bytes_used` is all of it), and
+/// finds the shared edges of the index buffer once, at the build.
+pub const ST_BUILD_UPDATABLE: u32 = 4;
 
 /// A ray, laid out as Embree 3's `RTCRay` (same fields, order, sizes and 16-byte alignment, so
 /// a `RTCRay*` can be passed as an `st_ray*`). The ray is `org + t·dir` for `t` in
@@ -361,6 +368,12 @@ pub struct st_scene_info {
     pub bytes_used: usize,
     /// The flags given to the build.
     pub flags: u32,
+    /// Updates that succeeded since the build ([`ST_BUILD_UPDATABLE`]).
+    pub update_count: u32,
+    /// 1 when the last update refitted the BVH's boxes to the moved patches, 0 when it built
+    /// the tree anew (a refitted tree whose cost grew past the core's `REBUILD_COST_RATIO`
+    /// times a fresh one's, or the build itself).
+    pub bvh_refitted: u32,
 }
 
 /// A built scene in single precision (opaque; it lives inside the memory given to

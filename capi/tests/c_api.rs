@@ -1,6 +1,7 @@
 //! C programs a user would write (`tests/c/`), compiled with `cc -std=c99 -Wall -Wextra
 //! -Werror -pedantic` against the header and the static library and run under valgrind when
-//! it is installed (the error test and one scene test; the others run natively). `scene_test.c` prints every mesh, ray and hit; each hit is compared here,
+//! it is installed (the error test and one scene test; the others run natively).
+//! `update_test.c` moves an updatable scene every frame and checks each frame alone. `scene_test.c` prints every mesh, ray and hit; each hit is compared here,
 //! bit for bit, with the Rust API's on the same mesh and ray.
 #![allow(
     clippy::unwrap_used,
@@ -49,6 +50,14 @@ fn readme_example_is_this_file_and_runs() {
         out.contains("triangle 0, shading normal (0.300, 0.200, 0.933)"),
         "{out}"
     );
+}
+
+#[test]
+fn an_animated_scene_updates_every_frame() {
+    let exe = c_program("update_test");
+    // Natively: under valgrind the debug library's 200 builds and updates take minutes.
+    let out = common::run(&exe, &[], false);
+    assert!(out.contains("all checks passed"), "{out}");
 }
 
 #[test]

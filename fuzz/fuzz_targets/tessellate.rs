@@ -15,8 +15,8 @@ use arbitrary::Arbitrary;
 use glam::DVec3;
 use libfuzzer_sys::fuzz_target;
 use smoothtri_demo::Precision;
-use smoothtri_io::Mesh;
 use smoothtri_demo::tessellate::{Level, tessellate};
+use smoothtri_io::Mesh;
 
 #[derive(Arbitrary, Debug)]
 struct Input {

@@ -50,6 +50,7 @@ int main(void) {
     memcpy(idx, I, sizeof idx);
     CHECK(strcmp(st_status_str(ST_OK), "ST_OK") == 0);
     CHECK(strcmp(st_status_str(ST_ERROR_NON_FINITE), "ST_ERROR_NON_FINITE") == 0);
+    CHECK(strcmp(st_status_str(ST_ERROR_NOT_UPDATABLE), "ST_ERROR_NOT_UPDATABLE") == 0);
     CHECK(strcmp(st_status_str(12345), "ST_ERROR_UNKNOWN") == 0);
 
     /* Sizes. */
@@ -75,7 +76,7 @@ int main(void) {
     /* Bad arguments. */
     EXPECT(BUILD(memory, bytes, pos, 0, pos, 0, 5, idx, 4, 0, 3), ST_ERROR_INVALID_ARGUMENT);
     EXPECT(BUILD(memory, bytes, pos, 0, pos, 0, 5, idx, 4, 0, 32), ST_ERROR_INVALID_ARGUMENT);
-    EXPECT(BUILD(memory, bytes, pos, 0, pos, 0, 5, idx, 4, 4, 8), ST_ERROR_INVALID_ARGUMENT);
+    EXPECT(BUILD(memory, bytes, pos, 0, pos, 0, 5, idx, 4, 8, 8), ST_ERROR_INVALID_ARGUMENT);
     EXPECT(BUILD(memory, bytes, pos, 8, pos, 0, 5, idx, 4, 0, 8), ST_ERROR_INVALID_ARGUMENT);
     EXPECT(BUILD(memory, bytes, pos, 13, pos, 0, 5, idx, 4, 0, 8), ST_ERROR_INVALID_ARGUMENT);
     EXPECT(BUILD(memory, bytes, (const float *)(const void *)((const char *)pos + 1), 0, pos, 0,
