@@ -12,11 +12,12 @@ y up), interleaved rounds of:
   the same queries, eight new result arrays;
 - ``python out=``: the same with the result arrays of the previous call reused;
 - ``python f32 in``: float32 input arrays (no rounding per ray);
+- ``rust, 1 thread`` and ``python, 1 thread``: the same on one thread;
 - ``embreex``: ``EmbreeScene.run(origins, directions, output=1)`` on the flat triangles
   (float32, one thread inside embreex), when embreex is installed.
 
-Prints the median time of each and the median over rounds of the ratio to ``rust`` (the
-overhead). Timings only: the answers are checked by the tests.
+Prints the median time of each and the median over rounds of its ratio to the Rust API's
+time on as many threads in the same round (the overhead; embreex against one thread). Timings only: the answers are checked by the tests.
 """
 
 from __future__ import annotations
@@ -55,6 +56,11 @@ def main() -> None:
     ap.add_argument("--iterations", type=int, default=4)
     ap.add_argument("--precision", default="f32", choices=["f32", "f64"])
     ap.add_argument("--up", default="y", choices=["x", "y", "z"])
+    ap.add_argument("--case", choices=["python", "rust", "none"],
+                    help="run one case once on one thread, for an instruction count: "
+                         "valgrind --tool=callgrind --collect-atstart=no "
+                         "--toggle-collect='*__pymethod_intersect__*' (python) or "
+                         "--toggle-collect='*trace_prepared*' (rust)")
     a = ap.parse_args()
 
     mesh = smoothtri.load(a.mesh)
@@ -62,6 +68,15 @@ def main() -> None:
     o, d = smoothtri.camera_rays(mesh.vertices, *a.size, up=a.up)
     o32, d32 = o.astype(np.float32), d.astype(np.float32)
     n = len(o)
+    if a.case is not None:
+        if a.case == "python":
+            hits = scene.intersect(o, d, iterations=a.iterations, threads=1).hit.sum()
+        elif a.case == "rust":
+            hits = _smoothtri.rust_baseline(scene._native, o, d, iterations=a.iterations, threads=1)[1]
+        else:
+            hits = 0
+        print(f"{a.case}: {n} rays, {hits} hits")
+        return
     kw = dict(iterations=a.iterations, threads=a.threads)
     threads = a.threads or os.cpu_count()
     print(f"{a.mesh}: {scene}")
@@ -82,11 +97,14 @@ def main() -> None:
 
     prev = scene.intersect(o, d, **kw)
     assert prev.hit.sum() == _smoothtri.rust_baseline(scene._native, o, d, **kw)[1]
+    one = dict(kw, threads=1)
     cases = {
         "rust": rust,
         "python": lambda: timed(lambda: scene.intersect(o, d, **kw)),
         "python out=": lambda: timed(lambda: scene.intersect(o, d, out=prev, **kw)),
         "python f32 in": lambda: timed(lambda: scene.intersect(o32, d32, **kw)),
+        "rust, 1 thread": lambda: _smoothtri.rust_baseline(scene._native, o, d, **one)[0],
+        "python, 1 thread": lambda: timed(lambda: scene.intersect(o, d, **one)),
     }
     try:
         from embreex import rtcore_scene
@@ -106,12 +124,13 @@ def main() -> None:
     for _ in range(a.rounds):
         for k, f in cases.items():
             times[k].append(f())
-    base = times["rust"]
-    print(f"{'':26} {'median ms':>10} {'ns/ray':>8} {'Mrays/s':>8} {'÷ rust (median of rounds)':>26}")
+    print(f"{'':26} {'median ms':>10} {'ns/ray':>8} {'Mrays/s':>8} {'÷ rust, same threads':>21}")
     for k, ts in times.items():
+        # Each time over the Rust API's on as many threads, in the same round.
+        base = times["rust, 1 thread" if "1 thread" in k else "rust"]
         med = statistics.median(ts)
         ratio = statistics.median(t / b for t, b in zip(ts, base))
-        print(f"{k:26} {med * 1e3:10.1f} {med * 1e9 / n:8.1f} {n / med / 1e6:8.2f} {ratio:26.3f}")
+        print(f"{k:26} {med * 1e3:10.1f} {med * 1e9 / n:8.1f} {n / med / 1e6:8.2f} {ratio:21.3f}")
     print(f"{runs['hits']} hits; the Python overhead per ray is the ratio minus 1")
 
 

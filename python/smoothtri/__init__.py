@@ -622,7 +622,7 @@ class PrecisionStudy:
             )
         ax.set_yscale("log")
         ax.set_xlabel("iteration budget N")
-        ax.set_ylabel("hit-point error / bounding-box diagonal")
+        ax.set_ylabel(f"hit-point error / bounding-box diagonal (0 drawn at {floor:.0e})")
         ax.set_title(title or f"smoothtri: error vs iterations ({self.rays} rays)")
         ax.grid(True, which="major", alpha=0.3)
         ax.legend()

@@ -161,11 +161,22 @@ impl<'py> Reals2<'py> {
         self.view().len()
     }
 
-    /// A view for reading without the GIL.
+    /// A view for reading without the GIL: the elements as one slice when the array is
+    /// C-contiguous (the common case, read fastest), else a strided view.
     pub fn view(&self) -> Rows<'_> {
+        let cols = match self {
+            Reals2::F32(a) => a.as_array().ncols(),
+            Reals2::F64(a) => a.as_array().ncols(),
+        };
         match self {
-            Reals2::F32(a) => Rows::F32(a.as_array()),
-            Reals2::F64(a) => Rows::F64(a.as_array()),
+            Reals2::F32(a) => match a.as_slice() {
+                Ok(s) => Rows::F32Packed(s, cols),
+                Err(_) => Rows::F32(a.as_array()),
+            },
+            Reals2::F64(a) => match a.as_slice() {
+                Ok(s) => Rows::F64Packed(s, cols),
+                Err(_) => Rows::F64(a.as_array()),
+            },
         }
     }
 }
@@ -174,10 +185,14 @@ impl<'py> Reals2<'py> {
 /// while a query runs).
 #[derive(Clone, Copy)]
 pub enum Rows<'a> {
-    /// `float32` rows.
+    /// `float32` rows, any strides.
     F32(ArrayView2<'a, f32>),
-    /// `float64` rows.
+    /// `float64` rows, any strides.
     F64(ArrayView2<'a, f64>),
+    /// `float32` rows of this many columns, packed row after row.
+    F32Packed(&'a [f32], usize),
+    /// `float64` rows of this many columns, packed row after row.
+    F64Packed(&'a [f64], usize),
 }
 
 impl Rows<'_> {
@@ -186,22 +201,37 @@ impl Rows<'_> {
         match self {
             Rows::F32(a) => a.nrows(),
             Rows::F64(a) => a.nrows(),
+            Rows::F32Packed(s, c) => s.len() / (*c).max(1),
+            Rows::F64Packed(s, c) => s.len() / (*c).max(1),
         }
     }
 
-    /// Element `(i, j)` widened to `f64` (exact). `i` and `j` must be in range.
-    #[inline]
+    /// Element `(i, j)` widened to `f64` (exact); NaN out of range (never asked).
+    #[inline(always)]
     pub fn at(&self, i: usize, j: usize) -> f64 {
+        let packed = |c: usize| i * c + j;
         match self {
-            Rows::F32(a) => f64::from(a[[i, j]]),
-            Rows::F64(a) => a[[i, j]],
+            Rows::F32(a) => a.get((i, j)).map_or(f64::NAN, |&x| f64::from(x)),
+            Rows::F64(a) => a.get((i, j)).copied().unwrap_or(f64::NAN),
+            Rows::F32Packed(s, c) => s.get(packed(*c)).map_or(f64::NAN, |&x| f64::from(x)),
+            Rows::F64Packed(s, c) => s.get(packed(*c)).copied().unwrap_or(f64::NAN),
         }
     }
 
-    /// Row `i`'s first three elements widened to `f64`.
-    #[inline]
+    /// Row `i`'s first three elements widened to `f64`; NaN out of range (never asked).
+    #[inline(always)]
     pub fn row3(&self, i: usize) -> [f64; 3] {
-        [self.at(i, 0), self.at(i, 1), self.at(i, 2)]
+        match self {
+            Rows::F32Packed(s, 3) => match s.get(3 * i..3 * i + 3) {
+                Some(&[x, y, z]) => [f64::from(x), f64::from(y), f64::from(z)],
+                _ => [f64::NAN; 3],
+            },
+            Rows::F64Packed(s, 3) => match s.get(3 * i..3 * i + 3) {
+                Some(&[x, y, z]) => [x, y, z],
+                _ => [f64::NAN; 3],
+            },
+            _ => [self.at(i, 0), self.at(i, 1), self.at(i, 2)],
+        }
     }
 }
 
@@ -256,12 +286,12 @@ pub enum Column<'a> {
 }
 
 impl Column<'_> {
-    /// Element `i` widened to `f64`; `i` must be in range.
+    /// Element `i` widened to `f64`; NaN out of range (never asked).
     #[inline]
     pub fn at(&self, i: usize) -> f64 {
         match self {
-            Column::F32(a) => f64::from(a[i]),
-            Column::F64(a) => a[i],
+            Column::F32(a) => a.get(i).map_or(f64::NAN, |&x| f64::from(x)),
+            Column::F64(a) => a.get(i).copied().unwrap_or(f64::NAN),
         }
     }
 }

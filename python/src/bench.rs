@@ -6,7 +6,7 @@ use std::time::Instant;
 
 use pyo3::prelude::*;
 use rayon::prelude::*;
-use smoothtri::{OwnedScene, Ray};
+use smoothtri::{OwnedScene, Ray, Scene, SceneHit};
 
 use crate::arrays::Reals2;
 use crate::batch::Threads;
@@ -29,23 +29,35 @@ fn run<F: Prec>(
         .map(|i| Ray::new(F::vec(o.row3(i)), F::vec(d.row3(i))))
         .collect();
     let scene = scene.scene();
-    let inf = F::from_f64(f64::INFINITY);
     py.detach(|| {
         let start = Instant::now();
-        let hits: Vec<_> = match threads {
-            Threads::One => rays
-                .iter()
-                .map(|r| budget.closest(&scene, r, F::ZERO, inf))
-                .collect(),
-            _ => threads.install(|| {
-                rays.par_iter()
-                    .map(|r| budget.closest(&scene, r, F::ZERO, inf))
-                    .collect()
-            }),
-        };
+        let hits = trace_prepared(&scene, &rays, budget, threads);
         let secs = start.elapsed().as_secs_f64();
         (secs, hits.iter().filter(|h| h.is_some()).count())
     })
+}
+
+/// The timed part of the baseline, out of line so that an instruction count can name it
+/// (`valgrind --tool=callgrind --toggle-collect='*trace_prepared*'`).
+#[inline(never)]
+fn trace_prepared<F: Prec>(
+    scene: &Scene<'_, F>,
+    rays: &[Ray<F>],
+    budget: Budget,
+    threads: &Threads,
+) -> Vec<Option<SceneHit<F>>> {
+    let inf = F::from_f64(f64::INFINITY);
+    match threads {
+        Threads::One => rays
+            .iter()
+            .map(|r| budget.closest(scene, r, F::ZERO, inf))
+            .collect(),
+        _ => threads.install(|| {
+            rays.par_iter()
+                .map(|r| budget.closest(scene, r, F::ZERO, inf))
+                .collect()
+        }),
+    }
 }
 
 /// `(seconds, hits)` of the closest hits of the rays (`t` in `[0, inf]`) through the core's

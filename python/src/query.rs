@@ -43,16 +43,21 @@ impl RayBatch<'_> {
     /// An interval with `t_min > t_max` is a ray that hits nothing.
     #[inline]
     pub fn ray<F: Prec>(&self, i: usize) -> Option<(Ray<F>, F, F)> {
-        let o = F::vec(self.origins.row3(i));
-        let d = F::vec(self.directions.row3(i));
-        let (oa, da) = (F::arr(o), F::arr(d));
-        let finite = oa.iter().chain(&da).all(|x| x.is_fin());
-        let zero = da.iter().all(|&x| x == F::ZERO);
+        let [ox, oy, oz] = self.origins.row3(i).map(F::from_f64);
+        let [dx, dy, dz] = self.directions.row3(i).map(F::from_f64);
+        // `&`, not `&&`: six comparisons without branches.
+        let finite =
+            ox.is_fin() & oy.is_fin() & oz.is_fin() & dx.is_fin() & dy.is_fin() & dz.is_fin();
+        let zero = (dx == F::ZERO) & (dy == F::ZERO) & (dz == F::ZERO);
         let (t0, t1) = (self.t_min.at(i), self.t_max.at(i));
         if !finite || zero || t0.is_nan() || t1.is_nan() {
             return None;
         }
-        Some((Ray::new(o, d), F::from_f64(t0), F::from_f64(t1)))
+        Some((
+            Ray::new(F::from_arr([ox, oy, oz]), F::from_arr([dx, dy, dz])),
+            F::from_f64(t0),
+            F::from_f64(t1),
+        ))
     }
 
     /// Why ray `i` is refused by [`RayBatch::ray`] in precision `F`.
@@ -154,37 +159,48 @@ pub fn intersect<F: Prec>(
     threads: &Threads,
 ) -> Result<(), BadInput> {
     let bad = FirstBad::new();
-    threads.for_chunks(out, &|start, mut out: HitsOut<'_, F>| {
-        for k in 0..out.hit.len() {
+    threads.for_chunks(out, &|start, out: HitsOut<'_, F>| {
+        // Every output cut to the chunk's length, so that the writes below need no checks.
+        let n = out.hit.len();
+        let (t, t_error, triangle) = (
+            &mut out.t[..n],
+            &mut out.t_error[..n],
+            &mut out.triangle[..n],
+        );
+        let point = &mut out.point.0[..3 * n];
+        let normal = &mut out.normal.0[..3 * n];
+        let shading = &mut out.shading_normal.0[..3 * n];
+        let bary = &mut out.barycentric.0[..2 * n];
+        for (k, hit) in out.hit.iter_mut().enumerate() {
             let i = start + k;
-            let hit = match rays.ray::<F>(i) {
+            let found = match rays.ray::<F>(i) {
                 Some((ray, t0, t1)) => budget.closest(scene, &ray, t0, t1),
                 None => {
                     bad.report(i);
                     None
                 }
             };
-            let z = [F::ZERO; 3];
-            match hit {
+            let (p, nr, s) = (3 * k, 3 * k, 3 * k);
+            match found {
                 Some(h) => {
-                    out.hit[k] = true;
-                    out.t[k] = h.hit.t;
-                    out.t_error[k] = h.hit.t_error;
-                    out.point.set(k, F::arr(h.hit.point));
-                    out.normal.set(k, F::arr(h.hit.normal));
-                    out.shading_normal.set(k, F::arr(h.shading_normal));
-                    out.triangle[k] = i64::from(h.triangle);
-                    out.barycentric.set(k, [h.hit.w1, h.hit.w2]);
+                    *hit = true;
+                    t[k] = h.hit.t;
+                    t_error[k] = h.hit.t_error;
+                    point[p..p + 3].copy_from_slice(&F::arr(h.hit.point));
+                    normal[nr..nr + 3].copy_from_slice(&F::arr(h.hit.normal));
+                    shading[s..s + 3].copy_from_slice(&F::arr(h.shading_normal));
+                    triangle[k] = i64::from(h.triangle);
+                    bary[2 * k..2 * k + 2].copy_from_slice(&[h.hit.w1, h.hit.w2]);
                 }
                 None => {
-                    out.hit[k] = false;
-                    out.t[k] = F::from_f64(f64::INFINITY);
-                    out.t_error[k] = F::ZERO;
-                    out.point.set(k, z);
-                    out.normal.set(k, z);
-                    out.shading_normal.set(k, z);
-                    out.triangle[k] = -1;
-                    out.barycentric.set(k, [F::ZERO; 2]);
+                    *hit = false;
+                    t[k] = F::from_f64(f64::INFINITY);
+                    t_error[k] = F::ZERO;
+                    point[p..p + 3].fill(F::ZERO);
+                    normal[nr..nr + 3].fill(F::ZERO);
+                    shading[s..s + 3].fill(F::ZERO);
+                    triangle[k] = -1;
+                    bary[2 * k..2 * k + 2].fill(F::ZERO);
                 }
             }
         }
