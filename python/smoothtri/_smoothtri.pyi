@@ -1,0 +1,134 @@
+"""Type stubs of the native module ``smoothtri._smoothtri`` (Rust, pyo3). The public API is
+``smoothtri`` (``smoothtri/__init__.py``), which documents every argument; these are its
+building blocks. Arrays are numpy arrays; ``Any`` inputs are anything ``numpy.asarray``
+takes."""
+
+from __future__ import annotations
+
+from os import PathLike
+from typing import Any, Dict, List, Optional, Tuple, Union
+
+import numpy as np
+import numpy.typing as npt
+
+class BuildError(ValueError):
+    """The scene could not be built: no triangles, or every triangle rejected."""
+
+class LoadError(ValueError):
+    """A mesh file is malformed or of an unknown format (names the file and the line or
+    element)."""
+
+SUPPORTED_ITERATIONS: List[int]
+"""The iteration budgets ``N`` the queries accept: 0..=16, 20, 24, 32, 40."""
+HIT_FIELDS: List[str]
+"""The names of ``NativeScene.intersect``'s arrays, in order."""
+SURFACE_FIELDS: List[str]
+"""The names of ``NativeScene.evaluate``'s arrays, in order."""
+MAX_THREADS: int
+"""The most threads ``threads=`` accepts."""
+ACCURACY: Dict[str, float]
+"""The core's named accuracy bounds (``smoothtri::accuracy``), by name."""
+SECONDARY_RAY_OFFSET: Dict[str, float]
+"""Where the renders start secondary rays, a fraction of the bounding-box diagonal, by
+precision."""
+
+FloatArray = npt.NDArray[np.floating[Any]]
+
+class NativeScene:
+    """The core's scene of a mesh in one precision; immutable, thread-safe."""
+
+    def __init__(
+        self,
+        vertices: Any,
+        normals: Any,
+        faces: Any,
+        *,
+        precision: str = "f32",
+        seams: bool = True,
+        field: str = "face",
+        threads: Optional[int] = None,
+    ) -> None: ...
+    @property
+    def precision(self) -> str: ...
+    @property
+    def seams(self) -> bool: ...
+    @property
+    def field(self) -> str: ...
+    @property
+    def vertex_count(self) -> int: ...
+    @property
+    def triangle_count(self) -> int: ...
+    @property
+    def report(self) -> Dict[str, Any]: ...
+    def intersect(
+        self,
+        origins: Any,
+        directions: Any,
+        *,
+        iterations: int = 4,
+        t_min: Optional[Union[float, Any]] = None,
+        t_max: Optional[Union[float, Any]] = None,
+        threads: Optional[int] = None,
+        out: Optional[Tuple[np.ndarray, ...]] = None,
+    ) -> Tuple[
+        npt.NDArray[np.bool_],
+        FloatArray,
+        FloatArray,
+        FloatArray,
+        FloatArray,
+        FloatArray,
+        npt.NDArray[np.int64],
+        FloatArray,
+    ]: ...
+    def occluded(
+        self,
+        origins: Any,
+        directions: Any,
+        *,
+        iterations: int = 4,
+        t_min: Optional[Union[float, Any]] = None,
+        t_max: Optional[Union[float, Any]] = None,
+        threads: Optional[int] = None,
+        out: Optional[npt.NDArray[np.bool_]] = None,
+    ) -> npt.NDArray[np.bool_]: ...
+    def evaluate(
+        self,
+        triangles: Any,
+        barycentrics: Any,
+        *,
+        threads: Optional[int] = None,
+        out: Optional[Tuple[np.ndarray, np.ndarray, np.ndarray]] = None,
+    ) -> Tuple[FloatArray, FloatArray, FloatArray]: ...
+
+def load(path: Union[str, PathLike[str]]) -> Dict[str, Any]:
+    """``vertices`` (V, 3) float64, ``normals`` (V, 3) float64, ``faces`` (F, 3) int64,
+    ``computed_normals`` bool, ``warnings`` list of str."""
+
+def camera_rays(
+    vertices: Any,
+    width: int,
+    height: int,
+    *,
+    azimuth: float = 30.0,
+    elevation: float = 35.0,
+    up: str = "z",
+) -> Tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]: ...
+def precision_sweep(
+    scene: NativeScene,
+    origins: Any,
+    directions: Any,
+    *,
+    iterations: List[int],
+    precisions: List[str],
+    reference_iterations: int = 40,
+    threads: Optional[int] = None,
+) -> Dict[str, Any]: ...
+def rust_baseline(
+    scene: NativeScene,
+    origins: Any,
+    directions: Any,
+    *,
+    iterations: int = 4,
+    threads: Optional[int] = None,
+) -> Tuple[float, int]:
+    """``(seconds, hits)`` of the rays through the Rust API (the benchmark's baseline)."""

@@ -1,0 +1,569 @@
+//! `NativeScene`: the core's scene of a mesh given as numpy arrays, in `f32` or `f64`, with its
+//! batched queries. The Python class `smoothtri.Scene` wraps it (argument defaults, result
+//! types, docs).
+
+use glam::DVec3;
+use numpy::{PyArray1, PyArray2};
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyTuple};
+use smoothtri::{BuildOptions, LineField, OwnedScene};
+use smoothtri_io::Mesh;
+use smoothtri_testkit::RayonExecutor;
+
+use crate::BuildError;
+use crate::arrays::{self, Bound1, Reals2};
+use crate::batch::{Rows as Out, Threads};
+use crate::budget::{Budget, SUPPORTED_TEXT};
+use crate::precision::Prec;
+use crate::query::{self, BadInput, HitsOut, PointBatch, RayBatch, SurfaceOut};
+
+/// The core's scene in the precision it was built in.
+pub enum Built {
+    /// Built and traced in `f32`.
+    F32(OwnedScene<f32>),
+    /// Built and traced in `f64`.
+    F64(OwnedScene<f64>),
+}
+
+/// A scene built from numpy arrays (`smoothtri.Scene` wraps it). Immutable; its queries
+/// release the GIL and may run from several Python threads at once.
+#[pyclass(frozen, module = "smoothtri._smoothtri")]
+pub struct NativeScene {
+    /// The scene.
+    pub built: Built,
+    /// The mesh it was built from (`f64`, as given): the precision study rebuilds it in the
+    /// other precision.
+    pub mesh: Mesh,
+    /// The options it was built with.
+    pub options: BuildOptions,
+}
+
+/// `precision=` as the core's choice.
+pub fn parse_precision(p: &str) -> PyResult<&'static str> {
+    match p {
+        "f32" | "float32" => Ok("f32"),
+        "f64" | "float64" => Ok("f64"),
+        _ => Err(PyValueError::new_err(format!(
+            "precision must be \"f32\" or \"f64\", got {p:?}"
+        ))),
+    }
+}
+
+/// `field=` as the core's line field.
+fn parse_field(f: &str) -> PyResult<LineField> {
+    match f {
+        "face" => Ok(LineField::Face),
+        "vertex" => Ok(LineField::Vertex),
+        _ => Err(PyValueError::new_err(format!(
+            "field must be \"face\" or \"vertex\", got {f:?}"
+        ))),
+    }
+}
+
+/// `iterations=` as a budget.
+pub fn parse_budget(n: i64, name: &str) -> PyResult<Budget> {
+    Budget::new(n).ok_or_else(|| {
+        PyValueError::new_err(format!(
+            "{name} must be one of {SUPPORTED_TEXT} (refinement steps of the kernel), got {n}"
+        ))
+    })
+}
+
+/// The rows of a `(V, 3)` array as `f64` vectors, each component finite.
+fn vectors(a: &Reals2<'_>, name: &str) -> PyResult<Vec<DVec3>> {
+    let rows = a.view();
+    let mut out = Vec::with_capacity(rows.len());
+    for i in 0..rows.len() {
+        let v = rows.row3(i);
+        if let Some(j) = v.iter().position(|x| !x.is_finite()) {
+            return Err(PyValueError::new_err(format!(
+                "{name}[{i}, {j}] = {} is not finite",
+                arrays::num(v[j])
+            )));
+        }
+        out.push(DVec3::from_array(v));
+    }
+    Ok(out)
+}
+
+/// The mesh of `(vertices, normals, faces)`, checked: shapes, dtypes, finite values, indices
+/// in range.
+pub fn mesh_of(
+    vertices: &Bound<'_, PyAny>,
+    normals: &Bound<'_, PyAny>,
+    faces: &Bound<'_, PyAny>,
+) -> PyResult<Mesh> {
+    let v = Reals2::new(vertices, "vertices", 3, "(V, 3)")?;
+    let n = Reals2::new(normals, "normals", 3, "(V, 3)")?;
+    if v.len() != n.len() {
+        return Err(PyValueError::new_err(format!(
+            "normals has {} rows but vertices has {}: one normal per vertex",
+            n.len(),
+            v.len()
+        )));
+    }
+    let positions = vectors(&v, "vertices")?;
+    let normals = vectors(&n, "normals")?;
+    let flat = arrays::indices(
+        faces,
+        "faces",
+        Some(3),
+        "(F, 3)",
+        positions.len(),
+        "vertex index",
+        &format!("the mesh has {} vertices", positions.len()),
+    )?;
+    let triangles = flat.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
+    Ok(Mesh {
+        positions,
+        normals,
+        triangles,
+    })
+}
+
+/// The scene of `mesh` in precision `F` on `threads` (the same bit for bit on any number).
+pub fn build<F: Prec>(
+    py: Python<'_>,
+    mesh: &Mesh,
+    options: &BuildOptions,
+    threads: &Threads,
+) -> PyResult<OwnedScene<F>> {
+    let built = py.detach(|| match threads {
+        Threads::One => mesh.build_scene::<F, _, _>(&mut { *options }),
+        _ => threads.install(|| {
+            mesh.build_scene::<F, _, _>(&mut options.with_executor(RayonExecutor))
+        }),
+    });
+    built.map_err(|e| BuildError::new_err(e.to_string()))
+}
+
+/// A bad input of a batch as the Python exception.
+fn bad(e: BadInput) -> PyErr {
+    PyValueError::new_err(e.why)
+}
+
+/// The origins, directions and bounds of a ray query, checked.
+struct RayArgs<'py> {
+    origins: Reals2<'py>,
+    directions: Reals2<'py>,
+    t_min: Bound1<'py>,
+    t_max: Bound1<'py>,
+}
+
+impl<'py> RayArgs<'py> {
+    fn new(
+        origins: &Bound<'py, PyAny>,
+        directions: &Bound<'py, PyAny>,
+        t_min: &Bound<'py, PyAny>,
+        t_max: &Bound<'py, PyAny>,
+    ) -> PyResult<Self> {
+        let origins = Reals2::new(origins, "origins", 3, "(R, 3)")?;
+        let directions = Reals2::new(directions, "directions", 3, "(R, 3)")?;
+        let r = origins.len();
+        if directions.len() != r {
+            return Err(PyValueError::new_err(format!(
+                "origins has {r} rows but directions has {}: one of each per ray",
+                directions.len()
+            )));
+        }
+        let t_min = Bound1::new(t_min, "t_min", r)?;
+        let t_max = Bound1::new(t_max, "t_max", r)?;
+        if let (Bound1::All(a), Bound1::All(b)) = (&t_min, &t_max)
+            && (a.is_nan() || b.is_nan() || a > b)
+        {
+            return Err(PyValueError::new_err(format!(
+                "t_min and t_max must be numbers with t_min <= t_max, got {} and {}",
+                arrays::num(*a),
+                arrays::num(*b)
+            )));
+        }
+        for (b, name) in [(&t_min, "t_min"), (&t_max, "t_max")] {
+            if let Bound1::All(x) = b
+                && x.is_nan()
+            {
+                return Err(PyValueError::new_err(format!("{name} is nan")));
+            }
+        }
+        Ok(RayArgs {
+            origins,
+            directions,
+            t_min,
+            t_max,
+        })
+    }
+
+    fn batch(&self) -> RayBatch<'_> {
+        RayBatch {
+            origins: self.origins.view(),
+            directions: self.directions.view(),
+            t_min: self.t_min.view(),
+            t_max: self.t_max.view(),
+        }
+    }
+}
+
+/// The `i`-th object of `out` (a tuple of output arrays), if given.
+fn out_at<'py>(out: Option<&Bound<'py, PyTuple>>, i: usize) -> PyResult<Option<Bound<'py, PyAny>>> {
+    out.map(|t| t.get_item(i)).transpose()
+}
+
+/// Checks `out` (a tuple of `n` arrays) before use.
+fn check_out(out: Option<&Bound<'_, PyTuple>>, n: usize, what: &str) -> PyResult<()> {
+    match out {
+        Some(t) if t.len() != n => Err(PyValueError::new_err(format!(
+            "out must be a {what} ({n} arrays), got {} arrays",
+            t.len()
+        ))),
+        _ => Ok(()),
+    }
+}
+
+/// The names of the closest-hit outputs, in the order of the tuple.
+pub const HIT_FIELDS: [&str; 8] = [
+    "hit",
+    "t",
+    "t_error",
+    "point",
+    "normal",
+    "shading_normal",
+    "triangle",
+    "barycentric",
+];
+
+/// The names of the evaluation outputs, in the order of the tuple.
+pub const SURFACE_FIELDS: [&str; 3] = ["point", "normal", "shading_normal"];
+
+fn intersect_in<'py, F: Prec>(
+    py: Python<'py>,
+    scene: &OwnedScene<F>,
+    args: &RayArgs<'py>,
+    budget: Budget,
+    threads: &Threads,
+    out: Option<&Bound<'py, PyTuple>>,
+) -> PyResult<Bound<'py, PyTuple>> {
+    check_out(out, 8, "Hits")?;
+    let r = args.origins.len();
+    let name = |i: usize| format!("out.{}", HIT_FIELDS[i]);
+    let d = F::DTYPE;
+    let hit =
+        arrays::output::<bool, numpy::Ix1>(py, out_at(out, 0)?.as_ref(), &name(0), &[r], "bool")?;
+    let t = arrays::output::<F, numpy::Ix1>(py, out_at(out, 1)?.as_ref(), &name(1), &[r], d)?;
+    let te = arrays::output::<F, numpy::Ix1>(py, out_at(out, 2)?.as_ref(), &name(2), &[r], d)?;
+    let p = arrays::output::<F, numpy::Ix2>(py, out_at(out, 3)?.as_ref(), &name(3), &[r, 3], d)?;
+    let n = arrays::output::<F, numpy::Ix2>(py, out_at(out, 4)?.as_ref(), &name(4), &[r, 3], d)?;
+    let s = arrays::output::<F, numpy::Ix2>(py, out_at(out, 5)?.as_ref(), &name(5), &[r, 3], d)?;
+    let tri =
+        arrays::output::<i64, numpy::Ix1>(py, out_at(out, 6)?.as_ref(), &name(6), &[r], "int64")?;
+    let b = arrays::output::<F, numpy::Ix2>(py, out_at(out, 7)?.as_ref(), &name(7), &[r, 2], d)?;
+    {
+        let mut w = (
+            arrays::write(&hit, &name(0))?,
+            arrays::write(&t, &name(1))?,
+            arrays::write(&te, &name(2))?,
+            arrays::write(&p, &name(3))?,
+            arrays::write(&n, &name(4))?,
+            arrays::write(&s, &name(5))?,
+            arrays::write(&tri, &name(6))?,
+            arrays::write(&b, &name(7))?,
+        );
+        let hits = HitsOut {
+            hit: arrays::slice(&mut w.0, &name(0))?,
+            t: arrays::slice(&mut w.1, &name(1))?,
+            t_error: arrays::slice(&mut w.2, &name(2))?,
+            point: Out(arrays::slice(&mut w.3, &name(3))?),
+            normal: Out(arrays::slice(&mut w.4, &name(4))?),
+            shading_normal: Out(arrays::slice(&mut w.5, &name(5))?),
+            triangle: arrays::slice(&mut w.6, &name(6))?,
+            barycentric: Out(arrays::slice(&mut w.7, &name(7))?),
+        };
+        let batch = args.batch();
+        let scene = scene.scene();
+        py.detach(|| query::intersect(&scene, &batch, budget, hits, threads))
+            .map_err(bad)?;
+    }
+    PyTuple::new(
+        py,
+        [
+            hit.into_any(),
+            t.into_any(),
+            te.into_any(),
+            p.into_any(),
+            n.into_any(),
+            s.into_any(),
+            tri.into_any(),
+            b.into_any(),
+        ],
+    )
+}
+
+fn occluded_in<'py, F: Prec>(
+    py: Python<'py>,
+    scene: &OwnedScene<F>,
+    args: &RayArgs<'py>,
+    budget: Budget,
+    threads: &Threads,
+    out: Option<&Bound<'py, PyAny>>,
+) -> PyResult<Bound<'py, PyArray1<bool>>> {
+    let r = args.origins.len();
+    let a = arrays::output::<bool, numpy::Ix1>(py, out, "out", &[r], "bool")?;
+    {
+        let mut w = arrays::write(&a, "out")?;
+        let slots = arrays::slice(&mut w, "out")?;
+        let batch = args.batch();
+        let scene = scene.scene();
+        py.detach(|| query::occluded(&scene, &batch, budget, slots, threads))
+            .map_err(bad)?;
+    }
+    Ok(a)
+}
+
+fn evaluate_in<'py, F: Prec>(
+    py: Python<'py>,
+    scene: &OwnedScene<F>,
+    triangles: &[u32],
+    barycentrics: &Reals2<'py>,
+    threads: &Threads,
+    out: Option<&Bound<'py, PyTuple>>,
+) -> PyResult<Bound<'py, PyTuple>> {
+    check_out(out, 3, "SurfacePoints")?;
+    let m = triangles.len();
+    let name = |i: usize| format!("out.{}", SURFACE_FIELDS[i]);
+    let d = F::DTYPE;
+    let arrays: Vec<Bound<'py, PyArray2<F>>> = (0..3)
+        .map(|i| {
+            arrays::output::<F, numpy::Ix2>(py, out_at(out, i)?.as_ref(), &name(i), &[m, 3], d)
+        })
+        .collect::<PyResult<_>>()?;
+    {
+        let mut w = arrays
+            .iter()
+            .enumerate()
+            .map(|(i, a)| arrays::write(a, &name(i)))
+            .collect::<PyResult<Vec<_>>>()?;
+        let mut slices = w.iter_mut();
+        let mut next = |i: usize| -> PyResult<Out<'_, F, 3>> {
+            let a = slices
+                .next()
+                .ok_or_else(|| PyValueError::new_err("internal: missing output"))?;
+            Ok(Out(arrays::slice(a, &name(i))?))
+        };
+        let surface = SurfaceOut {
+            point: next(0)?,
+            normal: next(1)?,
+            shading_normal: next(2)?,
+        };
+        let points = PointBatch {
+            triangles,
+            barycentric: barycentrics.view(),
+        };
+        let scene = scene.scene();
+        py.detach(|| query::evaluate(&scene, &points, surface, threads))
+            .map_err(bad)?;
+    }
+    PyTuple::new(py, arrays)
+}
+
+#[pymethods]
+impl NativeScene {
+    #[new]
+    #[pyo3(signature = (vertices, normals, faces, *, precision = "f32", seams = true, field = "face", threads = None))]
+    #[allow(clippy::too_many_arguments)]
+    fn new(
+        py: Python<'_>,
+        vertices: &Bound<'_, PyAny>,
+        normals: &Bound<'_, PyAny>,
+        faces: &Bound<'_, PyAny>,
+        precision: &str,
+        seams: bool,
+        field: &str,
+        threads: Option<i64>,
+    ) -> PyResult<Self> {
+        let precision = parse_precision(precision)?;
+        let options = BuildOptions {
+            field: parse_field(field)?,
+            seams,
+            ..BuildOptions::default()
+        };
+        let threads = Threads::new(threads)?;
+        let mesh = mesh_of(vertices, normals, faces)?;
+        let built = match precision {
+            "f32" => Built::F32(build::<f32>(py, &mesh, &options, &threads)?),
+            _ => Built::F64(build::<f64>(py, &mesh, &options, &threads)?),
+        };
+        Ok(NativeScene {
+            built,
+            mesh,
+            options,
+        })
+    }
+
+    /// `"f32"` or `"f64"`.
+    #[getter]
+    fn precision(&self) -> &'static str {
+        match self.built {
+            Built::F32(_) => "f32",
+            Built::F64(_) => "f64",
+        }
+    }
+
+    /// Whether the seamless shading normals were fitted.
+    #[getter]
+    fn seams(&self) -> bool {
+        self.options.seams
+    }
+
+    /// `"face"` or `"vertex"`.
+    #[getter]
+    fn field(&self) -> &'static str {
+        match self.options.field {
+            LineField::Vertex => "vertex",
+            _ => "face",
+        }
+    }
+
+    /// The number of vertices given.
+    #[getter]
+    fn vertex_count(&self) -> usize {
+        self.mesh.positions.len()
+    }
+
+    /// The number of triangles given.
+    #[getter]
+    fn triangle_count(&self) -> usize {
+        self.mesh.triangles.len()
+    }
+
+    /// What the build did, as a dict (see `smoothtri.BuildReport`).
+    #[getter]
+    fn report<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let (r, memory) = match &self.built {
+            Built::F32(s) => (*s.scene().report(), s.scene().memory_bytes()),
+            Built::F64(s) => (*s.scene().report(), s.scene().memory_bytes()),
+        };
+        let d = PyDict::new(py);
+        d.set_item("triangles", r.triangles)?;
+        d.set_item("patches", r.patches)?;
+        let rejected = PyDict::new(py);
+        for (why, n) in r.rejected.by_reason() {
+            rejected.set_item(why, n)?;
+        }
+        d.set_item("rejected", rejected)?;
+        d.set_item(
+            "first_rejected",
+            r.first_rejected.map(|(t, e)| (t, e.to_string())),
+        )?;
+        d.set_item("remedied", r.remedied)?;
+        d.set_item("first_remedied", r.first_remedied)?;
+        d.set_item(
+            "vertex_clamps",
+            r.vertex_clamps.map(|v| (v.clamped, v.unresolved)),
+        )?;
+        d.set_item("shared_edges", r.cracks.shared_edges)?;
+        d.set_item("open_edges", r.cracks.open_edges)?;
+        d.set_item("widest_gap", r.cracks.widest_gap)?;
+        d.set_item("seam_edges", r.seam_edges)?;
+        d.set_item("bvh_nodes", r.bvh_nodes)?;
+        d.set_item("memory_bytes", memory)?;
+        Ok(d)
+    }
+
+    /// The closest hits: a tuple of arrays in the order of `HIT_FIELDS`.
+    #[pyo3(signature = (origins, directions, *, iterations = 4, t_min = None, t_max = None, threads = None, out = None))]
+    #[allow(clippy::too_many_arguments)]
+    fn intersect<'py>(
+        &self,
+        py: Python<'py>,
+        origins: &Bound<'py, PyAny>,
+        directions: &Bound<'py, PyAny>,
+        iterations: i64,
+        t_min: Option<&Bound<'py, PyAny>>,
+        t_max: Option<&Bound<'py, PyAny>>,
+        threads: Option<i64>,
+        out: Option<&Bound<'py, PyTuple>>,
+    ) -> PyResult<Bound<'py, PyTuple>> {
+        let budget = parse_budget(iterations, "iterations")?;
+        let args = ray_args(py, origins, directions, t_min, t_max)?;
+        let threads = Threads::new(threads)?;
+        match &self.built {
+            Built::F32(s) => intersect_in(py, s, &args, budget, &threads, out),
+            Built::F64(s) => intersect_in(py, s, &args, budget, &threads, out),
+        }
+    }
+
+    /// Whether each ray hits anything: a bool array.
+    #[pyo3(signature = (origins, directions, *, iterations = 4, t_min = None, t_max = None, threads = None, out = None))]
+    #[allow(clippy::too_many_arguments)]
+    fn occluded<'py>(
+        &self,
+        py: Python<'py>,
+        origins: &Bound<'py, PyAny>,
+        directions: &Bound<'py, PyAny>,
+        iterations: i64,
+        t_min: Option<&Bound<'py, PyAny>>,
+        t_max: Option<&Bound<'py, PyAny>>,
+        threads: Option<i64>,
+        out: Option<&Bound<'py, PyAny>>,
+    ) -> PyResult<Bound<'py, PyArray1<bool>>> {
+        let budget = parse_budget(iterations, "iterations")?;
+        let args = ray_args(py, origins, directions, t_min, t_max)?;
+        let threads = Threads::new(threads)?;
+        match &self.built {
+            Built::F32(s) => occluded_in(py, s, &args, budget, &threads, out),
+            Built::F64(s) => occluded_in(py, s, &args, budget, &threads, out),
+        }
+    }
+
+    /// Surface points and normals: a tuple of arrays in the order of `SURFACE_FIELDS`.
+    #[pyo3(signature = (triangles, barycentrics, *, threads = None, out = None))]
+    fn evaluate<'py>(
+        &self,
+        py: Python<'py>,
+        triangles: &Bound<'py, PyAny>,
+        barycentrics: &Bound<'py, PyAny>,
+        threads: Option<i64>,
+        out: Option<&Bound<'py, PyTuple>>,
+    ) -> PyResult<Bound<'py, PyTuple>> {
+        let f = self.mesh.triangles.len();
+        let triangles = arrays::indices(
+            triangles,
+            "triangles",
+            None,
+            "(M,)",
+            f,
+            "triangle index",
+            &format!("the mesh has {f} triangles"),
+        )?;
+        let bary = Reals2::new(barycentrics, "barycentrics", 2, "(M, 2)")?;
+        if bary.len() != triangles.len() {
+            return Err(PyValueError::new_err(format!(
+                "triangles has {} elements but barycentrics has {} rows: one of each per point",
+                triangles.len(),
+                bary.len()
+            )));
+        }
+        let threads = Threads::new(threads)?;
+        match &self.built {
+            Built::F32(s) => evaluate_in(py, s, &triangles, &bary, &threads, out),
+            Built::F64(s) => evaluate_in(py, s, &triangles, &bary, &threads, out),
+        }
+    }
+}
+
+/// [`RayArgs::new`] with the defaults `t_min = 0`, `t_max = inf`.
+fn ray_args<'py>(
+    py: Python<'py>,
+    origins: &Bound<'py, PyAny>,
+    directions: &Bound<'py, PyAny>,
+    t_min: Option<&Bound<'py, PyAny>>,
+    t_max: Option<&Bound<'py, PyAny>>,
+) -> PyResult<RayArgs<'py>> {
+    let zero = 0.0f64.into_pyobject(py)?.into_any();
+    let inf = f64::INFINITY.into_pyobject(py)?.into_any();
+    RayArgs::new(
+        origins,
+        directions,
+        t_min.unwrap_or(&zero),
+        t_max.unwrap_or(&inf),
+    )
+}

@@ -1,0 +1,254 @@
+//! The precision study of `smoothtri precision` on the caller's rays: the hit-point error of
+//! `f32` and `f64` runs at each iteration budget against an `f64` reference at a high budget,
+//! the returned `t_error`'s coverage, hit/miss disagreements and the time per ray.
+//!
+//! The statistics are those of the demo's `precision` command (host-demo's
+//! `commands/precision.rs`, `row_of`), computed in the same order, so that the same rays give
+//! the same table (the Python tests compare the two).
+
+use std::time::Instant;
+
+use glam::DVec3;
+use numpy::PyArray1;
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use smoothtri::{BuildOptions, OwnedScene};
+
+use crate::arrays::{PerRay, Reals2};
+use crate::batch::{FirstBad, Threads};
+use crate::budget::Budget;
+use crate::precision::Prec;
+use crate::query::RayBatch;
+use crate::scene::{Built, NativeScene, build, parse_budget, parse_precision};
+
+/// `(t, point, t_error)` of one hit, widened to `f64`.
+type Traced = (f64, DVec3, f64);
+
+/// The closest hit (`t` in `[0, F::MAX]`, as the demo traces) of every ray at `budget`, and
+/// the wall time of the batch. Errors on the first ray that is not a ray in `F`.
+fn trace_all<F: Prec>(
+    scene: &OwnedScene<F>,
+    rays: &RayBatch<'_>,
+    budget: Budget,
+    threads: &Threads,
+) -> PyResult<(Vec<Option<Traced>>, f64)> {
+    let scene = scene.scene();
+    let bad = FirstBad::new();
+    let start = Instant::now();
+    let out = threads.map(rays.len(), |i| {
+        let Some((ray, _, _)) = rays.ray::<F>(i) else {
+            bad.report(i);
+            return None;
+        };
+        budget.closest(&scene, &ray, F::ZERO, F::MAX).map(|h| {
+            (
+                h.hit.t.to_f64(),
+                F::to_dvec3(h.hit.point),
+                h.hit.t_error.to_f64(),
+            )
+        })
+    });
+    let secs = start.elapsed().as_secs_f64();
+    match bad.get() {
+        Some(i) => Err(PyValueError::new_err(rays.why::<F>(i))),
+        None => Ok((out, secs)),
+    }
+}
+
+/// One row of the study (the demo's `Row`, without the GPU flag).
+struct Row {
+    precision: &'static str,
+    iterations: usize,
+    hits: usize,
+    max: f64,
+    p999: f64,
+    mean: f64,
+    mean_t_error: f64,
+    bound_holds: f64,
+    disagreements: usize,
+    ns_per_ray: f64,
+}
+
+/// The `q`-quantile of sorted values: the element at rank `⌈q·n⌉` (1-based), 0 when empty.
+fn percentile(sorted: &[f64], q: f64) -> f64 {
+    if sorted.is_empty() {
+        return 0.0;
+    }
+    let k = ((q * sorted.len() as f64).ceil() as usize).clamp(1, sorted.len()) - 1;
+    sorted.get(k).copied().unwrap_or(0.0)
+}
+
+/// The statistics of one run `res` (taking `secs`) against the reference `(t, point)`.
+fn row_of(
+    precision: &'static str,
+    iterations: usize,
+    res: &[Option<Traced>],
+    secs: f64,
+    reference: &[Option<(f64, DVec3)>],
+    diag: f64,
+) -> Row {
+    let mut errs = Vec::new();
+    let mut terr = 0.0;
+    let mut holds = 0usize;
+    let mut dis = 0usize;
+    for (r, q) in res.iter().zip(reference) {
+        match (r, q) {
+            (Some((t, p, te)), Some((qt, qp))) => {
+                errs.push((*p - *qp).length() / diag);
+                terr += te / diag;
+                if (t - qt).abs() <= *te {
+                    holds += 1;
+                }
+            }
+            (None, None) => {}
+            _ => dis += 1,
+        }
+    }
+    let hits = errs.len();
+    let mean = errs.iter().sum::<f64>() / hits.max(1) as f64;
+    errs.sort_by(f64::total_cmp);
+    Row {
+        precision,
+        iterations,
+        hits,
+        max: errs.last().copied().unwrap_or(0.0),
+        p999: percentile(&errs, 0.999),
+        mean,
+        mean_t_error: terr / hits.max(1) as f64,
+        bound_holds: holds as f64 / hits.max(1) as f64,
+        disagreements: dis,
+        ns_per_ray: secs * 1e9 / res.len().max(1) as f64,
+    }
+}
+
+/// The scene of `base`'s mesh in `F` for the study: `base` itself when it is in `F`, else
+/// built on the same line field without seams (they change no hit point).
+fn scene_in<F: Prec>(
+    py: Python<'_>,
+    base: &NativeScene,
+    own: Option<&OwnedScene<F>>,
+    threads: &Threads,
+) -> PyResult<Option<OwnedScene<F>>> {
+    if own.is_some() {
+        return Ok(None);
+    }
+    let options = BuildOptions {
+        seams: false,
+        ..base.options
+    };
+    build::<F>(py, &base.mesh, &options, threads).map(Some)
+}
+
+/// `smoothtri.precision_sweep`: the study as a dict of columns.
+#[pyfunction]
+#[pyo3(signature = (scene, origins, directions, *, iterations, precisions, reference_iterations = 40, threads = None))]
+#[allow(clippy::too_many_arguments)]
+pub fn precision_sweep<'py>(
+    py: Python<'py>,
+    scene: &Bound<'py, NativeScene>,
+    origins: &Bound<'py, PyAny>,
+    directions: &Bound<'py, PyAny>,
+    iterations: Vec<i64>,
+    precisions: Vec<String>,
+    reference_iterations: i64,
+    threads: Option<i64>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let base = scene.get();
+    let budgets = iterations
+        .iter()
+        .map(|&n| parse_budget(n, "iterations"))
+        .collect::<PyResult<Vec<_>>>()?;
+    let reference_budget = parse_budget(reference_iterations, "reference_iterations")?;
+    let precisions = precisions
+        .iter()
+        .map(|p| parse_precision(p))
+        .collect::<PyResult<Vec<_>>>()?;
+    if precisions.is_empty() {
+        return Err(PyValueError::new_err(
+            "precision must name f32, f64 or both",
+        ));
+    }
+    let threads = Threads::new(threads)?;
+    let o = Reals2::new(origins, "origins", 3, "(R, 3)")?;
+    let d = Reals2::new(directions, "directions", 3, "(R, 3)")?;
+    if o.len() != d.len() {
+        return Err(PyValueError::new_err(format!(
+            "origins has {} rows but directions has {}: one of each per ray",
+            o.len(),
+            d.len()
+        )));
+    }
+    let rays = RayBatch {
+        origins: o.view(),
+        directions: d.view(),
+        t_min: PerRay::All(0.0),
+        t_max: PerRay::All(f64::INFINITY),
+    };
+    let (own32, own64) = match &base.built {
+        Built::F32(s) => (Some(s), None),
+        Built::F64(s) => (None, Some(s)),
+    };
+    let need32 = precisions.contains(&"f32");
+    let made32 = if need32 {
+        scene_in::<f32>(py, base, own32, &threads)?
+    } else {
+        None
+    };
+    let made64 = scene_in::<f64>(py, base, own64, &threads)?;
+    let s32 = own32.or(made32.as_ref());
+    let s64 = own64
+        .or(made64.as_ref())
+        .ok_or_else(|| PyValueError::new_err("internal: no f64 scene"))?;
+    let (lo, hi) = base.mesh.bounds();
+    let diag = (hi - lo).length().max(f64::MIN_POSITIVE);
+    let reference: Vec<Option<(f64, DVec3)>> = py
+        .detach(|| trace_all(s64, &rays, reference_budget, &threads))?
+        .0
+        .iter()
+        .map(|r| r.map(|(t, p, _)| (t, p)))
+        .collect();
+    let mut rows = Vec::new();
+    for &budget in &budgets {
+        for &p in &precisions {
+            let (res, secs) = match (p, s32) {
+                ("f32", Some(s)) => py.detach(|| trace_all(s, &rays, budget, &threads))?,
+                _ => py.detach(|| trace_all(s64, &rays, budget, &threads))?,
+            };
+            rows.push(row_of(p, budget.get(), &res, secs, &reference, diag));
+        }
+    }
+    let out = PyDict::new(py);
+    let col = |f: &dyn Fn(&Row) -> f64| rows.iter().map(f).collect::<Vec<f64>>();
+    let icol = |f: &dyn Fn(&Row) -> usize| rows.iter().map(|r| f(r) as i64).collect::<Vec<i64>>();
+    out.set_item(
+        "precision",
+        rows.iter().map(|r| r.precision).collect::<Vec<_>>(),
+    )?;
+    out.set_item(
+        "iterations",
+        PyArray1::from_vec(py, icol(&|r| r.iterations)),
+    )?;
+    out.set_item("hits", PyArray1::from_vec(py, icol(&|r| r.hits)))?;
+    out.set_item("max_error", PyArray1::from_vec(py, col(&|r| r.max)))?;
+    out.set_item("p999_error", PyArray1::from_vec(py, col(&|r| r.p999)))?;
+    out.set_item("mean_error", PyArray1::from_vec(py, col(&|r| r.mean)))?;
+    out.set_item(
+        "mean_t_error",
+        PyArray1::from_vec(py, col(&|r| r.mean_t_error)),
+    )?;
+    out.set_item(
+        "bound_holds",
+        PyArray1::from_vec(py, col(&|r| r.bound_holds)),
+    )?;
+    out.set_item(
+        "disagreements",
+        PyArray1::from_vec(py, icol(&|r| r.disagreements)),
+    )?;
+    out.set_item("ns_per_ray", PyArray1::from_vec(py, col(&|r| r.ns_per_ray)))?;
+    out.set_item("rays", rays.len())?;
+    out.set_item("diagonal", diag)?;
+    out.set_item("reference_iterations", reference_budget.get())?;
+    out.set_item("threads", threads.count())?;
+    Ok(out)
+}
