@@ -169,13 +169,15 @@ impl<'py> Reals2<'py> {
             Reals2::F64(a) => a.as_array().ncols(),
         };
         match self {
-            Reals2::F32(a) => match a.as_slice() {
-                Ok(s) => Rows::F32Packed(s, cols),
-                Err(_) => Rows::F32(a.as_array()),
+            // `to_slice` is `Some` for C order only (numpy's `as_slice` would also take
+            // Fortran order, whose elements are not row after row).
+            Reals2::F32(a) => match a.as_array().to_slice() {
+                Some(s) => Rows::F32Packed(s, cols),
+                None => Rows::F32(a.as_array()),
             },
-            Reals2::F64(a) => match a.as_slice() {
-                Ok(s) => Rows::F64Packed(s, cols),
-                Err(_) => Rows::F64(a.as_array()),
+            Reals2::F64(a) => match a.as_array().to_slice() {
+                Some(s) => Rows::F64Packed(s, cols),
+                None => Rows::F64(a.as_array()),
             },
         }
     }
