@@ -131,9 +131,8 @@ pub fn build<F: Prec>(
 ) -> PyResult<OwnedScene<F>> {
     let built = py.detach(|| match threads {
         Threads::One => mesh.build_scene::<F, _, _>(&mut { *options }),
-        _ => threads.install(|| {
-            mesh.build_scene::<F, _, _>(&mut options.with_executor(RayonExecutor))
-        }),
+        _ => threads
+            .install(|| mesh.build_scene::<F, _, _>(&mut options.with_executor(RayonExecutor))),
     });
     built.map_err(|e| BuildError::new_err(e.to_string()))
 }
