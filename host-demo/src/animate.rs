@@ -189,13 +189,13 @@ pub fn scene_of_pose<F: Prec>(
     field: LineField,
     seams: bool,
 ) -> Result<Scene<F>> {
-    if let Some(mut scene) = previous {
-        if scene.update(mesh, field, seams).is_ok() {
-            if note.timing {
-                eprintln!("update ({}): {}", F::PRECISION, scene.timing_line());
-            }
-            return Ok(scene);
+    if let Some(mut scene) = previous
+        && scene.update(mesh, field, seams).is_ok()
+    {
+        if note.timing {
+            eprintln!("update ({}): {}", F::PRECISION, scene.timing_line());
         }
+        return Ok(scene);
     }
     build_scene::<F>(mesh, note, field, seams)
 }

@@ -139,6 +139,8 @@ class BuildReport:
         widest_gap: the widest such gap, in the mesh's length unit.
         seam_edges: shared edges whose seamless normals were fitted (``None`` without seams).
         bvh_nodes: BVH nodes.
+        bvh_refitted: whether the last :meth:`Scene.update` refitted the BVH's boxes (``False``
+            after a build, or where the update built the tree anew).
         memory_bytes: bytes the scene holds (patches, BVH, seams; not the input arrays).
     """
 
@@ -154,6 +156,7 @@ class BuildReport:
     widest_gap: float
     seam_edges: Optional[int]
     bvh_nodes: int
+    bvh_refitted: bool
     memory_bytes: int
 
 
@@ -310,6 +313,31 @@ class Scene:
         if self._report is None:
             self._report = BuildReport(**self._native.report)
         return self._report
+
+    def update(self, vertices: ArrayLike, normals: ArrayLike, *, threads: Optional[int] = None) -> None:
+        """Moves the scene to new vertex positions and normals in place (an animated mesh's
+        next pose): the same faces, the same number of vertices.
+
+        The patches, crack closure and seams afterwards equal those of a fresh
+        ``Scene(vertices, normals, faces, ...)`` bit for bit; the BVH's boxes are refitted (or
+        the tree rebuilt when a refit has grown too costly), so hits agree with a fresh
+        scene's within their ``t_error``. A triangle that degenerates is skipped until it is a
+        triangle again (counted in :attr:`report`). Queries running on other threads finish
+        first; the update waits for them.
+
+        Args:
+            vertices: ``(V, 3)`` positions, any real dtype; ``V`` as at the build.
+            normals: ``(V, 3)`` normals, any real dtype.
+            threads: threads for the update (``None``: every core); the same scene on any
+                number.
+
+        Raises:
+            ValueError: wrong shapes, another vertex count, non-finite values. The scene is
+                then unchanged.
+            TypeError: arrays that do not hold real numbers.
+        """
+        self._native.update(vertices, normals, threads=_threads(threads))
+        self._report = None
 
     def __repr__(self) -> str:
         r = self.report

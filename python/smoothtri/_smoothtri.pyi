@@ -35,7 +35,7 @@ precision."""
 FloatArray = npt.NDArray[np.floating[Any]]
 
 class NativeScene:
-    """The core's scene of a mesh in one precision; immutable, thread-safe."""
+    """The core's scene of a mesh in one precision; thread-safe, moved by ``update``."""
 
     def __init__(
         self,
@@ -60,6 +60,7 @@ class NativeScene:
     def triangle_count(self) -> int: ...
     @property
     def report(self) -> Dict[str, Any]: ...
+    def update(self, vertices: Any, normals: Any, *, threads: Optional[int] = None) -> None: ...
     def intersect(
         self,
         origins: Any,

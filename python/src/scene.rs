@@ -2,6 +2,8 @@
 //! batched queries. The Python class `smoothtri.Scene` wraps it (argument defaults, result
 //! types, docs).
 
+use std::sync::{RwLock, RwLockReadGuard};
+
 use glam::DVec3;
 use numpy::{PyArray1, PyArray2};
 use pyo3::exceptions::PyValueError;
@@ -26,17 +28,36 @@ pub enum Built {
     F64(OwnedScene<f64>),
 }
 
-/// A scene built from numpy arrays (`smoothtri.Scene` wraps it). Immutable; its queries
-/// release the GIL and may run from several Python threads at once.
-#[pyclass(frozen, module = "smoothtri._smoothtri")]
-pub struct NativeScene {
+/// A scene and the mesh of its current pose.
+pub struct Posed {
     /// The scene.
     pub built: Built,
-    /// The mesh it was built from (`f64`, as given): the precision study rebuilds it in the
-    /// other precision.
+    /// The mesh it was built from or last updated to (`f64`, as given): the precision study
+    /// rebuilds it in the other precision.
     pub mesh: Mesh,
+}
+
+/// A scene built from numpy arrays (`smoothtri.Scene` wraps it). Its queries release the GIL
+/// and may run from several Python threads at once; `update` moves it to a new pose, waiting
+/// for the queries in flight (it takes the lock only with the GIL released, so a query
+/// holding the lock can always finish).
+#[pyclass(frozen, module = "smoothtri._smoothtri")]
+pub struct NativeScene {
+    /// The scene and its pose.
+    posed: RwLock<Posed>,
     /// The options it was built with.
     pub options: BuildOptions,
+    /// Triangles given (fixed: updates keep the index buffer).
+    triangles: usize,
+}
+
+impl NativeScene {
+    /// The scene and its pose, for reading.
+    pub fn read(&self) -> PyResult<RwLockReadGuard<'_, Posed>> {
+        self.posed
+            .read()
+            .map_err(|_| PyValueError::new_err("internal: an update of this scene panicked"))
+    }
 }
 
 /// `precision=` as the core's choice.
@@ -135,6 +156,22 @@ pub fn build<F: Prec>(
             .install(|| mesh.build_scene::<F, _, _>(&mut options.with_executor(RayonExecutor))),
     });
     built.map_err(|e| BuildError::new_err(e.to_string()))
+}
+
+/// [`OwnedScene::update`] of `scene` to `mesh`'s vertices on `threads`.
+fn update_in<F: Prec>(
+    mesh: &Mesh,
+    scene: &mut OwnedScene<F>,
+    options: BuildOptions,
+    threads: &Threads,
+) -> Result<(), smoothtri::BuildError> {
+    match threads {
+        Threads::One => mesh.update_scene(scene, &mut { options }).map(drop),
+        _ => threads.install(|| {
+            mesh.update_scene(scene, &mut options.with_executor(RayonExecutor))
+                .map(drop)
+        }),
+    }
 }
 
 /// A bad input of a batch as the Python exception.
@@ -391,18 +428,74 @@ impl NativeScene {
             _ => Built::F64(build::<f64>(py, &mesh, &options, &threads)?),
         };
         Ok(NativeScene {
-            built,
-            mesh,
+            triangles: mesh.triangles.len(),
+            posed: RwLock::new(Posed { built, mesh }),
             options,
+        })
+    }
+
+    /// Moves the scene to new vertex positions and normals (the same faces): the core's
+    /// update in place, equal to a fresh build of them.
+    #[pyo3(signature = (vertices, normals, *, threads = None))]
+    fn update<'py>(
+        &self,
+        py: Python<'py>,
+        vertices: &Bound<'py, PyAny>,
+        normals: &Bound<'py, PyAny>,
+        threads: Option<i64>,
+    ) -> PyResult<()> {
+        let v = Reals2::new(vertices, "vertices", 3, "(V, 3)")?;
+        let n = Reals2::new(normals, "normals", 3, "(V, 3)")?;
+        if v.len() != n.len() {
+            return Err(PyValueError::new_err(format!(
+                "normals has {} rows but vertices has {}: one normal per vertex",
+                n.len(),
+                v.len()
+            )));
+        }
+        let positions = vectors(&v, "vertices")?;
+        let normals = vectors(&n, "normals")?;
+        let threads = Threads::new(threads)?;
+        let options = self.options;
+        py.detach(|| {
+            let mut posed = self.posed.write().map_err(|_| {
+                PyValueError::new_err("internal: an update of this scene panicked")
+            })?;
+            let count = posed.mesh.positions.len();
+            if positions.len() != count {
+                return Err(PyValueError::new_err(format!(
+                    "vertices has {} rows but the scene was built from {count}: an update keeps the vertices and faces",
+                    positions.len()
+                )));
+            }
+            let moved = Mesh {
+                positions,
+                normals,
+                triangles: core::mem::take(&mut posed.mesh.triangles),
+            };
+            let result = match &mut posed.built {
+                Built::F32(s) => update_in(&moved, s, options, &threads),
+                Built::F64(s) => update_in(&moved, s, options, &threads),
+            };
+            match result {
+                Ok(()) => {
+                    posed.mesh = moved;
+                    Ok(())
+                }
+                Err(e) => {
+                    posed.mesh.triangles = moved.triangles;
+                    Err(BuildError::new_err(e.to_string()))
+                }
+            }
         })
     }
 
     /// `"f32"` or `"f64"`.
     #[getter]
     fn precision(&self) -> &'static str {
-        match self.built {
-            Built::F32(_) => "f32",
-            Built::F64(_) => "f64",
+        match self.read().map(|p| matches!(p.built, Built::F32(_))) {
+            Ok(false) => "f64",
+            _ => "f32",
         }
     }
 
@@ -423,20 +516,20 @@ impl NativeScene {
 
     /// The number of vertices given.
     #[getter]
-    fn vertex_count(&self) -> usize {
-        self.mesh.positions.len()
+    fn vertex_count(&self) -> PyResult<usize> {
+        Ok(self.read()?.mesh.positions.len())
     }
 
     /// The number of triangles given.
     #[getter]
     fn triangle_count(&self) -> usize {
-        self.mesh.triangles.len()
+        self.triangles
     }
 
     /// What the build did, as a dict (see `smoothtri.BuildReport`).
     #[getter]
     fn report<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let (r, memory) = match &self.built {
+        let (r, memory) = match &self.read()?.built {
             Built::F32(s) => (*s.scene().report(), s.scene().memory_bytes()),
             Built::F64(s) => (*s.scene().report(), s.scene().memory_bytes()),
         };
@@ -463,6 +556,7 @@ impl NativeScene {
         d.set_item("widest_gap", r.cracks.widest_gap)?;
         d.set_item("seam_edges", r.seam_edges)?;
         d.set_item("bvh_nodes", r.bvh_nodes)?;
+        d.set_item("bvh_refitted", r.bvh_refitted)?;
         d.set_item("memory_bytes", memory)?;
         Ok(d)
     }
@@ -484,7 +578,7 @@ impl NativeScene {
         let budget = parse_budget(iterations, "iterations")?;
         let args = ray_args(py, origins, directions, t_min, t_max)?;
         let threads = Threads::new(threads)?;
-        match &self.built {
+        match &self.read()?.built {
             Built::F32(s) => intersect_in(py, s, &args, budget, &threads, out),
             Built::F64(s) => intersect_in(py, s, &args, budget, &threads, out),
         }
@@ -507,7 +601,7 @@ impl NativeScene {
         let budget = parse_budget(iterations, "iterations")?;
         let args = ray_args(py, origins, directions, t_min, t_max)?;
         let threads = Threads::new(threads)?;
-        match &self.built {
+        match &self.read()?.built {
             Built::F32(s) => occluded_in(py, s, &args, budget, &threads, out),
             Built::F64(s) => occluded_in(py, s, &args, budget, &threads, out),
         }
@@ -523,7 +617,7 @@ impl NativeScene {
         threads: Option<i64>,
         out: Option<&Bound<'py, PyTuple>>,
     ) -> PyResult<Bound<'py, PyTuple>> {
-        let f = self.mesh.triangles.len();
+        let f = self.triangles;
         let triangles = arrays::indices(
             triangles,
             "triangles",
@@ -542,7 +636,7 @@ impl NativeScene {
             )));
         }
         let threads = Threads::new(threads)?;
-        match &self.built {
+        match &self.read()?.built {
             Built::F32(s) => evaluate_in(py, s, &triangles, &bary, &threads, out),
             Built::F64(s) => evaluate_in(py, s, &triangles, &bary, &threads, out),
         }

@@ -14,6 +14,7 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use smoothtri::{BuildOptions, OwnedScene};
+use smoothtri_io::Mesh;
 
 use crate::arrays::{PerRay, Reals2};
 use crate::batch::{FirstBad, Threads};
@@ -127,6 +128,7 @@ fn row_of(
 fn scene_in<F: Prec>(
     py: Python<'_>,
     base: &NativeScene,
+    mesh: &Mesh,
     own: Option<&OwnedScene<F>>,
     threads: &Threads,
 ) -> PyResult<Option<OwnedScene<F>>> {
@@ -137,7 +139,7 @@ fn scene_in<F: Prec>(
         seams: false,
         ..base.options
     };
-    build::<F>(py, &base.mesh, &options, threads).map(Some)
+    build::<F>(py, mesh, &options, threads).map(Some)
 }
 
 /// `smoothtri.precision_sweep`: the study as a dict of columns.
@@ -185,22 +187,23 @@ pub fn precision_sweep<'py>(
         t_min: PerRay::All(0.0),
         t_max: PerRay::All(f64::INFINITY),
     };
-    let (own32, own64) = match &base.built {
+    let posed = base.read()?;
+    let (own32, own64) = match &posed.built {
         Built::F32(s) => (Some(s), None),
         Built::F64(s) => (None, Some(s)),
     };
     let need32 = precisions.contains(&"f32");
     let made32 = if need32 {
-        scene_in::<f32>(py, base, own32, &threads)?
+        scene_in::<f32>(py, base, &posed.mesh, own32, &threads)?
     } else {
         None
     };
-    let made64 = scene_in::<f64>(py, base, own64, &threads)?;
+    let made64 = scene_in::<f64>(py, base, &posed.mesh, own64, &threads)?;
     let s32 = own32.or(made32.as_ref());
     let s64 = own64
         .or(made64.as_ref())
         .ok_or_else(|| PyValueError::new_err("internal: no f64 scene"))?;
-    let (lo, hi) = base.mesh.bounds();
+    let (lo, hi) = posed.mesh.bounds();
     let diag = (hi - lo).length().max(f64::MIN_POSITIVE);
     let reference: Vec<Option<(f64, DVec3)>> = py
         .detach(|| trace_all(s64, &rays, reference_budget, &threads))?
