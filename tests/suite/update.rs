@@ -470,3 +470,47 @@ fn parallel_and_caller_storage_updates_are_bit_identical() {
     assert_eq!(a.bvh().nodes(), b.bvh().nodes());
     assert_eq!(dynamic.report(), a.report());
 }
+
+/// The animated files of `assimp-testmodels` (skinned, morphed), posed at several times of
+/// their first clip and updated in place: each pose equals a fresh build of it.
+#[test]
+fn animated_files_update_as_fresh_builds() {
+    let Some(root) = smoothtri_testkit::assimp_models().unwrap() else {
+        return;
+    };
+    for file in [
+        "glTF2/simple_skin/simple_skin.gltf",
+        "glTF2/glTF-Sample-Models/AnimatedMorphCube-glTF/AnimatedMorphCube.gltf",
+    ] {
+        let path = root.join(file);
+        let mut anim = smoothtri_io::load_animated(path.to_str().unwrap())
+            .unwrap_or_else(|e| panic!("{file}: {e}"));
+        let duration = anim.clips().first().map_or(0.0, |c| c.duration);
+        assert!(duration > 0.0, "{file}: no animation");
+        let rest = anim.posed_mesh(None, 0.0).unwrap();
+        for seams in [false, true] {
+            let mut options = BuildOptions {
+                seams,
+                ..BuildOptions::default()
+            };
+            let mut scene = owned::<f32>(&rest, &mut options);
+            for k in 1u32..=5 {
+                let t = duration * f64::from(k) / 5.0;
+                let frame = anim.posed_mesh(Some(0), t).unwrap();
+                update(&mut scene, &frame, &mut options).unwrap();
+                let fresh = owned::<f32>(&frame, &mut options);
+                let label = format!("{file} seams={seams} t={t:.2}");
+                same_build(&label, &scene.scene(), &fresh.scene());
+                assert!(
+                    same_hits(
+                        &label,
+                        &scene.scene(),
+                        &fresh.scene(),
+                        &rays(&frame, 300, u64::from(k))
+                    ) > 10,
+                    "{label}: too few hits to compare"
+                );
+            }
+        }
+    }
+}
