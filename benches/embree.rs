@@ -41,6 +41,7 @@ mod common;
 mod ffi;
 
 use common::{FlatBvh, cpu_name, flat_torus_matching};
+use ffi::embree_hit;
 
 /// `smoothtri render`'s defaults: image size, view (azimuth, elevation), iterations.
 const WIDTH: u32 = 640;
@@ -250,43 +251,6 @@ fn flat_table(n: usize, rays: &[Ray], embree_reps: usize) {
         embree_same / ours_flat.mrays
     );
     println!("| Embree flat {n}×{n}, Phong normals, rtcIntersect1 | {embree_same:.3} | 1.00× |");
-}
-
-/// The Embree ray of `r` (`tnear` 0, `tfar` f32::MAX as smoothtri's query), no hit yet.
-fn rtc_ray(r: &Ray) -> ffi::RTCRayHit {
-    let mut rh = ffi::RTCRayHit::default();
-    rh.ray.org_x = r.origin.x;
-    rh.ray.org_y = r.origin.y;
-    rh.ray.org_z = r.origin.z;
-    rh.ray.dir_x = r.dir.x;
-    rh.ray.dir_y = r.dir.y;
-    rh.ray.dir_z = r.dir.z;
-    rh.ray.tnear = 0.0;
-    rh.ray.tfar = f32::MAX;
-    rh.ray.mask = u32::MAX;
-    rh.hit.geom_id = ffi::RTC_INVALID_GEOMETRY_ID;
-    rh.hit.inst_id = [ffi::RTC_INVALID_GEOMETRY_ID];
-    rh
-}
-
-/// Closest hit of `r` on the Embree scene with its interpolated (Phong) unit normal.
-#[inline]
-fn embree_hit(
-    scene: &ffi::Scene<'_>,
-    ctx: &mut ffi::RTCIntersectContext,
-    indices: &[[u32; 3]],
-    normals: &[Vec3],
-    r: &Ray,
-) -> Option<(f32, Vec3)> {
-    let mut rh = rtc_ray(r);
-    scene.intersect1(ctx, &mut rh);
-    if rh.hit.geom_id == ffi::RTC_INVALID_GEOMETRY_ID {
-        return None;
-    }
-    let [a, b, c] = indices[rh.hit.prim_id as usize].map(|i| normals[i as usize]);
-    let (u, v) = (rh.hit.u, rh.hit.v);
-    let n = (a * (1.0 - u - v) + b * u + c * v).normalize();
-    Some((rh.ray.tfar, n))
 }
 
 /// The Embree row of the flat `n`×`n` torus; `equal` marks the grid of equal max error.

@@ -218,7 +218,7 @@ fn run_case(name: &str, reps: usize) -> usize {
                     Vertices::packed(black_box(&p)),
                     Vertices::packed(&n),
                     &m.triangles,
-                    &options,
+                    &mut { options },
                 );
                 patches += s.map(|s| s.scene().report().patches).unwrap_or(0);
             }
@@ -240,7 +240,7 @@ fn run_case(name: &str, reps: usize) -> usize {
                 Vertices::packed(&p),
                 Vertices::packed(&n),
                 &m.triangles,
-                &options,
+                &mut { options },
             ) else {
                 return 0;
             };

@@ -344,21 +344,16 @@ fn bench_build(c: &mut Criterion) {
         let options = BuildOptions {
             field: LineField::Face,
             seams,
+            ..BuildOptions::default()
         };
         let label = if seams { "seams" } else { "no_seams" };
         let build = |threads: bool| {
             let (pv, nv) = (Vertices::packed(&p), Vertices::packed(&n));
             let s = if threads {
-                OwnedScene::<f32>::build_parallel(
-                    pv,
-                    nv,
-                    &m.triangles,
-                    &options,
-                    &mut (),
-                    &smoothtri_testkit::RayonExecutor,
-                )
+                let mut pool = options.with_executor(smoothtri_testkit::RayonExecutor);
+                OwnedScene::<f32>::build(pv, nv, &m.triangles, &mut pool)
             } else {
-                OwnedScene::<f32>::build(pv, nv, &m.triangles, &options)
+                OwnedScene::<f32>::build(pv, nv, &m.triangles, &mut { options })
             };
             s.map(|s| s.scene().report().patches).unwrap_or(0)
         };

@@ -3,6 +3,9 @@
 //! of one triangle mesh, closest hits. All of the bench's `unsafe` is in this module.
 
 use std::ffi::{CStr, c_char, c_void};
+
+use glam::Vec3;
+use smoothtri::Ray;
 use std::sync::atomic::{AtomicI64, Ordering};
 
 type RTCDevice = *mut c_void;
@@ -258,4 +261,41 @@ impl Drop for Scene<'_> {
         // SAFETY: the scene is live and released once.
         unsafe { rtcReleaseScene(self.raw) };
     }
+}
+
+/// The Embree ray of `r` (`tnear` 0, `tfar` f32::MAX as smoothtri's query), no hit yet.
+pub fn rtc_ray(r: &Ray) -> RTCRayHit {
+    let mut rh = RTCRayHit::default();
+    rh.ray.org_x = r.origin.x;
+    rh.ray.org_y = r.origin.y;
+    rh.ray.org_z = r.origin.z;
+    rh.ray.dir_x = r.dir.x;
+    rh.ray.dir_y = r.dir.y;
+    rh.ray.dir_z = r.dir.z;
+    rh.ray.tnear = 0.0;
+    rh.ray.tfar = f32::MAX;
+    rh.ray.mask = u32::MAX;
+    rh.hit.geom_id = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.inst_id = [RTC_INVALID_GEOMETRY_ID];
+    rh
+}
+
+/// Closest hit of `r` on the Embree scene with its interpolated (Phong) unit normal.
+#[inline]
+pub fn embree_hit(
+    scene: &Scene<'_>,
+    ctx: &mut RTCIntersectContext,
+    indices: &[[u32; 3]],
+    normals: &[Vec3],
+    r: &Ray,
+) -> Option<(f32, Vec3)> {
+    let mut rh = rtc_ray(r);
+    scene.intersect1(ctx, &mut rh);
+    if rh.hit.geom_id == RTC_INVALID_GEOMETRY_ID {
+        return None;
+    }
+    let [a, b, c] = indices[rh.hit.prim_id as usize].map(|i| normals[i as usize]);
+    let (u, v) = (rh.hit.u, rh.hit.v);
+    let n = (a * (1.0 - u - v) + b * u + c * v).normalize();
+    Some((rh.ray.tfar, n))
 }

@@ -99,6 +99,7 @@ fn options(flags: u32) -> Option<BuildOptions> {
             LineField::Face
         },
         seams: flags & ST_BUILD_SEAMS != 0,
+        ..BuildOptions::default()
     })
 }
 
@@ -383,7 +384,8 @@ pub(crate) unsafe fn build_into<F: Prec>(
         // `layout_bytes` counts every part with its padding, so this cannot happen.
         return ST_ERROR_INTERNAL;
     };
-    let scene = match Scene::build(positions, normals, indices, &options, storage) {
+    let mut options = options;
+    let scene = match Scene::build(positions, normals, indices, &mut options, storage) {
         Ok(scene) => scene,
         Err(e) => return status_of(e),
     };

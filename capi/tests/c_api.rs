@@ -108,6 +108,7 @@ fn check_scene_test(flags: u32, iterations: u32, rays: usize, memcheck: bool) {
         } else {
             LineField::Face
         },
+        ..BuildOptions::default()
     };
     let mut mesh = Mesh::default();
     let mut scene32: Option<OwnedScene<f32>> = None;
@@ -142,7 +143,7 @@ fn check_scene_test(flags: u32, iterations: u32, rays: usize, memcheck: bool) {
                         Vertices::packed(&p),
                         Vertices::packed(&n),
                         &mesh.indices,
-                        &options,
+                        &mut { options },
                     )
                     .unwrap();
                     let r = *s.scene().report();
@@ -154,7 +155,7 @@ fn check_scene_test(flags: u32, iterations: u32, rays: usize, memcheck: bool) {
                         Vertices::packed(&mesh.positions),
                         Vertices::packed(&mesh.normals),
                         &mesh.indices,
-                        &options,
+                        &mut { options },
                     )
                     .unwrap();
                     let r = *s.scene().report();

@@ -90,6 +90,12 @@ impl<F: Float> Aabb<F> {
         (self.lo + self.hi) * F::from_f64(0.5)
     }
 
+    /// Whether the box holds no point: `min > max` on some axis, or a corner is NaN.
+    #[inline(always)]
+    pub(crate) fn is_empty(&self) -> bool {
+        !(self.lo.x <= self.hi.x && self.lo.y <= self.hi.y && self.lo.z <= self.hi.z)
+    }
+
     /// Half the surface area, `xy + yz + zx` of the extents (0 for the empty box): the SAH's
     /// measure of how likely a random ray is to enter the box.
     #[inline(always)]

@@ -41,7 +41,7 @@ pub struct PatchData<F: Float> {
     /// World bounding box of the shell: maximum corner.
     pub bbox_max: [F; 3],
     /// How far each side wall `Xk = 0` (`k` the opposite vertex) reaches beyond the kernel's
-    /// rounding margin, in barycentric units ([`close_cracks`](crate::mesh::cracks::close_cracks);
+    /// rounding margin, in barycentric units ([`close_cracks`](crate::mesh::close_cracks);
     /// zeros unless measured).
     pub reach: [F; 3],
     /// The band's fit `[c0, c1, c2]`: `q(β) = c0·β1β2 + c1·β2β0 + c2·β0β1` over the
@@ -236,7 +236,7 @@ pub struct Patch<F: Float = f32> {
     pub(crate) remedy: u8,
     /// How far each side wall `Xk = 0` (`k` the opposite vertex) is moved outward beyond the
     /// kernel's rounding margin, in barycentric units: 0 unless
-    /// [`close_cracks`](crate::mesh::cracks::close_cracks) measured a gap to the neighbour there.
+    /// [`close_cracks`](crate::mesh::close_cracks) measured a gap to the neighbour there.
     pub(crate) reach: [F; 3],
     /// The band that culls rays before sampling ([`crate::surface::band`]).
     pub(crate) band: Band<F>,

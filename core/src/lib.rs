@@ -49,7 +49,7 @@
 //! // The upper half of an octahedron with radial normals (exactly the unit sphere), packed.
 //! let p = [1.0f32, 0.0, 0.0, 0.0, 1.0, 0.0, -1.0, 0.0, 0.0, 0.0, -1.0, 0.0, 0.0, 0.0, 1.0];
 //! let ib = [[0u32, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4]];
-//! let options = BuildOptions::default(); // the paper's line field, no seams
+//! let mut options = BuildOptions::default(); // the paper's line field, no seams
 //! let n = SceneSizes::new(5, 4, &options).unwrap();
 //! assert_eq!((n.patches, n.nodes, n.edges, n.seams, n.vertices), (4, 3, 12, 0, 0));
 //! assert_eq!(n.edge_work, 6); // one block: at most 12 / 2 shared edges
@@ -66,7 +66,7 @@
 //!     vertex_clamps: &mut [],
 //! };
 //! let (pos, nrm) = (Vertices::packed(&p), Vertices::packed(&p));
-//! let scene = Scene::build(pos, nrm, &ib, &options, storage).unwrap();
+//! let scene = Scene::build(pos, nrm, &ib, &mut options, storage).unwrap();
 //! let hit = scene.closest_hit(&Ray::new(Vec3::splat(2.0), -Vec3::ONE), 0.0, f32::INFINITY, 4);
 //! let hit = hit.unwrap();
 //! assert!((hit.hit.point.length() - 1.0).abs() < 2e-6); // the method reproduces spheres
@@ -108,6 +108,7 @@ mod aabb;
 pub mod accuracy;
 mod bvh;
 mod error;
+mod exec;
 mod geometry;
 mod kernel;
 pub mod mesh;
@@ -133,8 +134,8 @@ pub use kernel::{
 #[cfg(feature = "alloc")]
 pub use mesh::OwnedScene;
 pub use mesh::{
-    BuildError, BuildObserver, BuildOptions, BuildReport, BuildStage, EdgeWork, Executor,
-    Rejections, Scene, SceneHit, SceneSizes, SceneStorage, Vertices,
+    BuildError, BuildObserver, BuildOptions, BuildReport, BuildStage, DynamicScene, EdgeWork,
+    Executor, OnRejected, Rejections, Scene, SceneHit, SceneSizes, SceneStorage, Vertices,
 };
 #[cfg(feature = "micromath")]
 pub use num::fast::FastF32;

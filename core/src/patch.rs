@@ -39,6 +39,10 @@ pub const NORMAL_CLAMP_DEG: [f64; 6] = [75.0, 60.0, 45.0, 30.0, 15.0, 0.0];
 /// A [`Patch`] in `f64`: the reference precision.
 pub type DPatch = Patch<f64>;
 
+/// The bit of `Patch::remedy` that marks a placeholder ([`Patch::rejected`]); the low bits then
+/// hold the reason.
+const REJECTED: u8 = 0x80;
+
 impl<F: Float> Patch<F> {
     /// Builds the patch of triangle `p` with vertex normals `n`.
     ///
@@ -227,7 +231,7 @@ impl<F: Float> Patch<F> {
 
     /// [`Patch::new_or_tilted`] on the line field `field` ([`Patch::with_field`]). The clamp
     /// acts on this patch's normals only, so a clamped patch no longer shares its edges'
-    /// lines with its neighbours ([`crate::mesh::cracks::close_cracks`] closes what parts).
+    /// lines with its neighbours ([`crate::mesh::close_cracks`] closes what parts).
     ///
     /// Work is bounded: at most 7 constructions.
     /// # Accuracy
@@ -284,8 +288,12 @@ impl<F: Float> Patch<F> {
     }
 
     /// Sets the walls' reach ([`Patch::reach`]) and the bounding box that follows from it (the
-    /// box always holds the shell as widened).
+    /// box always holds the shell as widened). A placeholder ([`Patch::rejected`]) keeps its
+    /// empty box and no reach.
     pub(crate) fn set_reach(&mut self, reach: [F; 3]) {
+        if self.remedy & REJECTED != 0 {
+            return;
+        }
         self.reach = reach;
         self.bbox = shell::aabb(&self.shape, self.sigma, &self.frame, reach);
     }
@@ -530,7 +538,7 @@ impl<F: Float> Patch<F> {
 
     /// Axis-aligned bounding box of the patch's shell in world coordinates: the box
     /// of its six corners `Pi + σmin·di`, `Pi + σmax·di` (with the side walls moved out by the
-    /// reach that [`close_cracks`](crate::mesh::cracks::close_cracks) set, if any). Every surface
+    /// reach that [`close_cracks`](crate::mesh::close_cracks) set, if any). Every surface
     /// point lies inside.
     ///
     /// # Accuracy
@@ -539,6 +547,44 @@ impl<F: Float> Patch<F> {
     /// Never.
     pub fn bounds(&self) -> Aabb<F> {
         self.bbox
+    }
+
+    /// The placeholder a scene keeps in the slot of a triangle it rejected for `why` (so that
+    /// a mesh's layout does not depend on its data, for updates): an empty box that no ray
+    /// enters, no surface, and the reason, [`Patch::rejected`].
+    pub(crate) fn placeholder(why: PatchError) -> Self {
+        let code = match why {
+            PatchError::NonFinite => 1,
+            PatchError::DegenerateTriangle => 2,
+            PatchError::ZeroNormal { vertex } => 3 + vertex.min(2),
+            PatchError::BackFacingNormal { vertex } => 6 + vertex.min(2),
+            PatchError::InvalidShell => 9,
+            PatchError::OutOfRange => 10,
+        };
+        Patch {
+            remedy: REJECTED | code,
+            ..Patch::default()
+        }
+    }
+
+    /// Why the scene builder left this slot empty: `Some` for the placeholder of a rejected
+    /// triangle (an empty box, no surface: no ray reaches it, and its evaluations are
+    /// meaningless), `None` for a patch.
+    ///
+    /// # Panics
+    /// Never.
+    pub fn rejected(&self) -> Option<PatchError> {
+        if self.remedy & REJECTED == 0 {
+            return None;
+        }
+        Some(match self.remedy & !REJECTED {
+            1 => PatchError::NonFinite,
+            2 => PatchError::DegenerateTriangle,
+            c @ 3..=5 => PatchError::ZeroNormal { vertex: c - 3 },
+            c @ 6..=8 => PatchError::BackFacingNormal { vertex: c - 6 },
+            9 => PatchError::InvalidShell,
+            _ => PatchError::OutOfRange,
+        })
     }
 
     /// The stored geometry as plain arrays (see [`PatchData`] for each field's meaning and

@@ -174,7 +174,7 @@ impl GpuScene {
 /// The 8 floats of one ray as the shader reads them: `origin, t_min, dir, t_max`. Rays the CPU
 /// rejects are marked with `t_min > t_max` (and zeroed); infinite bounds become ±`f32::MAX`
 /// (the same intervals: every box is finite).
-fn upload_ray(r: &Ray<f32>, t_min: f32, t_max: f32) -> [f32; 8] {
+pub(crate) fn upload_ray(r: &Ray<f32>, t_min: f32, t_max: f32) -> [f32; 8] {
     let (o, d) = (r.origin, r.dir);
     let valid = o.is_finite()
         && d.is_finite()

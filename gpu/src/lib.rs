@@ -57,6 +57,7 @@
 mod device;
 mod dispatch;
 mod error;
+mod flat_tris;
 mod frame;
 mod query;
 mod records;
@@ -65,6 +66,7 @@ mod shader;
 
 pub use device::Gpu;
 pub use error::GpuError;
+pub use flat_tris::{FLAT_SHADER, FlatHit, FlatScene};
 pub use frame::{FramePixel, FrameStats, FrameView, GpuFrame, GpuSurface};
 pub use records::{GpuNode, flat_record, seam_record, smooth_record};
 pub use scene::{GpuScene, SceneKind};

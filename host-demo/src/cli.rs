@@ -96,6 +96,10 @@ struct RenderArgs {
     /// Also print the scene build's time per step (vertex normals, patches, cracks, seams, BVH).
     #[arg(long)]
     verbose: bool,
+    /// A shadow-terminator fix for --mode phong: hanika (shadow-ray origin offset) or chiang
+    /// (shadowing term).
+    #[arg(long, value_enum)]
+    terminator: Option<crate::peers::TerminatorFix>,
 }
 
 /// What `render` and `view` share: the kernel, the frame and the camera (`view` starts from
@@ -176,6 +180,10 @@ struct TraceArgs {
     /// Rays CSV with header ox,oy,oz,dx,dy,dz (`-` for stdin).
     #[arg(long)]
     rays: String,
+    /// The surface: smooth (the patches), or the peers phong-tess and nagata (w1,w2 then the
+    /// barycentrics on that patch, t_error 0).
+    #[arg(long, value_enum, default_value = "smooth")]
+    mode: Mode,
     /// Refinement steps, eight evaluations each (0..=40).
     #[arg(long, default_value_t = 4)]
     iterations: usize,
@@ -290,6 +298,7 @@ pub fn run(cli: Cli) -> Result<()> {
             normals: a.shot.normals,
             field: a.shot.field.into(),
             verbose: a.verbose,
+            terminator: a.terminator,
         }),
         Cmd::View(a) => commands::view::run(ViewOptions {
             source: a.src.into(),
@@ -322,6 +331,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Cmd::Trace(a) => commands::trace::run(TraceOptions {
             source: a.src.into(),
             rays: a.rays,
+            mode: a.mode,
             iterations: a.iterations,
             precision: a.precision,
             field: a.field.into(),

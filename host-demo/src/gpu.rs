@@ -39,6 +39,12 @@ pub fn gpu_scene(gpu: &Arc<Gpu>, scene: &Scene<f32>, mode: Mode) -> Result<GpuSc
         Mode::Smooth => GpuScene::smooth(gpu, &bvh),
         Mode::Flat => GpuScene::flat(gpu, &bvh),
         Mode::Phong => GpuScene::phong(gpu, &bvh),
+        Mode::PhongTess | Mode::Nagata => {
+            return Err(DemoError::Usage(format!(
+                "--gpu does not trace --mode {}",
+                mode.name()
+            )));
+        }
     }
     .map_err(gpu_error)
 }

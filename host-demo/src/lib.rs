@@ -17,6 +17,7 @@ pub mod csvio;
 pub mod error;
 pub mod gpu;
 pub mod image;
+pub mod peers;
 pub mod renderer;
 pub mod tessellate;
 pub mod tracer;

@@ -221,7 +221,14 @@ impl Builder {
 /// The level of each patch of `scene` for `level`, and how many hit the cap.
 fn patch_levels<F: Prec>(scene: &Scene<F>, level: Level) -> (Vec<u32>, usize) {
     match level {
-        Level::Uniform(l) => (vec![l.max(1); scene.patches().len()], 0),
+        Level::Uniform(l) => (
+            scene
+                .patches()
+                .iter()
+                .map(|p| if p.rejected().is_some() { 0 } else { l.max(1) })
+                .collect(),
+            0,
+        ),
         Level::MaxError {
             max_error,
             max_level,
@@ -230,6 +237,9 @@ fn patch_levels<F: Prec>(scene: &Scene<F>, level: Level) -> (Vec<u32>, usize) {
                 .patches()
                 .par_iter()
                 .map(|p| {
+                    if p.rejected().is_some() {
+                        return (0, false);
+                    }
                     let mut l = 1;
                     loop {
                         if patch_error(p, l) <= max_error {
@@ -265,6 +275,9 @@ pub fn tessellate<F: Prec>(mesh: &Mesh, level: Level) -> Result<(Tessellation, S
     let edge_key = |a: u32, b: u32| (a.min(b), a.max(b));
     let mut edge_level: HashMap<(u32, u32), (u32, u32)> = HashMap::new();
     for (pi, &l) in levels.iter().enumerate() {
+        if l == 0 {
+            continue;
+        }
         let t = tri_of(pi);
         for e in 0..3 {
             let slot = edge_level
@@ -283,6 +296,10 @@ pub fn tessellate<F: Prec>(mesh: &Mesh, level: Level) -> Result<(Tessellation, S
     for (pi, patch) in scene.patches().iter().enumerate() {
         let t = tri_of(pi);
         let l = levels[pi];
+        // A placeholder (a rejected triangle) has no surface to sample.
+        if l == 0 {
+            continue;
+        }
         let eval = |w1: f64, w2: f64| {
             let (p, n) = patch.point_normal(F::from_f64(w1), F::from_f64(w2));
             (F::d(p), F::d(n))
@@ -568,6 +585,7 @@ pub fn surface_distance_to<F: Prec>(scene: &Scene<F>, dist: impl Fn(DVec3) -> f6
     scene
         .patches()
         .par_iter()
+        .filter(|p| p.rejected().is_none())
         .map(|p| {
             let mut worst = 0.0f64;
             for i in 0..=K {

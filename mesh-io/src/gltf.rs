@@ -49,6 +49,13 @@ pub fn load(path: &str) -> Result<LoadedMesh> {
 /// the mesh, the primitive and the nodes that draw it. Errors name the node, mesh, primitive and
 /// accessor.
 pub fn parse(bytes: &[u8], path: &str) -> Result<LoadedMesh> {
+    let (doc, buffers) = open(bytes, path)?;
+    let w = walk(&doc, &buffers, path)?;
+    Ok(w.builder.into_loaded(w.warnings))
+}
+
+/// The validated document of a glTF or GLB file and the bytes of its buffers (see [`parse`]).
+pub(crate) fn open(bytes: &[u8], path: &str) -> Result<(::gltf::Document, Vec<Vec<u8>>)> {
     let is_glb = bytes.starts_with(&glb::MAGIC)
         || Path::new(path)
             .extension()
@@ -68,8 +75,37 @@ pub fn parse(bytes: &[u8], path: &str) -> Result<LoadedMesh> {
     }
     let doc = document(json).map_err(|e| Error::format(path, format!("malformed glTF: {e}")))?;
     let buffers = buffers(&doc, blob, path)?;
+    Ok((doc, buffers))
+}
+
+/// One primitive of one mesh placement as [`walk`] added it to the builder: its vertices are
+/// the builder's positions `first..first + count`, in the primitive's vertex order.
+pub(crate) struct Placement {
+    /// The node that draws it (`None` for a file without nodes).
+    pub node: Option<usize>,
+    /// The mesh and the primitive.
+    pub mesh: usize,
+    /// The primitive's index in its mesh.
+    pub prim: usize,
+    /// The first builder position of its vertices.
+    pub first: usize,
+}
+
+/// What [`walk`] read: the corners of every drawn triangle, the warnings, where each
+/// primitive placement's vertices went, the decoded primitives by mesh, and the nodes in the
+/// order the walk visited them with their parents.
+pub(crate) struct Walk {
+    pub builder: Builder,
+    pub warnings: Vec<String>,
+    pub placements: Vec<Placement>,
+    pub decoded: HashMap<usize, Vec<Prim>>,
+    pub order: Vec<(usize, Option<usize>)>,
+}
+
+/// Walks the drawn scene of `doc` (see [`parse`]) into a [`Walk`].
+pub(crate) fn walk(doc: &::gltf::Document, buffers: &[Vec<u8>], path: &str) -> Result<Walk> {
     let mut warnings = Vec::new();
-    let instances = instances(&doc, &mut warnings).map_err(|m| Error::format(path, m))?;
+    let (instances, order) = instances(doc, &mut warnings).map_err(|m| Error::format(path, m))?;
     let mut decoded: HashMap<usize, Vec<Prim>> = HashMap::new();
     // Skipped primitives, (mesh, primitive) → (why, the nodes that draw it), in order.
     let mut skipped: Vec<((usize, usize), String, Vec<String>)> = Vec::new();
@@ -77,12 +113,13 @@ pub fn parse(bytes: &[u8], path: &str) -> Result<LoadedMesh> {
         positions: Vec::new(),
         tris: Vec::new(),
     };
+    let mut placements = Vec::new();
     for inst in &instances {
         let m = inst.mesh.index();
         let prims = match decoded.entry(m) {
             std::collections::hash_map::Entry::Occupied(e) => e.into_mut(),
             std::collections::hash_map::Entry::Vacant(e) => e.insert(
-                decode_mesh(&inst.mesh, &inst.label, &buffers)
+                decode_mesh(&inst.mesh, &inst.label, buffers)
                     .map_err(|msg| Error::format(path, msg))?,
             ),
         };
@@ -94,14 +131,20 @@ pub fn parse(bytes: &[u8], path: &str) -> Result<LoadedMesh> {
                 }
             }
         }
-        if !add_instance(&mut builder, prims, inst.world)
-            .map_err(|msg| Error::format(path, format!("{}: {msg}", inst.label)))?
-        {
-            warnings.push(format!(
+        let firsts = add_instance(&mut builder, prims, inst.world)
+            .map_err(|msg| Error::format(path, format!("{}: {msg}", inst.label)))?;
+        match firsts {
+            Some(firsts) => placements.extend(firsts.into_iter().map(|(prim, first)| Placement {
+                node: inst.node,
+                mesh: m,
+                prim,
+                first,
+            })),
+            None => warnings.push(format!(
                 "{}: its world transform is singular (a zero scale), {} skipped",
                 inst.label,
                 mesh_label(&inst.mesh)
-            ));
+            )),
         }
     }
     for ((m, p), why, nodes) in skipped {
@@ -119,11 +162,17 @@ pub fn parse(bytes: &[u8], path: &str) -> Result<LoadedMesh> {
             "{mesh}, primitive {p} (drawn by {shown}{more}): {why}, skipped"
         ));
     }
-    Ok(builder.into_loaded(warnings))
+    Ok(Walk {
+        builder,
+        warnings,
+        placements,
+        decoded,
+        order,
+    })
 }
 
 /// `node 3 "Wheel"` (the name only when the node has one).
-fn node_label(n: &::gltf::Node<'_>) -> String {
+pub(crate) fn node_label(n: &::gltf::Node<'_>) -> String {
     match n.name() {
         Some(name) => format!("node {} {name:?}", n.index()),
         None => format!("node {}", n.index()),
@@ -131,7 +180,7 @@ fn node_label(n: &::gltf::Node<'_>) -> String {
 }
 
 /// `mesh 1 "wheel"` (the name only when the mesh has one).
-fn mesh_label(m: &::gltf::Mesh<'_>) -> String {
+pub(crate) fn mesh_label(m: &::gltf::Mesh<'_>) -> String {
     match m.name() {
         Some(name) => format!("mesh {} {name:?}", m.index()),
         None => format!("mesh {}", m.index()),
@@ -142,13 +191,14 @@ fn mesh_label(m: &::gltf::Mesh<'_>) -> String {
 /// transform.
 struct Instance<'a> {
     mesh: ::gltf::Mesh<'a>,
+    node: Option<usize>,
     label: String,
     world: DMat4,
 }
 
 /// A node's local transform in `f64`: its `matrix`, or `T · R · S` from its `translation`,
 /// `rotation` (renormalised; a zero or non-finite quaternion is an error) and `scale`.
-fn local_matrix(n: &::gltf::Node<'_>) -> std::result::Result<DMat4, String> {
+pub(crate) fn local_matrix(n: &::gltf::Node<'_>) -> std::result::Result<DMat4, String> {
     let m = match n.transform() {
         ::gltf::scene::Transform::Matrix { matrix } => {
             DMat4::from_cols_array_2d(&matrix.map(|c| c.map(f64::from)))
@@ -179,14 +229,16 @@ fn local_matrix(n: &::gltf::Node<'_>) -> std::result::Result<DMat4, String> {
     Ok(m)
 }
 
-/// Every mesh placement of the drawn scene (see [`parse`]), depth-first in document order.
-/// Each node is visited once: a node reached again (a cycle, or a child of two parents, which
-/// the specification forbids and the `gltf` crate's validation lets through) is reported and
-/// not descended into again.
+/// Every mesh placement of the drawn scene (see [`parse`]), depth-first in document order,
+/// and the nodes visited, in that order, each with the parent it was reached from. Each node is
+/// visited once: a node reached again (a cycle, or a child of two parents, which the
+/// specification forbids and the `gltf` crate's validation lets through) is reported and not
+/// descended into again.
+#[allow(clippy::type_complexity)]
 fn instances<'a>(
     doc: &'a ::gltf::Document,
     warnings: &mut Vec<String>,
-) -> std::result::Result<Vec<Instance<'a>>, String> {
+) -> std::result::Result<(Vec<Instance<'a>>, Vec<(usize, Option<usize>)>), String> {
     let scene = doc.default_scene().or_else(|| doc.scenes().next());
     let roots: Vec<::gltf::Node<'a>> = match scene {
         Some(sc) => {
@@ -219,24 +271,27 @@ fn instances<'a>(
                         .into(),
                 );
             }
-            return Ok(doc
+            let out = doc
                 .meshes()
                 .map(|m| Instance {
                     label: "no node".into(),
+                    node: None,
                     mesh: m,
                     world: DMat4::IDENTITY,
                 })
-                .collect());
+                .collect();
+            return Ok((out, Vec::new()));
         }
     };
     let mut out = Vec::new();
+    let mut order = Vec::new();
     let mut seen = vec![false; doc.nodes().len()];
-    let mut stack: Vec<(::gltf::Node<'a>, DMat4)> = roots
+    let mut stack: Vec<(::gltf::Node<'a>, DMat4, Option<usize>)> = roots
         .into_iter()
         .rev()
-        .map(|n| (n, DMat4::IDENTITY))
+        .map(|n| (n, DMat4::IDENTITY, None))
         .collect();
-    while let Some((n, parent)) = stack.pop() {
+    while let Some((n, parent, up)) = stack.pop() {
         match seen.get_mut(n.index()) {
             Some(s) if !*s => *s = true,
             _ => {
@@ -248,22 +303,24 @@ fn instances<'a>(
             }
         }
         let world = parent * local_matrix(&n)?;
+        order.push((n.index(), up));
         if let Some(mesh) = n.mesh() {
             out.push(Instance {
                 mesh,
+                node: Some(n.index()),
                 label: node_label(&n),
                 world,
             });
         }
         let first_child = stack.len();
-        stack.extend(n.children().map(|c| (c, world)));
+        stack.extend(n.children().map(|c| (c, world, Some(n.index()))));
         stack[first_child..].reverse();
     }
-    Ok(out)
+    Ok((out, order))
 }
 
 /// A primitive read in its mesh's own coordinates, or why it is skipped.
-enum Prim {
+pub(crate) enum Prim {
     /// Triangles (strips and fans already split) over `positions`.
     Triangles {
         positions: Vec<DVec3>,
@@ -371,20 +428,23 @@ fn decode_mesh(
 
 /// Appends one placement of a decoded mesh to `b`: positions through `world`, normals through
 /// the inverse transpose of its 3×3 part (renormalised), winding reversed where `world`
-/// mirrors. Returns `false` (nothing added) when `world` is singular; an error when a vertex
-/// lands on a non-finite position.
+/// mirrors. Returns, for each primitive added, its index and its first position in `b`; `None`
+/// (nothing added) when `world` is singular; an error when a vertex lands on a non-finite
+/// position.
+#[allow(clippy::type_complexity)]
 fn add_instance(
     b: &mut Builder,
     prims: &[Prim],
     world: DMat4,
-) -> std::result::Result<bool, String> {
+) -> std::result::Result<Option<Vec<(usize, usize)>>, String> {
     let m3 = DMat3::from_mat4(world);
     let det = m3.determinant();
     let nxf = m3.inverse().transpose();
     if det == 0.0 || !det.is_finite() || !nxf.is_finite() {
-        return Ok(false);
+        return Ok(None);
     }
-    for prim in prims {
+    let mut firsts = Vec::new();
+    for (k, prim) in prims.iter().enumerate() {
         let Prim::Triangles {
             positions,
             normals,
@@ -394,6 +454,7 @@ fn add_instance(
             continue;
         };
         let first = b.positions.len();
+        firsts.push((k, first));
         for p in positions {
             let q = world.transform_point3(*p);
             if !q.is_finite() {
@@ -415,7 +476,7 @@ fn add_instance(
             b.tris.push(c);
         }
     }
-    Ok(true)
+    Ok(Some(firsts))
 }
 
 /// A GLB of `mesh`: one scene with one node and one mesh of one indexed `TRIANGLES` primitive,
@@ -571,17 +632,24 @@ fn buffers(doc: &::gltf::Document, blob: Option<&[u8]>, path: &str) -> Result<Ve
 
 /// What the loader reads from an accessor.
 #[derive(Clone, Copy, Debug)]
-enum Want {
+pub(crate) enum Want {
     /// `VEC3` of `FLOAT` (POSITION, NORMAL).
     Vec3F32,
     /// `SCALAR` of an unsigned integer type (indices).
     Index,
+    /// Elements of `dims` of one of `types` (the animation's accessors); `expected` names them
+    /// in the message.
+    Of {
+        dims: Dimensions,
+        types: &'static [DataType],
+        expected: &'static str,
+    },
 }
 
 /// Checks that the `gltf` crate can read `acc` as `want` without panicking and without
 /// falling short: element type, `count ≥ 1`, strides at least the element size, and every
 /// byte read (base, sparse indices and sparse values) inside its buffer view and buffer.
-fn check_accessor(
+pub(crate) fn check_accessor(
     acc: &::gltf::Accessor<'_>,
     want: Want,
     buffers: &[Vec<u8>],
@@ -598,6 +666,11 @@ fn check_accessor(
                 && matches!(ty, DataType::U8 | DataType::U16 | DataType::U32),
             "Scalar of U8, U16 or U32",
         ),
+        Want::Of {
+            dims: d,
+            types,
+            expected,
+        } => (dims == d && types.contains(&ty), expected),
     };
     if !ok {
         return Err(format!(

@@ -5,6 +5,8 @@
 //! [`gltf`] for `.gltf` and `.glb`, the latter's container checked by [`glb`] first), writing
 //! them ([`save`], or [`encode`] to bytes: OBJ, binary PLY, GLB), vertex-normal generation
 //! ([`angle_weighted_normals`]), and the core's scene of a mesh ([`Mesh::build_scene`]).
+//! Animated glTF files (skins, morph targets, keyframe animations) are posed frame by frame by
+//! [`AnimatedMesh`] ([`load_animated`]), in the static mesh's vertex order.
 //!
 //! Triangle ids are the order of triangles in the file after fan-triangulating polygons, over
 //! all objects/primitives in file order (glTF: primitives in the order their nodes are met,
@@ -28,6 +30,7 @@
 #![forbid(unsafe_code)]
 #![deny(missing_docs)]
 
+mod animation;
 mod error;
 mod file;
 mod mesh;
@@ -38,7 +41,10 @@ pub mod gltf;
 pub mod obj;
 pub mod ply;
 
+pub use animation::{
+    AnimatedMesh, Clip, PoseError, WEIGHT_SUM_TOLERANCE, load_animated, parse_animated,
+};
 pub use error::{Error, Result};
 pub use file::{encode, extension, load, parse, save};
 pub use mesh::{FloatWidth, LoadedMesh, Mesh};
-pub use weld::angle_weighted_normals;
+pub use weld::{angle_weighted_normals, angle_weighted_normals_into};

@@ -44,28 +44,24 @@ impl Mesh {
         (hi - lo).length()
     }
 
-    /// The core's scene of this mesh in precision `F` ([`OwnedScene::build_parallel`]: patches,
-    /// crack closure, seams when `options` asks, BVH), `observer` told of rejected triangles and
-    /// of the build's steps, the per-edge work run by `executor` (`&()` for the calling thread).
-    /// The scene is the same bit for bit whatever the executor.
+    /// The core's scene of this mesh in precision `F` ([`OwnedScene::build`]: patches, crack
+    /// closure, seams when `options` asks, BVH), its observer told of rejected triangles and of
+    /// the build's steps, its executor running the parallel parts (`()` for the calling
+    /// thread). The scene is the same bit for bit whatever the executor.
     ///
     /// Returns the builder's [`BuildError`] when no triangle is accepted or the mesh is too
     /// large for the builder's counters.
-    pub fn build_scene<F: Float>(
+    pub fn build_scene<F: Float, O: BuildObserver, E: Executor>(
         &self,
-        options: &BuildOptions,
-        observer: &mut impl BuildObserver,
-        executor: &impl Executor,
+        options: &mut BuildOptions<O, E>,
     ) -> Result<OwnedScene<F>, BuildError> {
         let packed = |v: &[DVec3]| -> Vec<f64> { v.iter().flat_map(|p| p.to_array()).collect() };
         let (positions, normals) = (packed(&self.positions), packed(&self.normals));
-        OwnedScene::build_parallel(
+        OwnedScene::build(
             Vertices::packed(&positions),
             Vertices::packed(&normals),
             &self.triangles,
             options,
-            observer,
-            executor,
         )
     }
 }

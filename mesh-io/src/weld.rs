@@ -24,6 +24,14 @@ impl Builder {
     /// The mesh (one vertex per distinct (position, normal) pair) and whether any normal was
     /// computed.
     pub fn finish(self) -> (Mesh, bool) {
+        let (mesh, computed, _) = self.finish_sourced();
+        (mesh, computed)
+    }
+
+    /// [`Builder::finish`], and for each vertex of the mesh the index in
+    /// [`Builder::positions`] it was made from (the glTF animation poses the mesh's vertices
+    /// from them).
+    pub fn finish_sourced(self) -> (Mesh, bool, Vec<usize>) {
         let needs = self.tris.iter().any(|t| t.iter().any(|(_, n)| n.is_none()));
         let computed = if needs {
             angle_weighted_normals(
@@ -34,6 +42,7 @@ impl Builder {
             Vec::new()
         };
         let mut mesh = Mesh::default();
+        let mut sources = Vec::new();
         let mut map: HashMap<(usize, [u64; 3]), u32> = HashMap::new();
         for t in &self.tris {
             let mut ids = [0u32; 3];
@@ -43,12 +52,13 @@ impl Builder {
                 *slot = *map.entry(key).or_insert_with(|| {
                     mesh.positions.push(self.positions[p]);
                     mesh.normals.push(normal);
+                    sources.push(p);
                     (mesh.positions.len() - 1) as u32
                 });
             }
             mesh.triangles.push(ids);
         }
-        (mesh, needs)
+        (mesh, needs, sources)
     }
 
     /// [`Builder::finish`] as a [`LoadedMesh`] with the given warnings.
@@ -64,7 +74,8 @@ impl Builder {
 
 /// Angle-weighted vertex normals (Thürmer & Wüthrich): each triangle adds its unit face normal
 /// times its corner angle to its three vertices. Degenerate triangles add nothing; a vertex no
-/// triangle adds to gets the zero vector. Returns one unit (or zero) normal per position.
+/// triangle adds to gets the zero vector. Returns one unit (or zero) normal per position
+/// ([`angle_weighted_normals_into`] into a new vector).
 ///
 /// # Panics
 /// When an index of `tris` is not an index of `positions`.
@@ -72,7 +83,25 @@ pub fn angle_weighted_normals(
     positions: &[DVec3],
     tris: impl Iterator<Item = [usize; 3]>,
 ) -> Vec<DVec3> {
-    let mut acc = vec![DVec3::ZERO; positions.len()];
+    let mut out = vec![DVec3::ZERO; positions.len()];
+    angle_weighted_normals_into(positions, tris, &mut out);
+    out
+}
+
+/// [`angle_weighted_normals`] written into `out` (one per position), without allocating: what
+/// an animation computes every frame for a mesh whose file has no normals. The same numbers,
+/// bit for bit.
+///
+/// # Panics
+/// When an index of `tris` is not an index of `positions`, or `out` is shorter than
+/// `positions`.
+pub fn angle_weighted_normals_into(
+    positions: &[DVec3],
+    tris: impl Iterator<Item = [usize; 3]>,
+    out: &mut [DVec3],
+) {
+    let acc = &mut out[..positions.len()];
+    acc.fill(DVec3::ZERO);
     for [a, b, c] in tris {
         let (pa, pb, pc) = (positions[a], positions[b], positions[c]);
         let Some(nf) = (pb - pa).cross(pc - pa).try_normalize() else {
@@ -87,7 +116,7 @@ pub fn angle_weighted_normals(
             acc[i] += nf * ang;
         }
     }
-    acc.into_iter()
-        .map(|n| n.try_normalize().unwrap_or(DVec3::ZERO))
-        .collect()
+    for n in acc.iter_mut() {
+        *n = n.try_normalize().unwrap_or(DVec3::ZERO);
+    }
 }

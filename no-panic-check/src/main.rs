@@ -20,9 +20,10 @@ use smoothtri::mesh::{
     MeshError, Seam, SharedEdge, VertexClamp, clamp_vertex_normals, close_cracks, fit_seams,
 };
 use smoothtri::{
-    Aabb, BoxBvh, BuildError, BuildOptions, Bvh, BvhError, BvhNode, DEFAULT_SAMPLES, EdgeWork,
-    FastF32, Float, Hit, KernelStats, LineField, Patch, PatchError, Ray, Scene, SceneSizes,
-    SceneStorage, Vertices, flat_hit, max_height_evals, max_lane_calls, moller_trumbore,
+    Aabb, BoxBvh, BuildError, BuildOptions, Bvh, BvhError, BvhNode, DEFAULT_SAMPLES, DynamicScene,
+    EdgeWork, FastF32, Float, Hit, KernelStats, LineField, OnRejected, Patch, PatchError, Ray,
+    Scene, SceneSizes, SceneStorage, Vertices, flat_hit, max_height_evals, max_lane_calls,
+    moller_trumbore,
 };
 
 unsafe extern "C" {
@@ -410,7 +411,11 @@ fn builder<F: Float>() -> u32 {
     }
     for field in [LineField::Face, black_box(LineField::Vertex)] {
         for seams in [false, black_box(true)] {
-            let options = BuildOptions { field, seams };
+            let options = BuildOptions {
+                field,
+                seams,
+                ..BuildOptions::default()
+            };
             let Some(sizes) = SceneSizes::new(V, T, &options) else {
                 continue;
             };
@@ -441,9 +446,10 @@ fn builder<F: Float>() -> u32 {
                 vertex_clamps: &mut clamps,
             };
             let mut rejected = 0u32;
-            let built = Scene::<F>::build_reporting(pos, nrm, &tris, &options, storage, |t, e| {
+            let mut observed = options.with_observer(OnRejected(|t: u32, e: PatchError| {
                 rejected += t + display_len(&e)
-            });
+            }));
+            let built = Scene::<F>::build(pos, nrm, &tris, &mut observed, storage);
             match built {
                 Ok(scene) => {
                     let ray = Ray::<F>::new(v::<F>(0.2, 0.3, 3.0), v::<F>(0.0, 0.0, -1.0));
@@ -477,7 +483,7 @@ fn builder<F: Float>() -> u32 {
         }
     }
     // Errors: an index out of range, nothing usable, no triangles, short storage.
-    let options = BuildOptions::default();
+    let mut options = BuildOptions::default();
     let mut patches = [Patch::<F>::default(); 1];
     let mut ids = [0u32; T];
     let mut nodes = [BvhNode::<F>::default(); 2 * T - 1];
@@ -501,13 +507,100 @@ fn builder<F: Float>() -> u32 {
             clamped_normals: &mut [],
             vertex_clamps: &mut [],
         };
-        match Scene::<F>::build(pos, nrm, tris, &options, storage) {
+        match Scene::<F>::build(pos, nrm, tris, &mut options, storage) {
             Ok(s) => acc += s.patches().len() as u32,
             Err(e) => acc += display_len(&e),
         }
     }
     acc += display_len(&black_box(BuildError::TooLarge));
     acc
+}
+
+/// A scene updated in place ([`DynamicScene`]): a build, an update with moved vertices (a
+/// triangle collapsed), its queries, and the update's errors (a NaN vertex, a count change,
+/// other options).
+fn dynamic<F: Float>() -> u32 {
+    const V: usize = 5;
+    const T: usize = 4;
+    let p = [
+        [1.0f64, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [-1.0, 0.0, 0.0],
+        [0.0, -1.0, 0.0],
+        [0.0, 0.0, 1.0],
+    ];
+    let flat = |q: [[f64; 3]; V]| {
+        let mut out = [0.0f64; 3 * V];
+        for (o, x) in out.iter_mut().zip(q.iter().flatten()) {
+            *o = *x;
+        }
+        out
+    };
+    let pos = black_box(flat(p));
+    let mut moved = p;
+    moved[1] = moved[0];
+    let moved = black_box(flat(moved));
+    let mut nan = pos;
+    nan[4] = black_box(f64::NAN);
+    let tris: [[u32; 3]; T] = black_box([[0, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4]]);
+    let mut options = BuildOptions {
+        seams: black_box(true),
+        ..BuildOptions::default()
+    };
+    let mut patches = [Patch::<F>::default(); T];
+    let mut ids = [0u32; T];
+    let mut nodes = [BvhNode::<F>::default(); T];
+    let mut order = [0u32; T];
+    let mut seams = [Seam::<F>::default(); T];
+    let mut triangles = [[0u32; 3]; T];
+    let mut edges = [SharedEdge::default(); 3 * T];
+    let mut work = [EdgeWork::<F>::default(); 3 * T / 2];
+    let storage = SceneStorage {
+        patches: &mut patches,
+        triangle_ids: &mut ids,
+        nodes: &mut nodes,
+        order: &mut order,
+        seams: &mut seams,
+        triangles: &mut triangles,
+        edges: &mut edges,
+        edge_work: &mut work,
+        vertex_positions: &mut [],
+        vertex_normals: &mut [],
+        clamped_normals: &mut [],
+        vertex_clamps: &mut [],
+    };
+    let pk = Vertices::packed;
+    let mut acc = 0;
+    let mut scene = match DynamicScene::<F>::build(pk(&pos), pk(&pos), &tris, &mut options, storage)
+    {
+        Ok(s) => s,
+        Err(e) => return display_len(&e),
+    };
+    let short: &[f64] = pos.get(..6).unwrap_or(&[]);
+    let cases: [(&[f64], &[f64]); 4] = [(&moved, &pos), (&nan, &pos), (&pos, &pos), (short, short)];
+    for (q, n) in cases {
+        match scene.update(pk(q), pk(n), &mut options) {
+            Ok(r) => acc += (r.patches + r.bvh_nodes) as u32 + r.bvh_refitted as u32,
+            Err(e) => acc += display_len(&e),
+        }
+        let s = scene.scene();
+        let ray = Ray::<F>::new(v::<F>(0.2, 0.3, 3.0), v::<F>(0.0, 0.0, -1.0));
+        let (t0, t1) = (c::<F>(0.0), c::<F>(f64::INFINITY));
+        if let Some(h) = s.closest_hit::<4>(&ray, t0, t1) {
+            acc += h.triangle;
+        }
+        acc += s.any_hit::<4>(&ray, t0, t1) as u32;
+        acc += s
+            .patches()
+            .iter()
+            .filter(|p| p.rejected().is_some())
+            .count() as u32;
+        acc += (s.report().bvh_cost > 1.0) as u32;
+    }
+    if let Err(e) = scene.update(pk(&pos), pk(&pos), &mut BuildOptions::default()) {
+        acc += display_len(&e);
+    }
+    acc + scene.report().patches as u32
 }
 
 /// Entry point: aligns the stack as the C ABI expects, then calls [`main`].
@@ -521,6 +614,7 @@ pub extern "C" fn _start() -> ! {
 extern "C" fn main() -> ! {
     let r = exercise::<f32>() + exercise::<f64>() + exercise::<FastF32>();
     let r = r + builder::<f32>() + builder::<f64>() + builder::<FastF32>();
+    let r = r + dynamic::<f32>() + dynamic::<f64>() + dynamic::<FastF32>();
     let r = r + vertex_clamps::<f32>() + vertex_clamps::<f64>() + vertex_clamps::<FastF32>();
     // SAFETY: libc's exit, linked from the C library (only the start files are left out).
     unsafe { exit(if black_box(r) >= 3 { 0 } else { 1 }) }

@@ -5,14 +5,19 @@ use rayon::prelude::*;
 use smoothtri::{BuildError, BuildOptions, Executor, Float, LineField, OwnedScene};
 use smoothtri_io::Mesh;
 
-/// The core builder's [`Executor`] over rayon's global pool: each block of per-edge work in
-/// chunks of at least 64 edges, a few per thread.
+/// The core builder's [`Executor`] over rayon's global pool: each slice in chunks of at least
+/// the caller's grain, a few per thread.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct RayonExecutor;
 
 impl Executor for RayonExecutor {
-    fn run_chunks<T: Send>(&self, items: &mut [T], work: &(dyn Fn(usize, &mut [T]) + Sync)) {
-        let chunk = (items.len() / (4 * rayon::current_num_threads())).max(64);
+    fn run_chunks<T: Send>(
+        &self,
+        items: &mut [T],
+        grain: usize,
+        work: &(dyn Fn(usize, &mut [T]) + Sync),
+    ) {
+        let chunk = (items.len() / (4 * rayon::current_num_threads())).max(grain.max(1));
         items
             .par_chunks_mut(chunk)
             .enumerate()
@@ -30,5 +35,10 @@ pub fn build_scene<F: Float>(
     field: LineField,
     seams: bool,
 ) -> Result<OwnedScene<F>, BuildError> {
-    mesh.build_scene(&BuildOptions { field, seams }, &mut (), &RayonExecutor)
+    mesh.build_scene(&mut BuildOptions {
+        field,
+        seams,
+        observer: (),
+        executor: RayonExecutor,
+    })
 }

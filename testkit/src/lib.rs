@@ -4,7 +4,8 @@
 //! another for it (not published):
 //!
 //! - [`scenes`]: the built-in meshes (torus, icosphere, cube, teapot, the tilted-normal sphere)
-//!   and the exact surfaces they sample;
+//!   and the exact surfaces they sample; [`twist`]: the twisting torus, a deforming mesh of any
+//!   size with exact normals at any time (the animated scene and the update benchmarks);
 //! - [`random`]: the tests' deterministic random numbers ([`Rng`]) and random geometry;
 //! - [`RayonExecutor`]: the core builder's executor over rayon's pool, and [`build_scene`], a
 //!   mesh's scene as the demo's renders build it;
@@ -25,7 +26,8 @@ mod executor;
 mod patches;
 pub mod random;
 pub mod scenes;
-mod teapot_data;
+pub mod teapot_data;
+pub mod twist;
 
 pub use assets::assimp_models;
 pub use camera::{Camera, FOV_DEG, SHADOW_OFFSET_F32, SHADOW_OFFSET_F64};

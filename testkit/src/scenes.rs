@@ -20,15 +20,24 @@ pub fn torus(nu: usize, nv: usize, big_r: f64, r: f64) -> Mesh {
             m.normals.push(n);
         }
     }
+    m.triangles = grid_triangles(nu, nv);
+    m
+}
+
+/// The triangles of a closed `nu × nv` grid (vertex `(i, j)` at index `i·nv + j`, both
+/// directions wrapping), two per quad, counter-clockwise when `u` runs along `i` and `v` along
+/// `j` with `∂u × ∂v` outward: the index buffer of [`torus`] and of the twisting torus.
+pub(crate) fn grid_triangles(nu: usize, nv: usize) -> Vec<[u32; 3]> {
     let id = |i: usize, j: usize| ((i % nu) * nv + (j % nv)) as u32;
+    let mut out = Vec::with_capacity(2 * nu * nv);
     for i in 0..nu {
         for j in 0..nv {
             let (a, b, c, d) = (id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
-            m.triangles.push([a, b, c]);
-            m.triangles.push([a, c, d]);
+            out.push([a, b, c]);
+            out.push([a, c, d]);
         }
     }
-    m
+    out
 }
 
 /// Distance of `x` to the torus of [`torus`] (major radius `big_r`, minor `r`).
@@ -277,16 +286,18 @@ pub fn exact_distance(name: &str) -> Option<(&'static str, DistanceFn)> {
 }
 
 /// The built-in scene names accepted by `--scene`.
-pub const SCENE_NAMES: [&str; 4] = ["torus", "sphere", "cube", "teapot"];
+pub const SCENE_NAMES: [&str; 5] = ["torus", "sphere", "cube", "teapot", "twist"];
 
 /// A built-in scene by name: `torus` (8×8, R = 1, r = 0.4, 128 triangles), `sphere`
-/// (icosphere level 1, radius 1), `cube` (averaged normals), `teapot` (Newell's, 4×4 per patch).
+/// (icosphere level 1, radius 1), `cube` (averaged normals), `teapot` (Newell's, 4×4 per patch),
+/// `twist` (the twisting torus at rest, 100 352 triangles; animated: [`crate::twist`]).
 pub fn builtin(name: &str) -> Option<Mesh> {
     Some(match name {
         "torus" => torus(8, 8, 1.0, 0.4),
         "sphere" => icosphere(1, 1.0),
         "cube" => cube(),
         "teapot" => teapot(4),
+        "twist" => crate::twist::twisting_torus(crate::twist::TWIST_DEMO_SIDE, 0.0),
         _ => return None,
     })
 }

@@ -4,7 +4,7 @@
 
 use crate::common::*;
 use glam::Vec3;
-use smoothtri::{Aabb, BoxBvh, Bvh, BvhError, BvhNode, Patch, Ray, moller_trumbore};
+use smoothtri::{Aabb, BoxBvh, Bvh, BvhError, BvhNode, Patch, Ray, flat_hit, moller_trumbore};
 use smoothtri_testkit::scenes::{teapot, torus};
 
 fn patches_of(mesh: &smoothtri_io::Mesh) -> Vec<Patch> {
@@ -89,17 +89,7 @@ fn flat_triangles_equal_brute_force() {
     for r in camera_rays_around(&mesh, 50) {
         rays += 1;
         let got = tree.closest_with(&r, 0.0, f32::MAX, |id, a, b| {
-            let (t, w1, w2) = moller_trumbore(&tris[id as usize], &r, a, b)?;
-            Some(smoothtri::Hit {
-                t,
-                t_error: 0.0,
-                point: r.at(t),
-                normal: Vec3::Z,
-                w1,
-                w2,
-                front_face: true,
-                patch: 0,
-            })
+            flat_hit(&tris[id as usize], None, &r, a, b)
         });
         let want = tris
             .iter()

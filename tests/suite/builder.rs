@@ -9,8 +9,8 @@ use smoothtri::mesh::{
     Seam, SharedEdge, VertexClamp, clamp_vertex_normals, close_cracks, fit_seams,
 };
 use smoothtri::{
-    BuildError, BuildOptions, Bvh, BvhNode, EdgeWork, Executor, Float, LineField, OwnedScene,
-    Patch, PatchError, Ray, Scene, SceneSizes, SceneStorage, Vertices,
+    BuildError, BuildOptions, Bvh, BvhNode, EdgeWork, Executor, Float, LineField, OnRejected,
+    OwnedScene, Patch, PatchError, Ray, Scene, SceneSizes, SceneStorage, Vertices,
 };
 use smoothtri_testkit::{Mesh, scenes};
 
@@ -65,17 +65,20 @@ fn camera_rays(m: &Mesh, n: usize, seed: u64) -> Vec<(DVec3, DVec3)> {
         .collect()
 }
 
-fn check_equals_steps<F: P>(name: &str, m: &Mesh, options: BuildOptions) {
+fn check_equals_steps<F: P>(name: &str, m: &Mesh, mut options: BuildOptions) {
     let (pos, nrm) = buffers(m);
     let owned = OwnedScene::<F>::build(
         Vertices::packed(&pos),
         Vertices::packed(&nrm),
         &m.triangles,
-        &options,
+        &mut options,
     )
     .unwrap();
     let scene = owned.scene();
     let (patches, ids, seams) = by_steps::<F>(m, &options);
+    // These meshes have a slot for every triangle and no placeholder: the slots are the steps'
+    // patches.
+    assert!(scene.patches().iter().all(|p| p.rejected().is_none()));
     assert_eq!(scene.patches(), &patches[..], "{name}: patches");
     assert_eq!(scene.triangle_ids(), &ids[..], "{name}: triangle ids");
     assert_eq!(scene.seams(), &seams[..], "{name}: seams");
@@ -139,7 +142,11 @@ fn the_builder_equals_the_steps_bit_for_bit() {
     ] {
         for field in [LineField::Face, LineField::Vertex] {
             for seams in [false, true] {
-                let options = BuildOptions { field, seams };
+                let options = BuildOptions {
+                    field,
+                    seams,
+                    ..BuildOptions::default()
+                };
                 check_equals_steps::<f32>(name, &m, options);
                 check_equals_steps::<f64>(name, &m, options);
             }
@@ -204,9 +211,10 @@ impl<F: P> Store<F> {
 #[test]
 fn strided_input_into_exact_storage() {
     let m = scenes::teapot(4);
-    let options = BuildOptions {
+    let mut options = BuildOptions {
         field: LineField::Vertex,
         seams: true,
+        ..BuildOptions::default()
     };
     // Interleaved: position, a 2-float attribute the builder skips, normal.
     let vb: Vec<f32> = m
@@ -229,13 +237,13 @@ fn strided_input_into_exact_storage() {
         (n.patches, 3 * n.patches, v)
     );
     let mut store = Store::<f32>::new(&n, None);
-    let scene = Scene::<f32>::build(pos, nrm, &m.triangles, &options, store.storage()).unwrap();
+    let scene = Scene::<f32>::build(pos, nrm, &m.triangles, &mut options, store.storage()).unwrap();
     let (p64, n64) = buffers(&m);
     let owned = OwnedScene::<f32>::build(
         Vertices::packed(&p64),
         Vertices::packed(&n64),
         &m.triangles,
-        &options,
+        &mut options,
     )
     .unwrap();
     let o = owned.scene();
@@ -281,12 +289,11 @@ fn rejected_triangles_are_counted_and_reported() {
     );
     let tris = [[0u32, 1, 2], [0, 0, 1], [3, 1, 2], [4, 5, 6]];
     let mut listed = Vec::new();
-    let owned = OwnedScene::<f64>::build_reporting(
+    let owned = OwnedScene::<f64>::build(
         Vertices::packed(&pf),
         Vertices::packed(&nf),
         &tris,
-        &BuildOptions::default(),
-        |t, e| listed.push((t, e)),
+        &mut BuildOptions::default().with_observer(OnRejected(|t, e| listed.push((t, e)))),
     )
     .unwrap();
     let r = *owned.scene().report();
@@ -299,7 +306,13 @@ fn rejected_triangles_are_counted_and_reported() {
     );
     assert_eq!(r.first_rejected, Some((1, PatchError::DegenerateTriangle)));
     assert_eq!((r.remedied, r.first_remedied), (1, Some(3)));
-    assert!(owned.scene().patches()[1].normal_clamp().is_some());
+    // Slots: triangles 0, 2 (a placeholder: its vertex is not finite) and 3 (remedied); the
+    // degenerate triangle 1 repeats an index and has no slot.
+    let slots = owned.scene().patches();
+    assert_eq!(owned.scene().triangle_ids(), &[0, 2, 3]);
+    assert_eq!(slots[1].rejected(), Some(PatchError::NonFinite));
+    assert!(slots[1].bounds().min().x > slots[1].bounds().max().x);
+    assert!(slots[2].normal_clamp().is_some());
     assert_eq!(
         listed,
         [
@@ -310,6 +323,8 @@ fn rejected_triangles_are_counted_and_reported() {
     let scene = owned.scene();
     assert!(scene.patch_of_triangle(0).is_some());
     assert!(scene.patch_of_triangle(1).is_none());
+    assert!(scene.patch_of_triangle(2).is_none());
+    assert_eq!(scene.patch_index(3), Some(2));
     assert!(scene.patch_of_triangle(9).is_none());
     // From inside the unit octant outward: triangle 0 first (the remedied triangle 3 lies
     // beyond it).
@@ -325,9 +340,8 @@ fn bad_input_and_storage_are_typed_errors() {
     let m = scenes::icosphere(1, 1.0);
     let (pos, nrm) = buffers(&m);
     let (pv, nv) = (Vertices::packed(&pos), Vertices::packed(&nrm));
-    let options = BuildOptions::default();
     let build = |tris: &[[u32; 3]], nv: Vertices<'_, f64>| {
-        OwnedScene::<f32>::build(pv, nv, tris, &options).map(|_| ())
+        OwnedScene::<f32>::build(pv, nv, tris, &mut BuildOptions::default()).map(|_| ())
     };
     assert_eq!(build(&[], nv), Err(BuildError::NoTriangles));
     let v = m.positions.len() as u32;
@@ -364,14 +378,15 @@ fn bad_input_and_storage_are_typed_errors() {
     assert!(Vertices::strided(&pos, 0, 3, m.positions.len()).is_ok());
     assert!(Vertices::strided(&pos, 0, 3, 0).unwrap().is_empty());
     // Every storage slice one short is refused by name.
-    let options = BuildOptions {
+    let mut options = BuildOptions {
         field: LineField::Vertex,
         seams: true,
+        ..BuildOptions::default()
     };
     let n = SceneSizes::new(m.positions.len(), m.triangles.len(), &options).unwrap();
     for short in 0..12 {
         let mut store = Store::<f64>::new(&n, Some(short));
-        match Scene::<f64>::build(pv, nv, &m.triangles, &options, store.storage()) {
+        match Scene::<f64>::build(pv, nv, &m.triangles, &mut options, store.storage()) {
             Err(BuildError::StorageTooSmall {
                 buffer,
                 needed,
@@ -443,12 +458,16 @@ fn the_observer_sees_every_step_in_order() {
         ),
     ] {
         let mut log = Log::default();
-        OwnedScene::<f32>::build_observed(
+        OwnedScene::<f32>::build(
             Vertices::packed(&pos),
             Vertices::packed(&nrm),
             &m.triangles,
-            &BuildOptions { field, seams },
-            &mut log,
+            &mut BuildOptions {
+                field,
+                seams,
+                observer: &mut log,
+                executor: (),
+            },
         )
         .unwrap();
         let mut want = want;
@@ -464,7 +483,12 @@ fn the_observer_sees_every_step_in_order() {
 struct Backwards;
 
 impl Executor for Backwards {
-    fn run_chunks<T: Send>(&self, items: &mut [T], work: &(dyn Fn(usize, &mut [T]) + Sync)) {
+    fn run_chunks<T: Send>(
+        &self,
+        items: &mut [T],
+        _grain: usize,
+        work: &(dyn Fn(usize, &mut [T]) + Sync),
+    ) {
         let n = items.len();
         for (k, c) in items
             .chunks_mut(1)
@@ -486,26 +510,23 @@ fn parallel_builds_are_bit_identical() {
     fn check<F: P>(m: &Mesh, field: LineField) {
         let (p, n) = (flat(&m.positions), flat(&m.normals));
         let (pv, nv) = (Vertices::packed(&p), Vertices::packed(&n));
-        let options = BuildOptions { field, seams: true };
-        let serial = OwnedScene::<F>::build(pv, nv, &m.triangles, &options).unwrap();
-        let pool = OwnedScene::<F>::build_parallel(
-            pv,
-            nv,
-            &m.triangles,
-            &options,
-            &mut (),
-            &smoothtri_testkit::RayonExecutor,
-        )
-        .unwrap();
-        let back =
-            OwnedScene::<F>::build_parallel(pv, nv, &m.triangles, &options, &mut (), &Backwards)
-                .unwrap();
+        let options = BuildOptions {
+            field,
+            seams: true,
+            ..BuildOptions::default()
+        };
+        let serial = OwnedScene::<F>::build(pv, nv, &m.triangles, &mut { options }).unwrap();
+        let mut pool_options = options.with_executor(smoothtri_testkit::RayonExecutor);
+        let pool = OwnedScene::<F>::build(pv, nv, &m.triangles, &mut pool_options).unwrap();
+        let mut back_options = options.with_executor(Backwards);
+        let back = OwnedScene::<F>::build(pv, nv, &m.triangles, &mut back_options).unwrap();
         for other in [&pool, &back] {
             let (a, b) = (serial.scene(), other.scene());
             assert_eq!(a.patches(), b.patches());
             assert_eq!(a.seams(), b.seams());
             assert_eq!(a.report(), b.report());
-            assert_eq!(a.bvh().memory_bytes(), b.bvh().memory_bytes());
+            assert_eq!(a.bvh().nodes(), b.bvh().nodes());
+            assert_eq!(a.bvh().order(), b.bvh().order());
         }
         let r = *serial.scene().report();
         assert!(r.cracks.shared_edges > 1000 && r.seam_edges.unwrap() > 1000);

@@ -22,4 +22,5 @@ mod seam;
 mod shell;
 mod stress_meshes;
 mod torus;
+mod update;
 mod watertight;

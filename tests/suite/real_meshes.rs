@@ -47,18 +47,18 @@ fn real_meshes_build_and_trace() {
             smoothtri_io::load(path.to_str().unwrap()).unwrap_or_else(|e| panic!("{file}: {e}"));
         let m = &loaded.mesh;
         let (p, n) = (flat(&m.positions), flat(&m.normals));
-        let options = BuildOptions {
+        let mut options = BuildOptions {
             field: LineField::Face,
             seams: true,
+            observer: (),
+            executor: RayonExecutor,
         };
         let t0 = std::time::Instant::now();
-        let owned = OwnedScene::<f32>::build_parallel(
+        let owned = OwnedScene::<f32>::build(
             Vertices::packed(&p),
             Vertices::packed(&n),
             &m.triangles,
-            &options,
-            &mut (),
-            &RayonExecutor,
+            &mut options,
         )
         .unwrap_or_else(|e| panic!("{file}: {e}"));
         let seconds = t0.elapsed().as_secs_f64();

@@ -6,8 +6,9 @@
 use heapless::Vec as HVec;
 
 use super::error::BvhError;
-use super::node::{BVH_STACK, BVH_WIDTH, BvhNode, MAX_DEPTH, MAX_LEAF, axis};
+use super::node::{BVH_EMPTY_SLOT, BVH_STACK, BVH_WIDTH, BvhNode, MAX_DEPTH, MAX_LEAF, axis};
 use crate::aabb::Aabb;
+use crate::exec::Executor;
 use crate::num::real::Float;
 use crate::patch::Patch;
 
@@ -63,17 +64,21 @@ pub(super) struct Task<F: Float> {
     pub(super) range: Range<F>,
 }
 
-/// Bounds `order[start..end]` and decides its split (partitioning it in place): SAH, or the
-/// midpoint for ranges too large for a leaf; none for single patches and at the depth limit.
+/// Bounds `order[start..end]` (absolute positions; `order` holds the positions from `base`) and
+/// decides its split (partitioning it in place): SAH, or the midpoint for ranges too large for
+/// a leaf; none for single patches and at the depth limit.
 pub(super) fn examine<F: Float, B: Boxes<F> + ?Sized>(
     patches: &B,
     order: &mut [u32],
+    base: usize,
     start: usize,
     end: usize,
     depth: usize,
 ) -> Result<Range<F>, BvhError> {
-    // Ranges cover `start < end ≤ n` by construction (splits are strictly inside).
-    let range = order.get_mut(start..end).ok_or(BvhError::Internal)?;
+    // Ranges cover `base ≤ start < end ≤ base + order.len()` by construction (splits are
+    // strictly inside).
+    let local = start.checked_sub(base).ok_or(BvhError::Internal)?;
+    let range = order.get_mut(local..end - base).ok_or(BvhError::Internal)?;
     let mut bounds = Aabb::EMPTY;
     let mut centroids = Aabb::EMPTY;
     for &i in range.iter() {
@@ -110,45 +115,245 @@ pub(super) const fn nodes_needed(n: usize) -> usize {
     }
 }
 
-/// Builds the tree over the boxes of `patches` into `nodes` and `order` (the body of
-/// `BoxBvh::build` and `Bvh::build`); returns the number of nodes used (at most
-/// [`nodes_needed`]).
-pub(super) fn build_tree<F: Float, B: Boxes<F> + ?Sized>(
+/// The smallest range of boxes built as a subtree of its own (see [`build_tree`]).
+pub(super) const SUBTREE_MIN: usize = 1024;
+/// The most subtrees of one build: a range that would be one more is built with the top of
+/// the tree instead. Bounds the task list the builder keeps on its stack.
+pub(super) const MAX_SUBTREES: usize = 64;
+
+/// A child range of the top of the tree left for a subtree task: the node and slot that will
+/// point to the subtree's root.
+#[derive(Clone, Copy)]
+struct Deferred<F: Float> {
+    parent: usize,
+    slot: usize,
+    range: Range<F>,
+}
+
+/// One subtree task: its root range, the node region it may fill (node `j` of the region is
+/// node `base + j` of the tree) and its part of `order`.
+struct Subtree<'s, F: Float> {
+    nodes: &'s mut [BvhNode<F>],
+    base: usize,
+    order: &'s mut [u32],
+    range: Range<F>,
+    used: usize,
+    result: Result<(), BvhError>,
+}
+
+/// Builds the tree over the non-empty boxes of `patches` into `nodes` and `order` (the body of
+/// `BoxBvh::build` and `Bvh::build`; boxes that are empty, or not finite, are left out: no ray
+/// can enter them); returns the number of nodes used (at most [`nodes_needed`] of the boxes
+/// kept) and of indices (the boxes kept, `order[..m]`).
+///
+/// In three phases, the same tree for any `executor`: the top of the tree is built on the
+/// calling thread down to child ranges of at most `max(m / 32, SUBTREE_MIN)` boxes, which are
+/// left for subtrees (at most [`MAX_SUBTREES`]); the executor builds the subtrees, each in its
+/// own region of `nodes` and its own part of `order`; the regions are then moved together.
+/// Every node is split as a build on one thread splits it, so the tree is that build's up to
+/// the numbering of its nodes (top first, then each subtree in turn).
+pub(super) fn build_tree<F: Float, B: Boxes<F> + Sync + ?Sized>(
     patches: &B,
     nodes: &mut [BvhNode<F>],
     order: &mut [u32],
-) -> Result<usize, BvhError> {
-    let n = patches.count();
+    executor: &impl Executor,
+) -> Result<(usize, usize), BvhError> {
+    let total = patches.count();
+    if total > u32::MAX as usize / 2 {
+        return Err(BvhError::TooManyPatches);
+    }
+    if order.len() < total {
+        return Err(BvhError::StorageTooSmall {
+            nodes: nodes_needed(total),
+            indices: total,
+        });
+    }
+    let mut n = 0usize;
+    for i in 0..total as u32 {
+        if !patches.box_of(i)?.is_empty() {
+            *order.get_mut(n).ok_or(BvhError::Internal)? = i;
+            n += 1;
+        }
+    }
     if n == 0 {
         return Err(BvhError::EmptyScene);
     }
-    if n > u32::MAX as usize / 2 {
-        return Err(BvhError::TooManyPatches);
-    }
     let need = nodes_needed(n);
-    if nodes.len() < need || order.len() < n {
+    if nodes.len() < need {
         return Err(BvhError::StorageTooSmall {
             nodes: need,
-            indices: n,
+            indices: total,
         });
     }
-    for (i, o) in order.iter_mut().enumerate().take(n) {
-        *o = i as u32;
-    }
-    let root = examine(patches, order, 0, n, 0)?;
+    let order = order.get_mut(..n).ok_or(BvhError::Internal)?;
+    let root = examine(patches, order, 0, 0, n, 0)?;
+    // The top, with its subtrees deferred (none for small trees: one phase).
+    let limit = if n > 2 * SUBTREE_MIN {
+        (n / 32).max(SUBTREE_MIN)
+    } else {
+        0
+    };
+    let mut deferred: HVec<Deferred<F>, MAX_SUBTREES> = HVec::new();
     let mut used = 1usize;
+    let top = Task {
+        node: 0,
+        range: root,
+    };
+    grow(
+        patches,
+        nodes,
+        0,
+        &mut used,
+        order,
+        0,
+        top,
+        (limit, &mut deferred),
+    )?;
+    if deferred.is_empty() {
+        return Ok((used, n));
+    }
+    // The subtrees: node regions after the top in deferral order, each as large as its range
+    // may need; parts of `order` by position.
+    let mut bases = [0usize; MAX_SUBTREES];
+    let mut next = used;
+    for (b, d) in bases.iter_mut().zip(deferred.iter()) {
+        *b = next;
+        next += nodes_needed(d.range.end - d.range.start);
+    }
+    if next > nodes.len() {
+        return Err(BvhError::Internal);
+    }
+    let mut by_start: [usize; MAX_SUBTREES] = core::array::from_fn(|i| i);
+    let count = deferred.len();
+    let by_start = by_start.get_mut(..count).ok_or(BvhError::Internal)?;
+    // Insertion sort of at most MAX_SUBTREES indices by range start.
+    for i in 1..count {
+        let mut j = i;
+        while j > 0 {
+            let (Some(&a), Some(&b)) = (by_start.get(j - 1), by_start.get(j)) else {
+                break;
+            };
+            let (Some(da), Some(db)) = (deferred.get(a), deferred.get(b)) else {
+                break;
+            };
+            if da.range.start <= db.range.start {
+                break;
+            }
+            if let Some([x, y]) = by_start.get_mut(j - 1..=j) {
+                core::mem::swap(x, y);
+            }
+            j -= 1;
+        }
+    }
+    let mut parts: [Option<&mut [u32]>; MAX_SUBTREES] = core::array::from_fn(|_| None);
+    let (mut rest, mut at) = (&mut *order, 0usize);
+    for &d in by_start.iter() {
+        let r = deferred.get(d).ok_or(BvhError::Internal)?.range;
+        let (_, tail) = rest
+            .split_at_mut_checked(r.start.checked_sub(at).ok_or(BvhError::Internal)?)
+            .ok_or(BvhError::Internal)?;
+        let (part, tail) = tail
+            .split_at_mut_checked(r.end - r.start)
+            .ok_or(BvhError::Internal)?;
+        *parts.get_mut(d).ok_or(BvhError::Internal)? = Some(part);
+        rest = tail;
+        at = r.end;
+    }
+    let (_, mut free) = nodes.split_at_mut_checked(used).ok_or(BvhError::Internal)?;
+    let mut tasks: HVec<Subtree<'_, F>, MAX_SUBTREES> = HVec::new();
+    for ((d, base), part) in deferred.iter().zip(bases).zip(parts.iter_mut()) {
+        let size = nodes_needed(d.range.end - d.range.start);
+        let (region, tail) = free.split_at_mut_checked(size).ok_or(BvhError::Internal)?;
+        free = tail;
+        let task = Subtree {
+            nodes: region,
+            base,
+            order: part.take().ok_or(BvhError::Internal)?,
+            range: d.range,
+            used: 1,
+            result: Ok(()),
+        };
+        if tasks.push(task).is_err() {
+            return Err(BvhError::Internal);
+        }
+    }
+    executor.run_chunks(&mut tasks, 1, &|_, chunk| {
+        for t in chunk.iter_mut() {
+            let root = Task {
+                node: 0,
+                range: t.range,
+            };
+            let start = t.range.start;
+            t.result = grow(
+                patches,
+                t.nodes,
+                t.base,
+                &mut t.used,
+                t.order,
+                start,
+                root,
+                (0, &mut HVec::new()),
+            );
+        }
+    });
+    // Each subtree's nodes moved down to follow the previous one, its node children renumbered,
+    // and its parent's slot pointed at its root.
+    let mut results: HVec<(usize, usize), MAX_SUBTREES> = HVec::new();
+    for task in tasks.iter() {
+        task.result?;
+        results
+            .push((task.base, task.used))
+            .map_err(|_| BvhError::Internal)?;
+    }
+    drop(tasks);
+    let mut at = used;
+    for ((old, count), d) in results.into_iter().zip(deferred.iter()) {
+        if old != at {
+            // Down by `old − at` (the regions only move down): each node read before it can be
+            // overwritten.
+            for i in 0..count {
+                let node = *nodes.get(old + i).ok_or(BvhError::Internal)?;
+                *nodes.get_mut(at + i).ok_or(BvhError::Internal)? = node;
+            }
+            let shift = (old - at) as u32;
+            for node in nodes.get_mut(at..at + count).ok_or(BvhError::Internal)? {
+                for k in 0..BVH_WIDTH {
+                    if node.count(k) == 0 && node.child(k) != BVH_EMPTY_SLOT {
+                        *node.child.get_mut(k).ok_or(BvhError::Internal)? -= shift;
+                    }
+                }
+            }
+        }
+        let parent = nodes.get_mut(d.parent).ok_or(BvhError::Internal)?;
+        *parent.child.get_mut(d.slot).ok_or(BvhError::Internal)? = at as u32;
+        at += count;
+    }
+    Ok((at, n))
+}
+
+/// Fills the nodes of the tree below `root` (a node whose range is examined), depth first:
+/// each node's children, by splitting its range, then the child of largest area (then most
+/// boxes) that splits, until there are four; a child that still splits becomes a node, unless a
+/// leaf holds it. `nodes` is the region of node indices from `base` (node `base + j` at `j`),
+/// `*used` the region's nodes in use; `order` holds the positions from `order_base`. With
+/// `limit > 0`, a child node of at most `limit` boxes is left to `deferred` (its slot to be
+/// pointed at its subtree's root), while the list has room.
+#[allow(clippy::too_many_arguments)]
+fn grow<F: Float, B: Boxes<F> + ?Sized>(
+    patches: &B,
+    nodes: &mut [BvhNode<F>],
+    base: usize,
+    used: &mut usize,
+    order: &mut [u32],
+    order_base: usize,
+    root: Task<F>,
+    (limit, deferred): (usize, &mut HVec<Deferred<F>, MAX_SUBTREES>),
+) -> Result<(), BvhError> {
     // Depth first; each node leaves at most three pending siblings per level. A root that
     // does not split becomes one leaf, like any range that does not.
     let mut stack: HVec<Task<F>, { BVH_STACK + BVH_WIDTH }> = HVec::new();
-    stack
-        .push(Task {
-            node: 0,
-            range: root,
-        })
-        .map_err(|_| BvhError::Internal)?;
+    stack.push(root).map_err(|_| BvhError::Internal)?;
     while let Some(Task { node, range }) = stack.pop() {
-        // The node's children: split the range, then keep splitting the child of largest
-        // area (then most patches) that splits, until there are four.
         let mut kids: HVec<Range<F>, BVH_WIDTH> = HVec::new();
         kids.push(range).map_err(|_| BvhError::Internal)?;
         while kids.len() < BVH_WIDTH {
@@ -164,8 +369,8 @@ pub(super) fn build_tree<F: Float, B: Boxes<F> + ?Sized>(
             let Some((k, ..)) = pick else { break };
             let c = *kids.get(k).ok_or(BvhError::Internal)?;
             let mid = c.split.ok_or(BvhError::Internal)?;
-            let left = examine(patches, order, c.start, mid, c.depth + 1)?;
-            let right = examine(patches, order, mid, c.end, c.depth + 1)?;
+            let left = examine(patches, order, order_base, c.start, mid, c.depth + 1)?;
+            let right = examine(patches, order, order_base, mid, c.end, c.depth + 1)?;
             *kids.get_mut(k).ok_or(BvhError::Internal)? = left;
             kids.insert(k + 1, right).map_err(|_| BvhError::Internal)?;
         }
@@ -177,15 +382,24 @@ pub(super) fn build_tree<F: Float, B: Boxes<F> + ?Sized>(
             // node of a few leaves costs a visit more than testing those patches (each
             // test starts with its own box).
             let (child, count) = if c.split.is_some() && c.end - c.start > MAX_LEAF {
-                let at = used;
-                used += 1;
-                tasks
-                    .push(Task {
-                        node: at,
-                        range: *c,
-                    })
-                    .map_err(|_| BvhError::Internal)?;
-                (at as u32, 0)
+                let later = Deferred {
+                    parent: base + node,
+                    slot: k,
+                    range: *c,
+                };
+                if c.end - c.start <= limit && deferred.push(later).is_ok() {
+                    (BVH_EMPTY_SLOT, 0)
+                } else {
+                    let at = *used;
+                    *used += 1;
+                    tasks
+                        .push(Task {
+                            node: at,
+                            range: *c,
+                        })
+                        .map_err(|_| BvhError::Internal)?;
+                    ((base + at) as u32, 0)
+                }
             } else {
                 (c.start as u32, (c.end - c.start) as u32)
             };
@@ -198,7 +412,83 @@ pub(super) fn build_tree<F: Float, B: Boxes<F> + ?Sized>(
             stack.push(t).map_err(|_| BvhError::StackOverflow)?;
         }
     }
-    Ok(used)
+    Ok(())
+}
+
+/// Recomputes the child boxes of every node in use from the boxes of `patches` (the tree's
+/// structure and `order` unchanged: a refit), children before parents (a node's children
+/// follow it); returns the tree's cost ([`tree_cost`]). Work: one box union per index of
+/// `order` and per node slot.
+pub(super) fn refit<F: Float, B: Boxes<F> + ?Sized>(
+    patches: &B,
+    nodes: &mut [BvhNode<F>],
+    order: &[u32],
+) -> Result<f64, BvhError> {
+    for i in (0..nodes.len()).rev() {
+        let mut node = *nodes.get(i).ok_or(BvhError::Internal)?;
+        for k in 0..BVH_WIDTH {
+            let (child, count) = (node.child(k), node.count(k));
+            if child == BVH_EMPTY_SLOT {
+                continue;
+            }
+            let mut b = Aabb::EMPTY;
+            if count > 0 {
+                let first = child as usize;
+                let ids = order
+                    .get(first..first + count as usize)
+                    .ok_or(BvhError::CorruptTree)?;
+                for &id in ids {
+                    b = b.union(&patches.box_of(id)?);
+                }
+            } else {
+                let c = child as usize;
+                if c <= i {
+                    return Err(BvhError::CorruptTree);
+                }
+                let sub = nodes.get(c).ok_or(BvhError::CorruptTree)?;
+                for s in 0..BVH_WIDTH {
+                    if sub.child(s) != BVH_EMPTY_SLOT {
+                        b = b.union(&sub.bounds(s));
+                    }
+                }
+            }
+            node.set_box(k, &b);
+        }
+        *nodes.get_mut(i).ok_or(BvhError::Internal)? = node;
+    }
+    Ok(tree_cost(nodes))
+}
+
+/// The tree's cost by the surface area heuristic, relative to its root's box: each slot's
+/// half area times what a ray entering it tests (one node, or the leaf's boxes), summed and
+/// divided by the root's half area (`+∞` for a root of no area). Compared across refits to
+/// decide when a refitted tree has degraded enough to rebuild.
+pub(super) fn tree_cost<F: Float>(nodes: &[BvhNode<F>]) -> f64 {
+    let Some(root) = nodes.first() else {
+        return 0.0;
+    };
+    let mut root_box = Aabb::EMPTY;
+    for k in 0..BVH_WIDTH {
+        if root.child(k) != BVH_EMPTY_SLOT {
+            root_box = root_box.union(&root.bounds(k));
+        }
+    }
+    let mut sum = 0.0f64;
+    for node in nodes {
+        for k in 0..BVH_WIDTH {
+            if node.child(k) == BVH_EMPTY_SLOT {
+                continue;
+            }
+            let weight = f64::from(node.count(k).max(1));
+            sum += node.bounds(k).half_area().to_f64() * weight;
+        }
+    }
+    let area = root_box.half_area().to_f64();
+    if area > 0.0 {
+        sum / area
+    } else {
+        f64::INFINITY
+    }
 }
 
 /// Bin index of a centroid coordinate.

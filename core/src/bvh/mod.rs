@@ -30,6 +30,9 @@ pub use error::BvhError;
 pub use node::{BVH_EMPTY_SLOT, BVH_STACK, BVH_WIDTH, BvhNode, MAX_DEPTH, MAX_LEAF};
 pub use tree::BoxBvh;
 
+use crate::exec::Executor;
+use build::{build_tree, refit, tree_cost};
+
 use crate::kernel::heights::Target;
 use crate::kernel::{self, Crossing, DEFAULT_SAMPLES, Heights, KernelStats, Test, WorldRay};
 use crate::num::real::Float;
@@ -66,8 +69,33 @@ impl<'a, F: Float> Bvh<'a, F> {
         nodes: &'a mut [BvhNode<F>],
         order: &'a mut [u32],
     ) -> Result<Self, BvhError> {
-        let tree = BoxBvh::build_from(patches, nodes, order)?;
+        let tree = BoxBvh::build_from(patches, nodes, order, &())?;
         Ok(Bvh { patches, tree })
+    }
+
+    /// Builds the tree over `patches` into `nodes` and `order` as [`Bvh::build`] does, its
+    /// subtrees on `executor` (the same tree whatever the executor); placeholders
+    /// ([`Patch::rejected`]) are left out. Returns the nodes used, the patches in the tree and
+    /// the tree's cost (`tree_cost`).
+    pub(crate) fn build_in(
+        patches: &[Patch<F>],
+        nodes: &mut [BvhNode<F>],
+        order: &mut [u32],
+        executor: &impl Executor,
+    ) -> Result<(usize, usize, f64), BvhError> {
+        let (used, kept) = build_tree(patches, nodes, order, executor)?;
+        let cost = tree_cost(nodes.get(..used).ok_or(BvhError::Internal)?);
+        Ok((used, kept, cost))
+    }
+
+    /// Refits the tree in `nodes` (in use) over `order` (its patches) to the patches' boxes
+    /// now: the same structure, every box recomputed. Returns the tree's cost.
+    pub(crate) fn refit_in(
+        patches: &[Patch<F>],
+        nodes: &mut [BvhNode<F>],
+        order: &[u32],
+    ) -> Result<f64, BvhError> {
+        refit(patches, nodes, order)
     }
 
     /// Re-wraps storage filled by an earlier [`Bvh::build`] over the same patches (for owners
@@ -91,7 +119,6 @@ impl<'a, F: Float> Bvh<'a, F> {
     }
 
     /// Wraps storage that [`Bvh::build`] filled (no check).
-    #[cfg(feature = "alloc")]
     pub(crate) fn from_built(
         patches: &'a [Patch<F>],
         nodes: &'a [BvhNode<F>],

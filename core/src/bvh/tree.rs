@@ -8,6 +8,7 @@ use super::build::{Boxes, build_tree, nodes_needed};
 use super::error::BvhError;
 use super::node::{BVH_EMPTY_SLOT, BVH_STACK, BVH_WIDTH, BvhNode, MAX_DEPTH, SlabRay};
 use crate::aabb::Aabb;
+use crate::exec::Executor;
 use crate::kernel::Crossing;
 use crate::num::real::Float;
 use crate::ray::{Hit, Ray};
@@ -44,8 +45,8 @@ impl<'a, F: Float> BoxBvh<'a, F> {
     /// over the patches' boxes gives the same nodes and order as [`Bvh::build`](crate::Bvh::build) over the
     /// patches.
     ///
-    /// The boxes should be finite (a non-finite or empty box gives a valid tree whose
-    /// queries may skip that index). Returns the BVH, or [`BvhError::EmptyScene`],
+    /// Empty boxes (and boxes with a NaN corner) are left out of the tree: no ray can enter
+    /// them, so their indices are never tested; [`BoxBvh::order`] lists the indices kept. Returns the BVH, or [`BvhError::EmptyScene`],
     /// [`BvhError::StorageTooSmall`], [`BvhError::TooManyPatches`]. Work: `O(n log n)`; no
     /// allocation. Deterministic: the same boxes give the same nodes and order.
     /// # Panics
@@ -55,23 +56,23 @@ impl<'a, F: Float> BoxBvh<'a, F> {
         nodes: &'a mut [BvhNode<F>],
         order: &'a mut [u32],
     ) -> Result<Self, BvhError> {
-        Self::build_from(boxes, nodes, order)
+        Self::build_from(boxes, nodes, order, &())
     }
 
-    /// [`BoxBvh::build`] over any source of boxes (an [`Aabb`] slice or the patches'): the
-    /// nodes used and the first `n` indices.
-    pub(super) fn build_from<B: Boxes<F> + ?Sized>(
+    /// [`BoxBvh::build`] over any source of boxes (an [`Aabb`] slice or the patches'), its
+    /// subtrees on `executor`: the nodes used and the indices of the boxes kept.
+    pub(super) fn build_from<B: Boxes<F> + Sync + ?Sized>(
         boxes: &B,
         nodes: &'a mut [BvhNode<F>],
         order: &'a mut [u32],
+        executor: &impl Executor,
     ) -> Result<Self, BvhError> {
-        let used = build_tree(boxes, nodes, order)?;
+        let (used, kept) = build_tree(boxes, nodes, order, executor)?;
         let nodes: &'a [BvhNode<F>] = nodes;
         let order: &'a [u32] = order;
         Ok(BoxBvh {
-            // At most `nodes_needed(n)` nodes are used (see there).
             nodes: nodes.get(..used).ok_or(BvhError::Internal)?,
-            order: order.get(..boxes.count()).ok_or(BvhError::Internal)?,
+            order: order.get(..kept).ok_or(BvhError::Internal)?,
         })
     }
 

@@ -56,14 +56,14 @@ pub const EXTENT_EDGES: f64 = 4.0;
 /// With each domain widened by more than the wall's rounding, a crossing at the edge lies
 /// strictly inside both patches' intervals, and the closest-hit rule of the BVH keeps one.
 /// Beyond its edge a patch continues along its tangent plane there (`crate::surface::lanes`
-/// `beyond_edge`, the continuation [`close_cracks`](crate::mesh::cracks::close_cracks) relies on), so
+/// `beyond_edge`, the continuation [`close_cracks`](crate::mesh::close_cracks) relies on), so
 /// a crossing found in the margin is off the patch's surface by at most the margin's width,
 /// half of the [`ROUNDING_ULPS`] allowance that every `t_error` carries.
 /// `tests/suite/watertight.rs` aims thousands of rays per mesh at shared edge points from
 /// directions up to 80° off both neighbours' normals: none falls through in `f32` or `f64`.
 pub const WALL_MARGIN_ULPS: f64 = 8.0;
 
-/// The largest reach of a wall that [`close_cracks`](crate::mesh::cracks::close_cracks) sets, as a
+/// The largest reach of a wall that [`close_cracks`](crate::mesh::close_cracks) sets, as a
 /// fraction of the wall's altitude (barycentric units); the patch's band
 /// (`core/src/surface/band.rs`) is widened for continuations up to it.
 ///

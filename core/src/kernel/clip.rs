@@ -173,7 +173,7 @@ fn wall_margin<F: Float>(shape: &Shape<F>, edge: F, scale: F) -> F {
 }
 
 /// The three walls' barycentric offsets: [`wall_margin`] plus the patch's crack reach
-/// ([`close_cracks`](crate::mesh::cracks::close_cracks); 0 unless measured).
+/// ([`close_cracks`](crate::mesh::close_cracks); 0 unless measured).
 #[inline(always)]
 fn wall_margins<F: Float>(patch: &Patch<F>, edge: F, scale: F) -> [F; 3] {
     let m = wall_margin(&patch.shape, edge, scale);

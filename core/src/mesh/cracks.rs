@@ -4,7 +4,7 @@
 //! line field `di = ni / (ni·Nf)` depends on its own face normal, so on meshes whose vertex
 //! normals do not satisfy `(na·NA)/(nb·NA) = (na·NB)/(nb·NB)` (irregular meshes, the teapot's
 //! remedied patches) the two curves part by a gap, and a ray aimed between them would pass
-//! through both patches' shells. [`close_cracks`] measures that gap once per mesh, for every
+//! through both patches' shells. [`close_cracks`](super::close_cracks) measures that gap once per mesh, for every
 //! shared edge, and widens each neighbour's domain across the edge by [`CRACK_REACH`] times
 //! the gap, so that the two patches overlap there instead of parting. Beyond its edge a patch
 //! continues along its tangent plane at the edge (the plane normal to the interpolated vertex
@@ -17,7 +17,7 @@
 //! unchanged everywhere. Nothing changes inside a triangle.
 
 use super::sampling::{EDGE_SAMPLES, Nodes, Side, widest_gap};
-use super::topology::{EdgePair, MeshError, SharedEdge, edge_pair, pair_shared_edges};
+use super::topology::EdgePair;
 use crate::num::real::Float;
 use crate::patch::Patch;
 
@@ -41,13 +41,13 @@ pub const CRACK_REACH: f64 = 4.0;
 
 pub use crate::kernel::MAX_CRACK_REACH;
 
-/// Points per shared edge at which [`close_cracks`] measures the gap: the 16 Chebyshev nodes
+/// Points per shared edge at which [`close_cracks`](super::close_cracks) measures the gap: the 16 Chebyshev nodes
 /// `t_s = (1 − cos((2s + 1)π / 32)) / 2`, 8 of which the seam fit samples too
 /// ([`FIT_SAMPLES`](crate::mesh::seams::FIT_SAMPLES)), so that the builder evaluates each
 /// neighbour's surface there once for both; two surface evaluations each.
 pub const CRACK_SAMPLES: usize = EDGE_SAMPLES;
 
-/// What [`close_cracks`] measured.
+/// What [`close_cracks`](super::close_cracks) measured.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct CrackReport {
     /// Edges shared by exactly two patches (traversed in opposite directions).
@@ -56,67 +56,6 @@ pub struct CrackReport {
     pub open_edges: usize,
     /// The widest gap between two neighbours' edge curves (world length, `f64`).
     pub widest_gap: f64,
-}
-
-/// Measures, for every edge shared by two patches, the gap between the two neighbours' edge
-/// curves at `CRACK_SAMPLES` = 16 points (heights evaluated in `F` as the kernel evaluates
-/// them, world points placed in `f64`), and sets each neighbour's reach across that edge to
-/// [`CRACK_REACH`] times the widest gap (over the wall's altitude, in barycentric units, at
-/// most [`MAX_CRACK_REACH`]); the patches' bounding boxes grow to match. Reaches of boundary edges, non-manifold edges and lone triangles are reset to 0, so
-/// calling it again gives the same patches.
-///
-/// `patches[i]` must be the patch of triangle `triangles[i]` (vertex indices in the patch's
-/// vertex order, `< vertex_count`); `scratch` holds at least `3 × triangles.len()` entries
-/// (contents on return unspecified). Edges are matched by vertex index as in
-/// [`fit_seams`](crate::mesh::seams::fit_seams). Call it after building the patches and before
-/// building the [`Bvh`](crate::bvh::Bvh) (which reads their boxes).
-///
-/// Returns the [`CrackReport`], or a [`MeshError`] when the lengths differ, the scratch is
-/// too small, or an index is out of range or repeated within a triangle (the patches are
-/// then unchanged).
-///
-/// Work: `2·CRACK_SAMPLES` surface-point evaluations per shared edge (the kernel's height)
-/// and one heapsort of the
-/// edges (`O(n log n)`, in place, no allocation). The kernel's work per ray is unchanged.
-///
-/// # Accuracy
-/// A crossing found in a patch's reach lies on the band that continues the patch beyond its
-/// edge, within the hit's `t_error` of it; the band extends at most `CRACK_REACH · gap` (and
-/// at most [`MAX_CRACK_REACH`] of the altitude) from the edge curve, and within the patch's
-/// height range. The reported normal there is the edge's (barycentrics are projected).
-/// # Panics
-/// Never.
-pub fn close_cracks<F: Float>(
-    patches: &mut [Patch<F>],
-    triangles: &[[u32; 3]],
-    vertex_count: usize,
-    scratch: &mut [SharedEdge],
-) -> Result<CrackReport, MeshError> {
-    if triangles.len() != patches.len() {
-        return Err(MeshError::PatchCount {
-            patches: patches.len(),
-            triangles: triangles.len(),
-        });
-    }
-    let n = pair_shared_edges(triangles, vertex_count, scratch)?;
-    let pairs = scratch.get(..n).unwrap_or(&[]);
-    clear_reaches(patches);
-    let mut report = CrackReport::default();
-    let nodes = Nodes::new();
-    for k in 0..n {
-        if let Some(pair) = edge_pair(pairs, k) {
-            let gap = pair_gap(&nodes, patches, pair);
-            apply_gap(patches, pair, gap, &mut report);
-        }
-    }
-    Ok(report)
-}
-
-/// Resets every reach to 0 (before [`apply_gap`] sets those of the shared edges).
-pub(crate) fn clear_reaches<F: Float>(patches: &mut [Patch<F>]) {
-    for p in patches.iter_mut() {
-        p.set_reach([F::ZERO; 3]);
-    }
 }
 
 /// The gap of shared edge `pair` ([`edge_gap`]); 0 when an index is out of range.

@@ -1,9 +1,10 @@
 //! The builder's inputs: vertex attributes read from the caller's buffers ([`Vertices`]) and
 //! what to build beside the patches ([`BuildOptions`]).
 
-use super::report::BuildError;
+use super::report::{BuildError, BuildObserver};
 #[cfg(doc)]
-use super::{Scene, SceneHit, SceneSizes};
+use super::{DynamicScene, Scene, SceneHit, SceneSizes};
+use crate::exec::Executor;
 use crate::num::real::Float;
 use crate::surface::field::LineField;
 
@@ -115,9 +116,12 @@ impl<'a, T: Float> Vertices<'a, T> {
     }
 }
 
-/// What [`Scene::build`] builds beside the patches and the BVH.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct BuildOptions {
+/// How [`Scene::build`] (and an update, [`DynamicScene::update`]) builds a scene: what beside
+/// the patches and the BVH, who is told what it does, and whose threads run it. The one
+/// options value of every build; [`BuildOptions::default`] is the paper's line field, no seams,
+/// nothing observed, the calling thread.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct BuildOptions<O = (), E = ()> {
     /// The line field of the patches: [`LineField::Face`] (the paper's construction, the
     /// default) or [`LineField::Vertex`] (neighbours share their edges' lines, so their edge
     /// curves meet; adds the per-vertex remedy and its storage).
@@ -126,4 +130,50 @@ pub struct BuildOptions {
     /// geometric normal; costs `2·FIT_SAMPLES` = 16 normal evaluations per shared edge and
     /// [`SceneSizes::seams`] storage). Without it the shading normal is the geometric one.
     pub seams: bool,
+    /// Told each rejected triangle and the start and progress of each step
+    /// ([`BuildObserver`]; `()`: nothing; `&mut` your observer to keep what it learns).
+    pub observer: O,
+    /// Runs the parallel parts of each step ([`Executor`]; `()`: the calling thread). The
+    /// scene is bit for bit the same whatever the executor.
+    pub executor: E,
+}
+
+/// The paper's line field, no seams, no observer, the calling thread.
+impl Default for BuildOptions {
+    fn default() -> Self {
+        BuildOptions {
+            field: LineField::Face,
+            seams: false,
+            observer: (),
+            executor: (),
+        }
+    }
+}
+
+impl<O, E> BuildOptions<O, E> {
+    /// These options with `observer` in place of theirs.
+    ///
+    /// # Panics
+    /// Never.
+    pub fn with_observer<P: BuildObserver>(self, observer: P) -> BuildOptions<P, E> {
+        BuildOptions {
+            field: self.field,
+            seams: self.seams,
+            observer,
+            executor: self.executor,
+        }
+    }
+
+    /// These options with `executor` in place of theirs.
+    ///
+    /// # Panics
+    /// Never.
+    pub fn with_executor<X: Executor>(self, executor: X) -> BuildOptions<O, X> {
+        BuildOptions {
+            field: self.field,
+            seams: self.seams,
+            observer: self.observer,
+            executor,
+        }
+    }
 }

@@ -62,6 +62,8 @@
 
 pub(crate) mod build;
 pub(crate) mod cracks;
+pub(crate) mod dynamic;
+pub(crate) mod edges;
 pub(crate) mod input;
 pub(crate) mod parallel;
 pub(crate) mod report;
@@ -72,17 +74,20 @@ pub(crate) mod storage;
 pub(crate) mod topology;
 pub(crate) mod vertex_normals;
 
+pub use build::REBUILD_COST_RATIO;
+pub use dynamic::DynamicScene;
 pub use input::{BuildOptions, Vertices};
-pub use report::{BuildError, BuildObserver, BuildReport, BuildStage, Rejections};
+pub use report::{BuildError, BuildObserver, BuildReport, BuildStage, OnRejected, Rejections};
 pub use scene::{Scene, SceneHit};
 pub use storage::{SceneSizes, SceneStorage};
 #[cfg(feature = "alloc")]
 pub(crate) mod owned;
 
-pub use cracks::{CrackReport, close_cracks};
+pub use cracks::CrackReport;
+pub use edges::{close_cracks, fit_seams};
 #[cfg(feature = "alloc")]
 pub use owned::OwnedScene;
 pub use parallel::{EDGE_WORK_BLOCK, EdgeWork, Executor};
-pub use seams::{Seam, fit_seams};
+pub use seams::Seam;
 pub use topology::{MeshError, SharedEdge};
 pub use vertex_normals::{VertexClamp, VertexClampReport, clamp_vertex_normals};

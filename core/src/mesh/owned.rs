@@ -3,22 +3,27 @@
 use alloc::vec;
 use alloc::vec::Vec;
 
+use super::build::{Built, Parts, check, run, slots};
+use super::dynamic::check_vertices;
 use super::input::{BuildOptions, Vertices};
-use super::parallel::{EdgeWork, Executor};
-use super::report::{BuildError, BuildObserver, BuildReport, Rejected};
+use super::parallel::EdgeWork;
+use super::report::{BuildError, BuildObserver, BuildReport};
 use super::scene::Scene;
 use super::seams::Seam;
 use super::storage::{SceneSizes, SceneStorage};
-use super::topology::SharedEdge;
+use super::topology::{SharedEdge, pair_shared_edges};
 use super::vertex_normals::VertexClamp;
 use crate::bvh::{Bvh, BvhNode};
-use crate::error::PatchError;
+use crate::exec::Executor;
 use crate::num::real::Float;
 use crate::patch::Patch;
 
 /// A [`Scene`] that owns its storage (feature `alloc`): [`OwnedScene::build`] allocates what
-/// [`SceneSizes::new`] asks for, runs [`Scene::build`] and keeps the used parts (the scratch
-/// is freed). [`OwnedScene::scene`] borrows it as a [`Scene`] for queries.
+/// [`SceneSizes::new`] asks for, runs [`Scene::build`] and keeps the parts in use (the scratch
+/// is freed); [`OwnedScene::update`] re-builds it in place for moved vertices, as
+/// [`DynamicScene::update`](crate::DynamicScene::update) does (the first update allocates the
+/// scratch again and finds the shared edges once more). [`OwnedScene::scene`] borrows it as a
+/// [`Scene`] for queries.
 #[derive(Clone, Debug)]
 pub struct OwnedScene<F: Float = f32> {
     patches: Vec<Patch<F>>,
@@ -26,66 +31,50 @@ pub struct OwnedScene<F: Float = f32> {
     nodes: Vec<BvhNode<F>>,
     order: Vec<u32>,
     seams: Vec<Seam<F>>,
-    report: BuildReport,
+    triangles: Vec<[u32; 3]>,
+    scratch: Option<Scratch<F>>,
+    built: Built,
+    usable: bool,
+}
+
+/// The storage an update needs beside the scene's own.
+#[derive(Clone, Debug)]
+struct Scratch<F: Float> {
+    edges: Vec<SharedEdge>,
+    work: Vec<EdgeWork<F>>,
+    vertex_positions: Vec<F::Vec3>,
+    vertex_normals: Vec<F::Vec3>,
+    clamped: Vec<F::Vec3>,
+    clamps: Vec<VertexClamp<F>>,
+}
+
+impl<F: Float> Scratch<F> {
+    fn new(sizes: &SceneSizes) -> Self {
+        let zero = F::to_glam(crate::num::vec::V3::zero());
+        Scratch {
+            edges: vec![SharedEdge::default(); sizes.edges],
+            work: vec![EdgeWork::default(); sizes.edge_work],
+            vertex_positions: vec![zero; sizes.vertices],
+            vertex_normals: vec![zero; sizes.vertices],
+            clamped: vec![zero; sizes.vertices],
+            clamps: vec![VertexClamp::default(); sizes.vertices],
+        }
+    }
 }
 
 impl<F: Float> OwnedScene<F> {
     /// [`Scene::build`] into storage of its own. Errors as [`Scene::build`].
     ///
     /// # Panics
-    /// Never (allocation failure aborts, as in `alloc`).
-    pub fn build<T: Float>(
+    /// Never (allocation failure aborts, as in `alloc`; unless the observer or the executor
+    /// panics).
+    pub fn build<T: Float, O: BuildObserver, E: Executor>(
         positions: Vertices<'_, T>,
         normals: Vertices<'_, T>,
         indices: &[[u32; 3]],
-        options: &BuildOptions,
+        options: &mut BuildOptions<O, E>,
     ) -> Result<Self, BuildError> {
-        Self::build_reporting(positions, normals, indices, options, |_, _| {})
-    }
-
-    /// [`Scene::build_reporting`] into storage of its own.
-    ///
-    /// # Panics
-    /// Never (unless `rejected` panics).
-    pub fn build_reporting<T: Float>(
-        positions: Vertices<'_, T>,
-        normals: Vertices<'_, T>,
-        indices: &[[u32; 3]],
-        options: &BuildOptions,
-        rejected: impl FnMut(u32, PatchError),
-    ) -> Result<Self, BuildError> {
-        let mut observer = Rejected(rejected);
-        Self::build_observed(positions, normals, indices, options, &mut observer)
-    }
-
-    /// [`Scene::build_observed`] into storage of its own.
-    ///
-    /// # Panics
-    /// Never (unless `observer` panics).
-    pub fn build_observed<T: Float>(
-        positions: Vertices<'_, T>,
-        normals: Vertices<'_, T>,
-        indices: &[[u32; 3]],
-        options: &BuildOptions,
-        observer: &mut impl BuildObserver,
-    ) -> Result<Self, BuildError> {
-        Self::build_parallel(positions, normals, indices, options, observer, &())
-    }
-
-    /// [`Scene::build_parallel`] into storage of its own.
-    ///
-    /// # Panics
-    /// Never (unless `observer` or `executor` panics).
-    pub fn build_parallel<T: Float>(
-        positions: Vertices<'_, T>,
-        normals: Vertices<'_, T>,
-        indices: &[[u32; 3]],
-        options: &BuildOptions,
-        observer: &mut impl BuildObserver,
-        executor: &impl Executor,
-    ) -> Result<Self, BuildError> {
-        let sizes =
-            SceneSizes::new(positions.len(), indices.len(), options).ok_or(BuildError::TooLarge)?;
+        let sizes = check(&positions, &normals, indices, options)?;
         // Storage the allocator could not describe (more than `isize::MAX` bytes) is refused
         // here rather than by `Vec`'s capacity-overflow panic.
         if sizes
@@ -100,13 +89,7 @@ impl<F: Float> OwnedScene<F> {
         let mut order = vec![0u32; sizes.patches];
         let mut seams = vec![Seam::<F>::default(); sizes.seams];
         let mut triangles = vec![[0u32; 3]; sizes.patches];
-        let mut edges = vec![SharedEdge::default(); sizes.edges];
-        let mut edge_work = vec![EdgeWork::<F>::default(); sizes.edge_work];
-        let zero = F::to_glam(crate::num::vec::V3::zero());
-        let mut vpos = vec![zero; sizes.vertices];
-        let mut vnrm = vec![zero; sizes.vertices];
-        let mut clamped = vec![zero; sizes.vertices];
-        let mut clamps = vec![VertexClamp::<F>::default(); sizes.vertices];
+        let mut scratch = Scratch::new(&sizes);
         let storage = SceneStorage {
             patches: &mut patches,
             triangle_ids: &mut triangle_ids,
@@ -114,42 +97,139 @@ impl<F: Float> OwnedScene<F> {
             order: &mut order,
             seams: &mut seams,
             triangles: &mut triangles,
-            edges: &mut edges,
-            edge_work: &mut edge_work,
-            vertex_positions: &mut vpos,
-            vertex_normals: &mut vnrm,
-            clamped_normals: &mut clamped,
-            vertex_clamps: &mut clamps,
+            edges: &mut scratch.edges,
+            edge_work: &mut scratch.work,
+            vertex_positions: &mut scratch.vertex_positions,
+            vertex_normals: &mut scratch.vertex_normals,
+            clamped_normals: &mut scratch.clamped,
+            vertex_clamps: &mut scratch.clamps,
         };
-        let report = *Scene::build_parallel(
-            positions, normals, indices, options, storage, observer, executor,
-        )?
-        .report();
-        patches.truncate(report.patches);
-        triangle_ids.truncate(report.patches);
-        order.truncate(report.patches);
-        nodes.truncate(report.bvh_nodes);
-        seams.truncate(if options.seams { report.patches } else { 0 });
+        let mut parts = Parts::of(storage, &sizes)?;
+        let count = slots(indices, parts.triangles, parts.triangle_ids);
+        let built = run(
+            &positions,
+            &normals,
+            indices.len(),
+            &mut parts,
+            options,
+            count,
+            None,
+        )?;
+        for v in [&mut triangle_ids, &mut order] {
+            v.truncate(count);
+        }
+        patches.truncate(count);
+        triangles.truncate(count);
+        order.truncate(built.kept);
+        nodes.truncate(built.nodes);
+        seams.truncate(if built.seams { count } else { 0 });
         Ok(OwnedScene {
             patches,
             triangle_ids,
             nodes,
             order,
             seams,
-            report,
+            triangles,
+            scratch: None,
+            built,
+            usable: true,
         })
     }
 
-    /// The scene, borrowed for queries.
+    /// Re-builds the scene in place for moved vertices, as
+    /// [`DynamicScene::update`](crate::DynamicScene::update) does (the same errors, the same
+    /// scene after an error, the same results bit for bit). The first update allocates the
+    /// builder's scratch again (kept until the scene is dropped) and pairs the shared edges.
+    ///
+    /// # Panics
+    /// Never (allocation failure aborts, as in `alloc`; unless the observer or the executor
+    /// panics).
+    pub fn update<T: Float, O: BuildObserver, E: Executor>(
+        &mut self,
+        positions: Vertices<'_, T>,
+        normals: Vertices<'_, T>,
+        options: &mut BuildOptions<O, E>,
+    ) -> Result<&BuildReport, BuildError> {
+        if options.field != self.built.field || options.seams != self.built.seams {
+            return Err(BuildError::OptionsChanged);
+        }
+        check_vertices::<T, F>(&positions, &normals, self.built.vertices)?;
+        let slots = self.built.slots;
+        if self.scratch.is_none() {
+            let plain = BuildOptions {
+                field: self.built.field,
+                seams: self.built.seams,
+                ..BuildOptions::default()
+            };
+            let sizes =
+                SceneSizes::new(self.built.vertices, slots, &plain).ok_or(BuildError::TooLarge)?;
+            let mut scratch = Scratch::new(&sizes);
+            pair_shared_edges(&self.triangles, self.built.vertices, &mut scratch.edges)?;
+            self.scratch = Some(scratch);
+            self.order.resize(slots, 0);
+            self.nodes
+                .resize(Bvh::<F>::nodes_needed(slots), BvhNode::default());
+        }
+        let Some(scratch) = self.scratch.as_mut() else {
+            return Err(BuildError::TooLarge);
+        };
+        let mut parts = Parts {
+            patches: &mut self.patches,
+            triangle_ids: &mut self.triangle_ids,
+            nodes: &mut self.nodes,
+            order: &mut self.order,
+            seams: &mut self.seams,
+            triangles: &mut self.triangles,
+            edges: &mut scratch.edges,
+            work: &mut scratch.work,
+            vertex_positions: &mut scratch.vertex_positions,
+            vertex_normals: &mut scratch.vertex_normals,
+            clamped: &mut scratch.clamped,
+            clamps: &mut scratch.clamps,
+        };
+        let result = run(
+            &positions,
+            &normals,
+            self.built.report.triangles,
+            &mut parts,
+            options,
+            slots,
+            Some(&self.built),
+        );
+        match result {
+            Ok(built) => {
+                self.built = built;
+                self.usable = true;
+                Ok(&self.built.report)
+            }
+            Err(e) => {
+                self.usable = false;
+                Err(e)
+            }
+        }
+    }
+
+    /// The scene, borrowed for queries (empty, every query missing, while an update's internal
+    /// error has left it unusable).
     ///
     /// # Panics
     /// Never.
     pub fn scene(&self) -> Scene<'_, F> {
-        Scene::from_built(
-            Bvh::from_built(&self.patches, &self.nodes, &self.order),
+        let built = if self.usable {
+            self.built
+        } else {
+            Built {
+                nodes: 0,
+                kept: 0,
+                ..self.built
+            }
+        };
+        built.scene(
+            &self.patches,
             &self.triangle_ids,
+            &self.nodes,
+            &self.order,
             &self.seams,
-            self.report,
         )
     }
 }

@@ -1,6 +1,5 @@
-//! Running the builder's per-edge work on the caller's threads: the [`Executor`] a caller
-//! passes to [`Scene::build_parallel`](crate::Scene::build_parallel), and the builder's
-//! per-edge scratch ([`EdgeWork`]).
+//! The builder's per-edge scratch ([`EdgeWork`]), and the [`Executor`] a caller puts in its
+//! [`BuildOptions`](crate::BuildOptions) to run the builder's work on its threads.
 //!
 //! Crack closure and the seam fit are computed edge by edge, each shared edge's result a pure
 //! function of its two patches. The builder computes them in blocks of
@@ -10,27 +9,8 @@
 //! executor, the thread count or the block length.
 
 use super::seams::EdgeFit;
+pub use crate::exec::Executor;
 use crate::num::real::Float;
-
-/// Runs a piece of the builder's work over chunks of a slice, on one thread (`()`) or on the
-/// caller's thread pool (the demo implements it over rayon's `par_chunks_mut`).
-pub trait Executor: Sync {
-    /// Calls `work(start, chunk)` for consecutive chunks of `items` that together cover every
-    /// element exactly once (`chunk` starts at index `start` of `items`), in any order, on any
-    /// threads, possibly at the same time, and returns when every call has returned. An empty
-    /// `items` may be skipped.
-    ///
-    /// # Panics
-    /// Implementations must not panic (the core's never does).
-    fn run_chunks<T: Send>(&self, items: &mut [T], work: &(dyn Fn(usize, &mut [T]) + Sync));
-}
-
-/// One thread: a single call over the whole slice.
-impl Executor for () {
-    fn run_chunks<T: Send>(&self, items: &mut [T], work: &(dyn Fn(usize, &mut [T]) + Sync)) {
-        work(0, items);
-    }
-}
 
 /// The builder's scratch for one shared edge: its crack gap, then its seam fits (opaque; the
 /// caller provides [`SceneSizes::edge_work`](crate::SceneSizes::edge_work) of them, any

@@ -10,7 +10,9 @@ use crate::bvh::BvhError;
 use crate::error::PatchError;
 
 #[cfg(doc)]
-use super::{BuildOptions, Scene, SceneSizes, SceneStorage, Vertices, clamp_vertex_normals};
+use super::{
+    BuildOptions, DynamicScene, Scene, SceneSizes, SceneStorage, Vertices, clamp_vertex_normals,
+};
 #[cfg(doc)]
 use crate::patch::Patch;
 #[cfg(doc)]
@@ -87,14 +89,39 @@ pub struct BuildReport {
     pub seam_edges: Option<usize>,
     /// BVH nodes in use.
     pub bvh_nodes: usize,
+    /// Whether the BVH was refitted to the patches' new boxes ([`DynamicScene::update`])
+    /// rather than built anew.
+    pub bvh_refitted: bool,
+    /// The BVH's cost by the surface area heuristic relative to its root's box (what a ray
+    /// entering the root is expected to test); an update rebuilds the tree once a refit has
+    /// raised it past [`REBUILD_COST_RATIO`](crate::mesh::REBUILD_COST_RATIO) times the cost of
+    /// the last tree built.
+    pub bvh_cost: f64,
 }
 
-/// Why [`Scene::build`] (or [`Vertices::strided`]) failed. Storage is then unspecified; no
-/// scene exists.
+/// Why [`Scene::build`] (or [`Vertices::strided`], or an update: [`DynamicScene::update`])
+/// failed. After a failed build the storage is unspecified and no scene exists; after a failed
+/// update, see [`DynamicScene::update`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum BuildError {
     /// The index buffer is empty.
     NoTriangles,
+    /// An update's vertex `vertex` has a position or normal coordinate that is NaN or
+    /// infinite (a build rejects the triangles around such a vertex instead).
+    NonFiniteVertex {
+        /// The vertex.
+        vertex: usize,
+    },
+    /// An update's vertices are not as many as the scene was built with.
+    VertexCountChanged {
+        /// Vertices the scene was built with.
+        built: usize,
+        /// Vertices given.
+        given: usize,
+    },
+    /// An update's options ask for another line field or another seams setting than the scene
+    /// was built with (its storage is laid out for those).
+    OptionsChanged,
     /// Every triangle was rejected; the first one's reason.
     NoUsableTriangles {
         /// Triangles given.
@@ -150,6 +177,16 @@ impl fmt::Display for BuildError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             BuildError::NoTriangles => f.write_str("no triangles"),
+            BuildError::NonFiniteVertex { vertex } => {
+                write!(f, "vertex {vertex} has a non-finite position or normal")
+            }
+            BuildError::VertexCountChanged { built, given } => write!(
+                f,
+                "the scene was built with {built} vertices, the update gives {given}"
+            ),
+            BuildError::OptionsChanged => f.write_str(
+                "an update must use the line field and seams setting the scene was built with",
+            ),
             BuildError::NoUsableTriangles { triangles, first } => write!(
                 f,
                 "no usable triangles: all {triangles} triangles were rejected (first: {first})"
@@ -238,7 +275,8 @@ impl BuildStage {
     }
 }
 
-/// What [`Scene::build_observed`] tells its caller while it builds; both methods do nothing
+/// What a build ([`Scene::build`], [`DynamicScene::update`]) tells the observer of its
+/// [`BuildOptions`] while it runs; both methods do nothing
 /// by default.
 pub trait BuildObserver {
     /// Triangle `triangle` was rejected for `why` (called in index order).
@@ -260,10 +298,25 @@ pub trait BuildObserver {
 /// Nothing to observe.
 impl BuildObserver for () {}
 
-/// The observer of [`Scene::build_reporting`]: rejected triangles only.
-pub(crate) struct Rejected<R>(pub(crate) R);
+/// An observer by reference (so the caller keeps what it learns).
+impl<T: BuildObserver + ?Sized> BuildObserver for &mut T {
+    fn rejected(&mut self, triangle: u32, why: PatchError) {
+        (**self).rejected(triangle, why);
+    }
+    fn stage(&mut self, stage: BuildStage) {
+        (**self).stage(stage);
+    }
+    fn progress(&mut self, stage: BuildStage, done: usize, total: usize) {
+        (**self).progress(stage, done, total);
+    }
+}
 
-impl<R: FnMut(u32, PatchError)> BuildObserver for Rejected<R> {
+/// An observer of rejected triangles only: `OnRejected(|triangle, why| …)` (for reports that
+/// list them all).
+#[derive(Clone, Copy, Debug)]
+pub struct OnRejected<R>(pub R);
+
+impl<R: FnMut(u32, PatchError)> BuildObserver for OnRejected<R> {
     fn rejected(&mut self, triangle: u32, why: PatchError) {
         (self.0)(triangle, why);
     }

@@ -38,23 +38,6 @@ pub struct Scene<'a, F: Float = f32> {
 }
 
 impl<'a, F: Float> Scene<'a, F> {
-    /// A scene over parts kept by an owner that built them with [`Scene::build`] (the BVH
-    /// already validated).
-    #[cfg(feature = "alloc")]
-    pub(crate) fn from_built(
-        bvh: Bvh<'a, F>,
-        triangle_ids: &'a [u32],
-        seams: &'a [Seam<F>],
-        report: BuildReport,
-    ) -> Self {
-        Scene {
-            bvh,
-            triangle_ids,
-            seams,
-            report,
-        }
-    }
-
     /// The closest hit of `ray` with `t` in `[t_min, t_max]`, the smooth kernel with a
     /// refinement budget of `n` steps (eight height evaluations each; `n = 0` brackets only;
     /// any `n`, run as [`iterations`](crate::iterations)`(n)`, at most
@@ -189,7 +172,9 @@ impl<'a, F: Float> Scene<'a, F> {
     /// # Panics
     /// Never.
     pub fn patch_index(&self, triangle: u32) -> Option<usize> {
-        self.triangle_ids.binary_search(&triangle).ok()
+        let i = self.triangle_ids.binary_search(&triangle).ok()?;
+        let patch = self.bvh.patches().get(i)?;
+        patch.rejected().is_none().then_some(i)
     }
 
     /// The BVH (for the baselines of [`Bvh::closest_with`] and uploads).
@@ -200,7 +185,10 @@ impl<'a, F: Float> Scene<'a, F> {
         &self.bvh
     }
 
-    /// The accepted patches, in input order.
+    /// The patches, one per slot in input order: a slot for each triangle whose three indices
+    /// differ ([`Scene::triangle_ids`] says which), holding its patch, or a placeholder
+    /// ([`Patch::rejected`]) where the triangle was rejected (no ray reaches it; skip it when
+    /// iterating).
     ///
     /// # Panics
     /// Never.
@@ -208,7 +196,8 @@ impl<'a, F: Float> Scene<'a, F> {
         self.bvh.patches()
     }
 
-    /// The input triangle of each patch (strictly increasing).
+    /// The input triangle of each slot of [`Scene::patches`] (strictly increasing; the
+    /// triangles that repeat an index have no slot).
     ///
     /// # Panics
     /// Never.

@@ -1,8 +1,8 @@
-//! Seamless shading normals: the fit ([`fit_seams`]) and the correction ([`Seam`]); the
+//! Seamless shading normals: the fit ([`fit_seams`](super::fit_seams)) and the correction ([`Seam`]); the
 //! formula is in the [mesh module](crate::mesh) documentation.
 
 use super::sampling::{FIT_NODES, Nodes, Side, widest_gap};
-use super::topology::{EdgePair, MeshError, SharedEdge, edge_pair, pair_shared_edges};
+use super::topology::EdgePair;
 use crate::geometry::{EdgeView, Shape};
 use crate::num::real::Float;
 use crate::num::vec::V3;
@@ -30,7 +30,7 @@ pub const TWIST_TERMS: usize = 6;
 /// `t_s = (1 − cos((2s + 1)π / 32)) / 2` at which crack closure measures the gap
 /// ([`CRACK_SAMPLES`](crate::mesh::cracks::CRACK_SAMPLES)), `s = 1, 3, 5, 7, 8, 10, 12, 14`
 /// (every other node, symmetric about the middle, so that the neighbour running the edge the
-/// other way samples the same points); see [`TWIST_TERMS`] for the choice. [`fit_seams`]
+/// other way samples the same points); see [`TWIST_TERMS`] for the choice. [`fit_seams`](super::fit_seams)
 /// evaluates `2·FIT_SAMPLES` geometric normals per shared edge (the common normal is their
 /// average); the builder evaluates each neighbour once at all 16 nodes for both, the normals'
 /// jets only at these 8.
@@ -44,7 +44,7 @@ const FREE_END_TOL: f64 = 1e-5;
 /// The seam correction of one patch: the common normal of each of its three edges (edge `j`
 /// from `Pj` to `Pj+1`, parameter `t` from 0 at `Pj`; see [`crate::mesh`] for the formula). All
 /// zeros (the [`Default`]) means no correction: [`Seam::shading_normal`] is then the geometric
-/// normal. [`fit_seams`] leaves the zeros on boundary and non-manifold edges, on lone
+/// normal. [`fit_seams`](super::fit_seams) leaves the zeros on boundary and non-manifold edges, on lone
 /// triangles and where it declines a fit.
 ///
 /// Memory: 148 bytes in `f32`, 296 in `f64` (checked by a test); with the patch's 252, 400
@@ -63,68 +63,6 @@ pub struct Seam<F: Float> {
     /// and end (this patch's local frame), and the common normal is the average of the two
     /// sides' interpolated vertex normals.
     pub free: [bool; 3],
-}
-
-/// Fits the [`Seam`]s of a mesh's patches: for every edge shared by exactly two triangles that
-/// traverse it in opposite directions, the common normal's two tilts for both sides (least
-/// squares on [`FIT_SAMPLES`] points, [`TWIST_TERMS`] terms; the surface sampled in `F` as
-/// the kernel evaluates it, the fit in `f64`), or, where the two sides' vertex normals differ
-/// at an end, each side's copy of the other's ([`Seam::free`]). Non-manifold edges are not joined: three or more sheets meeting at an
-/// edge (a fin, a T-junction) have no common normal.
-///
-/// `patches[i]` must be the patch of triangle `triangles[i]` (vertex indices in the patch's
-/// vertex order, `< vertex_count`); `seams` receives one [`Seam`] per patch (overwritten);
-/// `scratch` holds at least `3 × triangles.len()` entries (its contents on return are
-/// unspecified). Edges are matched by their vertex indices, so vertices that should be smooth
-/// across an edge must share the index (a split vertex makes a boundary). Boundary edges,
-/// edges of more than two triangles, edges traversed twice in the same direction, edges whose
-/// endpoints do not coincide in the two patches (beyond `√ε` of the edge's length), edges where
-/// the common normal is within about 0.06° of perpendicular to the interpolated vertex normals
-/// and edges whose fit is not finite get zeros: no correction.
-///
-/// Returns the number of shared edges fitted, or a [`MeshError`] when the lengths differ, the
-/// scratch is too small, or an index is out of range or repeated within a triangle.
-///
-/// Work: `2·FIT_SAMPLES` normal evaluations per shared edge (height evaluations over
-/// value-and-derivative jets, as the kernel's hit normal, with the two edge curves that meet
-/// the shared edge's ends evaluated once per side) and one
-/// heapsort of the edges
-/// (`O(n log n)`, in place, no allocation).
-///
-/// # Accuracy
-/// Both sides' fits agree to rounding, so the jump of [`Seam::shading_normal`] across every
-/// fitted edge is at rounding level: see [`SEAM_JUMP_DEG`](crate::accuracy::SEAM_JUMP_DEG).
-/// # Panics
-/// Never.
-pub fn fit_seams<F: Float>(
-    patches: &[Patch<F>],
-    triangles: &[[u32; 3]],
-    vertex_count: usize,
-    scratch: &mut [SharedEdge],
-    seams: &mut [Seam<F>],
-) -> Result<usize, MeshError> {
-    let n = patches.len();
-    if triangles.len() != n || seams.len() != n {
-        return Err(MeshError::LengthMismatch {
-            patches: n,
-            triangles: triangles.len(),
-            seams: seams.len(),
-        });
-    }
-    let m = pair_shared_edges(triangles, vertex_count, scratch)?;
-    let pairs = scratch.get(..m).unwrap_or(&[]);
-    for s in seams.iter_mut() {
-        *s = Seam::default();
-    }
-    let fit = FitMatrix::new();
-    let mut fitted = 0usize;
-    for k in 0..m {
-        if let Some(pair) = edge_pair(pairs, k) {
-            let (_, sides) = gap_and_fit(&fit, patches, pair);
-            fitted += usize::from(apply_fit(seams, pair, sides));
-        }
-    }
-    Ok(fitted)
 }
 
 /// The gap and the fits of shared edge `pair`, from both neighbours' surfaces at the same

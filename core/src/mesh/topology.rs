@@ -35,7 +35,7 @@ pub enum MeshError {
     },
     /// More triangles than the scratch entries can index (`3 × triangles` must fit a `u32`).
     TooManyTriangles,
-    /// [`close_cracks`](crate::mesh::cracks::close_cracks): the patches and the triangles differ in
+    /// [`close_cracks`](crate::mesh::close_cracks): the patches and the triangles differ in
     /// number.
     PatchCount {
         /// Patches given.

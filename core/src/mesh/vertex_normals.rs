@@ -6,6 +6,7 @@
 //! [`Patch::new_or_tilted_with`]: crate::Patch::new_or_tilted_with
 
 use super::topology::MeshError;
+use crate::exec::Executor;
 use crate::num::real::Float;
 use crate::num::vec::V3;
 use crate::patch::{NORMAL_CLAMP_DEG, Patch};
@@ -69,6 +70,28 @@ pub fn clamp_vertex_normals<F: Float>(
     triangles: &[[u32; 3]],
     out: &mut [F::Vec3],
     scratch: &mut [VertexClamp<F>],
+) -> Result<VertexClampReport, MeshError> {
+    remedy(
+        positions,
+        normals,
+        triangles,
+        out,
+        scratch,
+        None::<(&mut [u32], &())>,
+    )
+}
+
+/// [`clamp_vertex_normals`], with each pass's patch constructions run on `executor` ahead of
+/// the pass where `pool` gives one flag per triangle: the pass itself stays in triangle order
+/// (a triangle whose vertex an earlier triangle of the same pass tightened is checked again),
+/// so the result is bit for bit the serial one.
+pub(crate) fn remedy<F: Float>(
+    positions: &[F::Vec3],
+    normals: &[F::Vec3],
+    triangles: &[[u32; 3]],
+    out: &mut [F::Vec3],
+    scratch: &mut [VertexClamp<F>],
+    mut pool: Option<(&mut [u32], &impl Executor)>,
 ) -> Result<VertexClampReport, MeshError> {
     let n = positions.len();
     if normals.len() != n || out.len() != n {
@@ -156,8 +179,34 @@ pub fn clamp_vertex_normals<F: Float>(
     for pass in 1..=NORMAL_CLAMP_DEG.len() + 1 {
         let pass = pass as u8;
         unresolved = 0;
-        for tri in triangles {
-            if accepted(out, tri) {
+        // With a pool: every triangle's check against the normals at the pass's start, in
+        // parallel (flag 1: accepted).
+        let ahead = match pool.as_mut() {
+            Some((flags, executor)) => {
+                let flags = flags.get_mut(..triangles.len());
+                if let Some(flags) = flags {
+                    let now: &[F::Vec3] = out;
+                    executor.run_chunks(flags, 64, &|start, chunk| {
+                        for (k, f) in chunk.iter_mut().enumerate() {
+                            let ok = triangles.get(start + k).is_none_or(|t| accepted(now, t));
+                            *f = u32::from(ok);
+                        }
+                    });
+                }
+                pool.as_ref().map(|(flags, _)| &**flags)
+            }
+            None => None,
+        };
+        for (i, tri) in triangles.iter().enumerate() {
+            // The check ahead holds unless a vertex was tightened earlier in this pass.
+            let touched = tri
+                .iter()
+                .any(|&v| scratch.get(v as usize).is_some_and(|c| c.pass == pass));
+            let ok = match ahead.and_then(|f| f.get(i)) {
+                Some(&f) if !touched => f == 1,
+                _ => accepted(out, tri),
+            };
+            if ok {
                 continue;
             }
             unresolved += 1;

@@ -242,7 +242,7 @@ pub trait Real:
 /// A primitive float (`f32` or `f64`) with its glam vector type. This trait is sealed.
 pub trait Float: Real<F = Self> + Copy + Default + PartialEq + Send + Sync {
     /// The glam 3-vector over this float (`glam::Vec3` or `glam::DVec3`).
-    type Vec3: Copy + Debug + PartialEq;
+    type Vec3: Copy + Debug + PartialEq + Send + Sync;
     /// The 8-lane vector of this float that the kernel evaluates over (internal).
     #[doc(hidden)]
     type L8: Lane<F = Self>;

@@ -72,7 +72,7 @@ pub fn inspect<F: Prec>(name: &str, mesh: &Mesh, field: LineField) -> Result<Str
             s,
             "patches ({}): {} accepted, {} rejected",
             F::PRECISION,
-            sc.patches().len(),
+            sc.report().patches,
             sc.rejected.len()
         );
         for (why, n) in sc.rejected_summary() {

@@ -53,6 +53,8 @@ pub struct RenderOptions {
     pub field: LineField,
     /// Print the build's time per step (`--verbose`).
     pub verbose: bool,
+    /// A shadow-terminator fix for `Mode::Phong` ([`crate::peers`]).
+    pub terminator: Option<crate::peers::TerminatorFix>,
 }
 
 /// One rendered panel and its primary-hit mask.
@@ -122,7 +124,7 @@ fn render_panel_with(
 
 /// Panels of equal size side by side, 4 white pixels apart, each with its label in the top
 /// left corner (the layout of `render --compare`).
-pub(crate) fn side_by_side(panels: &[(&Image, String)]) -> Image {
+pub fn side_by_side(panels: &[(&Image, String)]) -> Image {
     let gap = 4;
     let (w, h) = panels.first().map_or((1, 1), |(i, _)| (i.width, i.height));
     let n = panels.len() as u32;
@@ -246,6 +248,9 @@ pub fn run(a: RenderOptions) -> Result<()> {
         ));
     }
     tracer::<f32>(Mode::Smooth, a.iterations)?;
+    if !a.compare && (crate::peers::peer_of(a.mode).is_some() || a.terminator.is_some()) {
+        return render_peers(&a);
+    }
     let gpu = if a.gpu {
         if a.precision != Precision::F32 {
             return Err(DemoError::Usage(
@@ -298,6 +303,7 @@ pub fn run(a: RenderOptions) -> Result<()> {
                     Mode::Smooth => format!("SMOOTH N={}", a.iterations),
                     Mode::Flat => "FLAT".to_string(),
                     Mode::Phong => "PHONG".to_string(),
+                    other => other.name().to_uppercase(),
                 };
                 (&p.image, label)
             })
@@ -360,6 +366,53 @@ pub fn run(a: RenderOptions) -> Result<()> {
         ),
         None => msg,
     };
+    if a.out == "-" {
+        eprintln!("{msg}");
+    } else {
+        println!("{msg}");
+    }
+    Ok(())
+}
+
+/// `render` of a peer surface or with a terminator fix ([`crate::peers`], CPU only).
+fn render_peers(a: &RenderOptions) -> Result<()> {
+    if a.gpu {
+        return Err(DemoError::Usage(
+            "--gpu does not trace --mode phong-tess or nagata, nor --terminator".into(),
+        ));
+    }
+    let (_, mesh, _) = a.source.load_upright(true, a.up)?;
+    let cam = Camera::for_mesh(&mesh, a.view.0, a.view.1, a.width, a.height);
+    let s = crate::peers::render_image(&mesh, &cam, a.mode, a.terminator, a.precision)?;
+    s.image.write_png(&a.out)?;
+    if let Some(mask) = &a.mask {
+        let hits: Vec<crate::renderer::PixelHit> = s
+            .pixels
+            .iter()
+            .map(|p| crate::renderer::PixelHit {
+                hit: p.hit,
+                ..crate::renderer::PixelHit::default()
+            })
+            .collect();
+        crate::image::write_bytes(
+            mask,
+            crate::renderer::mask_pbm(a.width, a.height, &hits).as_bytes(),
+        )?;
+    }
+    let fix = a
+        .terminator
+        .map_or(String::new(), |f| format!(", terminator fix {}", f.name()));
+    let msg = format!(
+        "wrote {} ({}x{}, {}{fix}, {}): {} rays in {:.3} s = {:.0} rays/s",
+        a.out,
+        a.width,
+        a.height,
+        a.mode.name(),
+        a.precision,
+        s.rays,
+        s.seconds,
+        s.rays as f64 / s.seconds.max(1e-9)
+    );
     if a.out == "-" {
         eprintln!("{msg}");
     } else {

@@ -167,7 +167,7 @@ fn run_in<F: Prec>(a: &TessellateOptions, name: &str, mesh: &Mesh) -> Result<Str
         let _ = writeln!(
             s,
             "  over the {} patches with their normals as given (not clamped): {:.3e}",
-            scene.patches().len() - scene.remedied().len(),
+            scene.report().patches - scene.remedied().len(),
             dist.max_unclamped
         );
     }

@@ -17,6 +17,8 @@ pub struct TraceOptions {
     pub source: MeshSource,
     /// Rays CSV with header `ox,oy,oz,dx,dy,dz` (`-` for stdin).
     pub rays: String,
+    /// The surface: `Smooth`, or a peer (`PhongTess`, `Nagata`; [`crate::peers`]).
+    pub mode: Mode,
     /// Iteration budget.
     pub iterations: usize,
     /// Kernel precision.
@@ -30,6 +32,19 @@ pub struct TraceOptions {
 /// Loads the mesh and traces the rays in the chosen precision.
 pub fn run(a: TraceOptions) -> Result<()> {
     let (_, mesh) = a.source.load(false)?;
+    if let Some(peer) = crate::peers::peer_of(a.mode) {
+        let out = match a.precision {
+            Precision::F32 => crate::peers::trace_csv::<f32>(&mesh, peer, &read_rays(&a.rays)?)?,
+            Precision::F64 => crate::peers::trace_csv::<f64>(&mesh, peer, &read_rays(&a.rays)?)?,
+        };
+        return crate::image::write_bytes("-", out.as_bytes());
+    }
+    if a.mode != Mode::Smooth {
+        return Err(DemoError::Usage(format!(
+            "trace --mode {}: use smooth, phong-tess or nagata",
+            a.mode.name()
+        )));
+    }
     match a.precision {
         Precision::F32 => trace::<f32>(&mesh, &a.rays, a.iterations, a.field, a.normals),
         Precision::F64 => trace::<f64>(&mesh, &a.rays, a.iterations, a.field, a.normals),
@@ -48,22 +63,7 @@ pub fn trace<F: Prec>(
     normals: Normals,
 ) -> Result<()> {
     let t = tracer::<F>(Mode::Smooth, iterations)?;
-    let text = read_text(rays_path)?;
-    let rays_path = display_name(rays_path);
-    let rows = rows(&text, rays_path, &["ox", "oy", "oz", "dx", "dy", "dz"])?;
-    let mut rays = Vec::with_capacity(rows.len());
-    for (line, f) in &rows {
-        let mut v = [F::ZERO; 6];
-        for (slot, tok) in v.iter_mut().zip(f) {
-            *slot = num::<F>(tok, rays_path, *line)?;
-        }
-        let o = glam::DVec3::new(v[0].to_f64(), v[1].to_f64(), v[2].to_f64());
-        let d = glam::DVec3::new(v[3].to_f64(), v[4].to_f64(), v[5].to_f64());
-        if d == glam::DVec3::ZERO {
-            return Err(DemoError::parse(rays_path, *line, "zero ray direction"));
-        }
-        rays.push(Ray::<F>::new(F::v(o), F::v(d)));
-    }
+    let rays = read_rays::<F>(rays_path)?;
     let scene = Scene::<F>::build_with(mesh, field, normals == Normals::Seamless)?;
     if let Some(note) = scene.rejected_note() {
         eprintln!("{note}");
@@ -96,4 +96,25 @@ pub fn trace<F: Prec>(
         }
     }
     crate::image::write_bytes("-", out.as_bytes())
+}
+
+/// The rays of `rays_path` (`-` for stdin) in precision `F`.
+fn read_rays<F: Prec>(rays_path: &str) -> Result<Vec<Ray<F>>> {
+    let text = read_text(rays_path)?;
+    let rays_path = display_name(rays_path);
+    let rows = rows(&text, rays_path, &["ox", "oy", "oz", "dx", "dy", "dz"])?;
+    let mut rays = Vec::with_capacity(rows.len());
+    for (line, f) in &rows {
+        let mut v = [F::ZERO; 6];
+        for (slot, tok) in v.iter_mut().zip(f) {
+            *slot = num::<F>(tok, rays_path, *line)?;
+        }
+        let o = glam::DVec3::new(v[0].to_f64(), v[1].to_f64(), v[2].to_f64());
+        let d = glam::DVec3::new(v[3].to_f64(), v[4].to_f64(), v[5].to_f64());
+        if d == glam::DVec3::ZERO {
+            return Err(DemoError::parse(rays_path, *line, "zero ray direction"));
+        }
+        rays.push(Ray::<F>::new(F::v(o), F::v(d)));
+    }
+    Ok(rays)
 }

@@ -379,7 +379,7 @@ impl Viewer {
                     s.mode = match s.mode {
                         Mode::Smooth => Mode::Flat,
                         Mode::Flat => Mode::Phong,
-                        Mode::Phong => Mode::Smooth,
+                        Mode::Phong | Mode::PhongTess | Mode::Nagata => Mode::Smooth,
                     }
                 }
                 "s" => {

@@ -11,6 +11,12 @@ pub enum Mode {
     Flat,
     /// Flat triangles, interpolated vertex normals (Phong shading).
     Phong,
+    /// Phong tessellation (Boubekeur & Alexa 2008, α = 3/4), traced exactly
+    /// ([`crate::peers`]; `render` and `trace` only).
+    PhongTess,
+    /// Nagata patches (Nagata 2005), traced exactly ([`crate::peers`]; `render` and `trace`
+    /// only).
+    Nagata,
 }
 
 impl Mode {
@@ -20,6 +26,8 @@ impl Mode {
             Mode::Smooth => "smooth",
             Mode::Flat => "flat",
             Mode::Phong => "phong",
+            Mode::PhongTess => "phong-tess",
+            Mode::Nagata => "nagata",
         }
     }
 }

@@ -104,5 +104,9 @@ pub fn tracer<F: Float>(mode: Mode, n: usize) -> Result<&'static dyn Tracer<F>> 
         }),
         Mode::Flat => Ok(&Flat { phong: false }),
         Mode::Phong => Ok(&Flat { phong: true }),
+        Mode::PhongTess | Mode::Nagata => Err(DemoError::Usage(format!(
+            "--mode {} is traced by `render` and `trace` only (on the CPU)",
+            mode.name()
+        ))),
     }
 }

@@ -97,7 +97,12 @@ impl<F: Prec> Scene<F> {
             bar,
         };
         let owned: OwnedScene<F> = mesh
-            .build_scene(&BuildOptions { field, seams }, &mut rec, &RayonExecutor)
+            .build_scene(&mut BuildOptions {
+                field,
+                seams,
+                observer: &mut rec,
+                executor: RayonExecutor,
+            })
             .map_err(|e| DemoError::Empty { msg: e.to_string() })?;
         Ok(Scene {
             owned,

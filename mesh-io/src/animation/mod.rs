@@ -1,0 +1,563 @@
+//! Animated glTF 2.0 meshes: [`AnimatedMesh`] ([`load_animated`], [`parse_animated`]) poses a
+//! file's mesh at any time of one of its animations ([`Clip`]), in the vertex order and with the
+//! index buffer of the static [`load`](crate::load), without allocating per frame.
+//!
+//! What is animated, as the glTF 2.0 specification defines it:
+//!
+//! - **Node transforms**: `translation`, `rotation` and `scale` channels replace a node's own
+//!   values; the world transforms are composed down the node hierarchy in `f64`.
+//! - **Morph targets**: the primitive's `POSITION` and `NORMAL` plus the weighted sum of its
+//!   targets' deltas, with the node's `weights` (else the mesh's, else zeros) animated by
+//!   `weights` channels. Deltas are applied before skinning and node transforms.
+//! - **Skins** (linear blend skinning): each joint's matrix is its node's world transform times
+//!   its inverse bind matrix; a vertex moves by the weighted sum of its joints' matrices
+//!   (`JOINTS_n`/`WEIGHTS_n`, every set the file has). The skinned mesh's own node transform is
+//!   ignored, as the specification requires.
+//! - **Samplers**: `STEP`, `LINEAR` (spherical for rotations) and `CUBICSPLINE`, clamped before
+//!   the first and after the last key.
+//!
+//! Normals: a primitive with `NORMAL` has its normals morphed, then carried by the inverse
+//! transpose of the vertex's matrix (the cofactor matrix where that matrix is singular, for
+//! example a zero scale) and renormalised. A primitive without normals gets angle-weighted
+//! normals ([`angle_weighted_normals_into`]) of the posed positions in every frame, as the
+//! static loader computes them from the file's.
+//!
+//! The rest pose ([`AnimatedMesh::pose_rest`]: no animation, default weights) equals the static
+//! mesh bit for bit for a mesh without skin whose default morph weights are zero; a skinned
+//! mesh's static load is its bind-pose geometry through its node (the loader does not skin), so
+//! there the two differ by the joints' rest transforms times their inverse bind matrices.
+//!
+//! Malformed animation data is an [`Error`] naming the file and the animation, channel,
+//! sampler, skin, node, mesh, primitive and accessor: joints out of range, weights that do not
+//! sum to one (within [`WEIGHT_SUM_TOLERANCE`]), non-finite keys, matrices or deltas, sampler
+//! input and output counts that do not match, key times that do not increase, accessors of the
+//! wrong type or outside their buffers, and the specification's other rules on targets.
+//!
+//! ```no_run
+//! use glam::DVec3;
+//! let mut anim = smoothtri_io::load_animated("walk.gltf")?;
+//! let clip = &anim.clips()[0];
+//! println!("{:?}: {:.2} s", clip.name, clip.duration);
+//! let n = anim.mesh().positions.len();
+//! let (mut positions, mut normals) = (vec![DVec3::ZERO; n], vec![DVec3::ZERO; n]);
+//! for frame in 0..60 {
+//!     anim.pose(0, frame as f64 / 30.0, &mut positions, &mut normals)
+//!         .expect("finite poses");
+//!     // … build or update the scene from `positions`, `normals` and `anim.mesh().triangles`
+//! }
+//! # Ok::<(), smoothtri_io::Error>(())
+//! ```
+
+mod keys;
+mod read;
+
+use std::fmt;
+use std::ops::Range;
+
+use glam::{DMat3, DMat4, DQuat, DVec3};
+
+use crate::error::{Error, Result};
+use crate::mesh::Mesh;
+use crate::weld::angle_weighted_normals_into;
+
+use keys::Keys;
+
+/// How far the skin weights of a vertex may sum from one, `|Σ w − 1|`, before the file is
+/// rejected; within it they are divided by their sum, so that every blended matrix is an
+/// affine combination of the joints'. Float weights normalised and rounded to `f32` are off by
+/// about 1e-7 (the glTF validator allows 2e-7 per non-zero weight); this also accepts weights
+/// written with three decimals. Normalised integer weights sum to exactly one when the file
+/// follows the specification (255 or 65535 before normalisation).
+pub const WEIGHT_SUM_TOLERANCE: f64 = 2e-3;
+
+/// One animation of the file (a glTF `animations` entry): its name and duration. Pose it with
+/// [`AnimatedMesh::pose`] by its index in [`AnimatedMesh::clips`].
+#[derive(Clone, Debug)]
+pub struct Clip {
+    /// The animation's name in the file, if it has one.
+    pub name: Option<String>,
+    /// The time of its last key, seconds (0 for an animation without channels). Samplers hold
+    /// their first value before their first key and their last value after their last.
+    pub duration: f64,
+    channels: Vec<Channel>,
+}
+
+/// What a channel animates.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Path {
+    Translation,
+    Rotation,
+    Scale,
+    Weights,
+}
+
+/// One channel: the node, the property and the keys.
+#[derive(Clone, Debug)]
+struct Channel {
+    node: usize,
+    path: Path,
+    keys: Keys,
+}
+
+/// A node's rest state.
+#[derive(Clone, Debug)]
+struct NodeRest {
+    /// Its local matrix as the static loader composes it.
+    local: DMat4,
+    /// Its translation, rotation (unit) and scale; `None` for a node with a `matrix` (which no
+    /// channel may animate).
+    trs: Option<(DVec3, DQuat, DVec3)>,
+    /// Its morph target weights in [`Scratch::weights`], when its mesh has morph targets.
+    weights: Option<Range<usize>>,
+}
+
+/// A skin: its joints' nodes and inverse bind matrices, and where its joint matrices go in
+/// [`Scratch::joints`].
+#[derive(Clone, Debug)]
+struct Skin {
+    joints: Vec<usize>,
+    inverse_bind: Vec<DMat4>,
+    first: usize,
+}
+
+/// A morph target's deltas (each `None` when the target has no such attribute).
+#[derive(Clone, Debug)]
+struct Target {
+    positions: Option<Vec<DVec3>>,
+    normals: Option<Vec<DVec3>>,
+}
+
+/// The joints and weights of each vertex of a skinned primitive, `per_vertex` of each (four
+/// per `JOINTS_n`/`WEIGHTS_n` set); zero weights are kept, their joints never read.
+#[derive(Clone, Debug)]
+struct Influences {
+    per_vertex: usize,
+    joints: Vec<u16>,
+    weights: Vec<f64>,
+    /// The largest joint index (checked against each skin that uses the primitive).
+    max_joint: u16,
+}
+
+/// A primitive's rest data in its mesh's coordinates.
+#[derive(Clone, Debug)]
+struct Prim {
+    positions: Vec<DVec3>,
+    normals: Option<Vec<DVec3>>,
+    targets: Vec<Target>,
+    influences: Option<Influences>,
+}
+
+/// One primitive of one mesh placement (a [`crate::gltf`] instance).
+#[derive(Clone, Debug)]
+struct Part {
+    /// The node that draws it (`None`: a file without nodes, drawn untransformed).
+    node: Option<usize>,
+    /// Its data in [`Rig::prims`].
+    prim: usize,
+    /// Its skin in [`Rig::skins`].
+    skin: Option<usize>,
+    /// Its morph weights in [`Scratch::weights`] (the node's, or the mesh's defaults).
+    weights: Option<Range<usize>>,
+}
+
+/// Everything posing reads: the rest state and the mapping from the mesh's vertices to the
+/// primitives they come from.
+#[derive(Clone, Debug)]
+struct Rig {
+    nodes: Vec<NodeRest>,
+    /// Every node whose world transform is needed, parents first, with its parent.
+    order: Vec<(usize, Option<usize>)>,
+    /// The rest morph weights of every weights range.
+    rest_weights: Vec<f64>,
+    skins: Vec<Skin>,
+    prims: Vec<Prim>,
+    parts: Vec<Part>,
+    /// For each vertex of the mesh: its part and its index in the part's primitive.
+    vertex: Vec<(u32, u32)>,
+    /// Whether any vertex's normal is computed (its primitive has no `NORMAL`).
+    computed: bool,
+}
+
+/// How one part is posed this frame: by its skin, or rigidly by its node's world matrix with
+/// the matrix its normals are carried by.
+#[derive(Clone, Copy, Debug)]
+enum PartPose {
+    Skinned,
+    Rigid { m: DMat4, normal: DMat3 },
+}
+
+/// The per-frame state, allocated once.
+#[derive(Clone, Debug)]
+struct Scratch {
+    trs: Vec<(DVec3, DQuat, DVec3)>,
+    animated: Vec<bool>,
+    world: Vec<DMat4>,
+    weights: Vec<f64>,
+    joints: Vec<DMat4>,
+    parts: Vec<PartPose>,
+    computed: Vec<DVec3>,
+    value: Vec<f64>,
+}
+
+/// A glTF mesh with its animations: the static mesh (the index buffer and the rest data of
+/// [`load`](crate::load)) and what poses it at any time of any clip. Built by
+/// [`load_animated`] or [`parse_animated`]; posed by [`AnimatedMesh::pose`] and
+/// [`AnimatedMesh::pose_rest`], which allocate nothing.
+#[derive(Clone, Debug)]
+pub struct AnimatedMesh {
+    mesh: Mesh,
+    computed_normals: bool,
+    warnings: Vec<String>,
+    clips: Vec<Clip>,
+    rig: Rig,
+    scratch: Scratch,
+}
+
+/// Why a pose could not be written. Its `Display` is one line.
+#[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
+pub enum PoseError {
+    /// The clip index is not one of [`AnimatedMesh::clips`].
+    NoClip {
+        /// The index asked for.
+        clip: usize,
+        /// How many clips the file has.
+        clips: usize,
+    },
+    /// The time is NaN or infinite.
+    Time(f64),
+    /// The output buffers do not have one element per vertex of the mesh.
+    Buffers {
+        /// The mesh's vertices.
+        vertices: usize,
+        /// The positions buffer's length.
+        positions: usize,
+        /// The normals buffer's length.
+        normals: usize,
+    },
+    /// A posed position is not finite (the transforms overflow `f64`); the buffers then hold
+    /// a partial pose.
+    NonFinite {
+        /// The first such vertex.
+        vertex: usize,
+    },
+}
+
+impl fmt::Display for PoseError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            PoseError::NoClip { clip, clips } => match clips {
+                0 => write!(f, "clip {clip}: the file has no animation"),
+                _ => write!(f, "clip {clip}: the file has {clips} (0..{clips})"),
+            },
+            PoseError::Time(t) => write!(f, "time {t} s is not a finite number"),
+            PoseError::Buffers {
+                vertices,
+                positions,
+                normals,
+            } => write!(
+                f,
+                "the mesh has {vertices} vertices; the buffers hold {positions} positions and \
+                 {normals} normals"
+            ),
+            PoseError::NonFinite { vertex } => {
+                write!(f, "the pose of vertex {vertex} is not finite")
+            }
+        }
+    }
+}
+
+impl std::error::Error for PoseError {}
+
+/// Reads a `.gltf` or `.glb` file with its animations ([`parse_animated`]).
+///
+/// Returns [`Error::Io`] when the file cannot be read, and the errors of [`parse_animated`].
+pub fn load_animated(path: &str) -> Result<AnimatedMesh> {
+    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    parse_animated(&bytes, path)
+}
+
+/// Parses a glTF or GLB file (as [`gltf::parse`](crate::gltf::parse) does) with its skins,
+/// morph targets and animations. A file without animations gives an [`AnimatedMesh`] without
+/// clips, which poses its rest pose only.
+///
+/// Returns the static loader's errors, [`Error::NoTriangles`], or an [`Error::Format`] naming
+/// the malformed animation data (see the module documentation).
+pub fn parse_animated(bytes: &[u8], path: &str) -> Result<AnimatedMesh> {
+    let (doc, buffers) = crate::gltf::open(bytes, path)?;
+    let walk = crate::gltf::walk(&doc, &buffers, path)?;
+    read::animated(&doc, &buffers, walk, path)
+}
+
+impl AnimatedMesh {
+    /// The static mesh: the same vertices, normals and triangles as
+    /// [`load`](crate::load) of the file. Every pose has its vertex order and index buffer.
+    pub fn mesh(&self) -> &Mesh {
+        &self.mesh
+    }
+
+    /// `true` when some or all normals are computed (angle-weighted, in every pose) because
+    /// the file has none for them.
+    pub fn computed_normals(&self) -> bool {
+        self.computed_normals
+    }
+
+    /// The static loader's warnings and the animation reader's (a morph target's normals
+    /// ignored where the primitive has none, and the like), one line each.
+    pub fn warnings(&self) -> &[String] {
+        &self.warnings
+    }
+
+    /// The file's animations, in file order (empty for a file without).
+    pub fn clips(&self) -> &[Clip] {
+        &self.clips
+    }
+
+    /// Whether the mesh is skinned or morphed (in part or whole).
+    pub fn is_deformable(&self) -> bool {
+        self.rig
+            .parts
+            .iter()
+            .any(|p| p.skin.is_some() || !self.rig.prims[p.prim].targets.is_empty())
+    }
+
+    /// Writes the pose at `time` seconds of clip `clip` into `positions` and `normals` (unit
+    /// length, or zero where the pose degenerates), one per vertex of [`AnimatedMesh::mesh`]
+    /// in its order. Channels of the clip set their nodes' properties and weights; the rest
+    /// keep their rest values. Times outside the clip's keys clamp to its ends. Allocates
+    /// nothing.
+    ///
+    /// Accuracy: in `f64` from the file's `f32` data, the interpolation exact up to rounding.
+    ///
+    /// Returns [`PoseError::NoClip`], [`PoseError::Time`] for a non-finite time,
+    /// [`PoseError::Buffers`] when a buffer's length is not the vertex count, and
+    /// [`PoseError::NonFinite`] when a posed position overflows.
+    pub fn pose(
+        &mut self,
+        clip: usize,
+        time: f64,
+        positions: &mut [DVec3],
+        normals: &mut [DVec3],
+    ) -> Result<(), PoseError> {
+        if clip >= self.clips.len() {
+            return Err(PoseError::NoClip {
+                clip,
+                clips: self.clips.len(),
+            });
+        }
+        if !time.is_finite() {
+            return Err(PoseError::Time(time));
+        }
+        self.pose_at(Some((clip, time)), positions, normals)
+    }
+
+    /// Writes the rest pose (every node's own transform, the default morph weights, the skin's
+    /// rest joints) as [`AnimatedMesh::pose`] writes a pose.
+    ///
+    /// Returns [`PoseError::Buffers`] or [`PoseError::NonFinite`] as [`AnimatedMesh::pose`].
+    pub fn pose_rest(
+        &mut self,
+        positions: &mut [DVec3],
+        normals: &mut [DVec3],
+    ) -> Result<(), PoseError> {
+        self.pose_at(None, positions, normals)
+    }
+
+    /// [`AnimatedMesh::pose`] (or the rest pose) into a new [`Mesh`] with the static mesh's
+    /// triangles: convenient, but it allocates.
+    ///
+    /// Returns the errors of [`AnimatedMesh::pose`].
+    pub fn posed_mesh(&mut self, clip: Option<usize>, time: f64) -> Result<Mesh, PoseError> {
+        let n = self.mesh.positions.len();
+        let mut m = Mesh {
+            positions: vec![DVec3::ZERO; n],
+            normals: vec![DVec3::ZERO; n],
+            triangles: self.mesh.triangles.clone(),
+        };
+        match clip {
+            Some(c) => self.pose(c, time, &mut m.positions, &mut m.normals)?,
+            None => self.pose_rest(&mut m.positions, &mut m.normals)?,
+        }
+        Ok(m)
+    }
+
+    fn pose_at(
+        &mut self,
+        at: Option<(usize, f64)>,
+        positions: &mut [DVec3],
+        normals: &mut [DVec3],
+    ) -> Result<(), PoseError> {
+        let n = self.mesh.positions.len();
+        if positions.len() != n || normals.len() != n {
+            return Err(PoseError::Buffers {
+                vertices: n,
+                positions: positions.len(),
+                normals: normals.len(),
+            });
+        }
+        let rig = &self.rig;
+        let s = &mut self.scratch;
+        s.animated.fill(false);
+        s.weights.copy_from_slice(&rig.rest_weights);
+        if let Some((clip, time)) = at {
+            apply_channels(rig, &self.clips[clip], time, s);
+        }
+        pose_nodes(rig, s);
+        pose_parts(rig, s);
+        for (k, &(part, i)) in rig.vertex.iter().enumerate() {
+            let (p, nrm) = pose_vertex(rig, s, part as usize, i as usize);
+            positions[k] = p;
+            normals[k] = nrm;
+        }
+        if let Some(k) = positions.iter().position(|p| !p.is_finite()) {
+            return Err(PoseError::NonFinite { vertex: k });
+        }
+        if rig.computed {
+            angle_weighted_normals_into(
+                positions,
+                self.mesh.triangles.iter().map(|t| t.map(|i| i as usize)),
+                &mut s.computed,
+            );
+            for (k, &(part, _)) in rig.vertex.iter().enumerate() {
+                if rig.prims[rig.parts[part as usize].prim].normals.is_none() {
+                    normals[k] = s.computed[k];
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Samples every channel of `clip` at `time` into the nodes' properties and weights.
+fn apply_channels(rig: &Rig, clip: &Clip, time: f64, s: &mut Scratch) {
+    for ch in &clip.channels {
+        let v = &mut s.value[..ch.keys.width];
+        ch.keys.sample(time, v);
+        let node = ch.node;
+        if ch.path == Path::Weights {
+            if let Some(r) = &rig.nodes[node].weights {
+                s.weights[r.clone()].copy_from_slice(v);
+            }
+            continue;
+        }
+        if !s.animated[node] {
+            s.animated[node] = true;
+            if let Some(trs) = rig.nodes[node].trs {
+                s.trs[node] = trs;
+            }
+        }
+        let t = &mut s.trs[node];
+        match ch.path {
+            Path::Translation => t.0 = DVec3::new(v[0], v[1], v[2]),
+            Path::Rotation => t.1 = DQuat::from_xyzw(v[0], v[1], v[2], v[3]),
+            Path::Scale => t.2 = DVec3::new(v[0], v[1], v[2]),
+            Path::Weights => {}
+        }
+    }
+}
+
+/// The world matrix of every node of [`Rig::order`] and every joint matrix.
+fn pose_nodes(rig: &Rig, s: &mut Scratch) {
+    for &(node, parent) in &rig.order {
+        let local = if s.animated[node] {
+            let (t, r, sc) = s.trs[node];
+            DMat4::from_scale_rotation_translation(sc, r, t)
+        } else {
+            rig.nodes[node].local
+        };
+        let up = parent.map_or(DMat4::IDENTITY, |p| s.world[p]);
+        s.world[node] = up * local;
+    }
+    for skin in &rig.skins {
+        for (j, (&node, ibm)) in skin.joints.iter().zip(&skin.inverse_bind).enumerate() {
+            s.joints[skin.first + j] = s.world[node] * *ibm;
+        }
+    }
+}
+
+/// How each part is posed this frame (see [`PartPose`]).
+fn pose_parts(rig: &Rig, s: &mut Scratch) {
+    for (k, part) in rig.parts.iter().enumerate() {
+        s.parts[k] = if part.skin.is_some() {
+            PartPose::Skinned
+        } else {
+            let m = part.node.map_or(DMat4::IDENTITY, |n| s.world[n]);
+            PartPose::Rigid {
+                m,
+                normal: normal_matrix(DMat3::from_mat4(m)),
+            }
+        };
+    }
+}
+
+/// The matrix that carries normals under `m`: its inverse transpose, as the static loader
+/// uses; where `m` is singular (or its inverse overflows), [`signed_cofactor`].
+fn normal_matrix(m: DMat3) -> DMat3 {
+    let det = m.determinant();
+    let inv = m.inverse().transpose();
+    if det != 0.0 && det.is_finite() && inv.is_finite() {
+        inv
+    } else {
+        signed_cofactor(m)
+    }
+}
+
+/// The cofactor matrix of `m` times the sign of its determinant: `|det m| · m⁻ᵀ` where `m` is
+/// invertible, so it turns normals as the inverse transpose does (up to their length), without
+/// a division, and stays finite where `m` is singular. Its columns are the cross products of
+/// `m`'s columns.
+fn signed_cofactor(m: DMat3) -> DMat3 {
+    let c = DMat3::from_cols(
+        m.y_axis.cross(m.z_axis),
+        m.z_axis.cross(m.x_axis),
+        m.x_axis.cross(m.y_axis),
+    );
+    if m.x_axis.dot(c.x_axis) < 0.0 { -c } else { c }
+}
+
+/// The posed position and normal of vertex `i` of part `part` (the normal zero where the
+/// primitive has none: computed afterwards).
+fn pose_vertex(rig: &Rig, s: &Scratch, part: usize, i: usize) -> (DVec3, DVec3) {
+    let pt = &rig.parts[part];
+    let prim = &rig.prims[pt.prim];
+    let mut p = prim.positions[i];
+    let mut n = prim.normals.as_ref().map_or(DVec3::ZERO, |ns| ns[i]);
+    if let Some(r) = &pt.weights {
+        for (target, &w) in prim.targets.iter().zip(&s.weights[r.clone()]) {
+            if w == 0.0 {
+                continue;
+            }
+            if let Some(d) = &target.positions {
+                p += d[i] * w;
+            }
+            if let (Some(d), Some(_)) = (&target.normals, &prim.normals) {
+                n += d[i] * w;
+            }
+        }
+    }
+    match s.parts[part] {
+        PartPose::Rigid { m, normal } => (m.transform_point3(p), (normal * n).normalize_or_zero()),
+        PartPose::Skinned => {
+            let (Some(inf), Some(skin)) = (&prim.influences, pt.skin.map(|k| &rig.skins[k])) else {
+                return (p, n.normalize_or_zero());
+            };
+            let at = i * inf.per_vertex;
+            let mut m = DMat4::ZERO;
+            for (&j, &w) in inf.joints[at..at + inf.per_vertex]
+                .iter()
+                .zip(&inf.weights[at..at + inf.per_vertex])
+            {
+                if w != 0.0 {
+                    m += s.joints[skin.first + j as usize] * w;
+                }
+            }
+            (
+                m.transform_point3(p),
+                (signed_cofactor(DMat3::from_mat4(m)) * n).normalize_or_zero(),
+            )
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests;
