@@ -110,7 +110,7 @@ fn smoothtri_row(mesh: &Mesh, rays: &[Ray], reps: usize) -> Row {
     let trace = || {
         let mut hits = 0;
         for r in rays {
-            if let Some(h) = bvh.closest_hit::<N_ITER>(r, 0.0, f32::MAX) {
+            if let Some(h) = bvh.closest_hit(r, 0.0, f32::MAX, N_ITER) {
                 black_box(h.normal);
                 hits += 1;
             }
@@ -120,7 +120,7 @@ fn smoothtri_row(mesh: &Mesh, rays: &[Ray], reps: usize) -> Row {
     let secs = median_secs(reps, trace);
     let points: Vec<DVec3> = rays
         .iter()
-        .filter_map(|r| bvh.closest_hit::<N_ITER>(r, 0.0, f32::MAX))
+        .filter_map(|r| bvh.closest_hit(r, 0.0, f32::MAX, N_ITER))
         .map(|h| h.point.as_dvec3())
         .collect();
     let (max_dist, mean_dist) = distances(&points);

@@ -41,6 +41,12 @@
 #define ST_BUILD_SHARED_FIELD 2
 
 /**
+ * The largest refinement budget `iterations` that `st_scene_build` takes (the core's
+ * `smoothtri::MAX_ITERATIONS`): any value from 0 to this one.
+ */
+#define ST_MAX_ITERATIONS 64
+
+/**
  * A built scene in single precision (opaque; it lives inside the memory given to
  * `st_scene_build`).
  */
@@ -91,7 +97,7 @@ typedef struct st_scene_info {
    */
   uint32_t first_rejected;
   /**
-   * The kernel's refinement steps `N` given to the build (0, 1, 2, 4, 8 or 16).
+   * The kernel's refinement steps `N` given to the build (0 to [`ST_MAX_ITERATIONS`]).
    */
   uint32_t iterations;
   /**
@@ -610,8 +616,8 @@ typedef struct ST_ALIGNED(32) st_rayhit8_f64 {
 #define ST_ERROR_NULL_ARGUMENT 1
 
 /**
- * An argument is out of its documented range: unknown flag bits, `iterations` not one of
- * 0, 1, 2, 4, 8, 16, a stride below three scalars or not a multiple of the scalar size, a
+ * An argument is out of its documented range: unknown flag bits, `iterations` above
+ * [`ST_MAX_ITERATIONS`], a stride below three scalars or not a multiple of the scalar size, a
  * pointer not aligned to its element type.
  */
 #define ST_ERROR_INVALID_ARGUMENT 2
@@ -710,8 +716,8 @@ st_status st_scene_required_bytes_f64(size_t vertex_count,
  *   length, pointing to the side from which the triangles are counter-clockwise.
  * - `indices`: `triangle_count` × 3 vertex indices.
  * - `flags`: [`ST_BUILD_SEAMS`], [`ST_BUILD_SHARED_FIELD`], or 0.
- * - `iterations`: the kernel's refinement steps `N` (0, 1, 2, 4, 8 or 16): the work per
- *   patch test is bounded by `N` plus a constant, and `t_error` shrinks at least five-fold
+ * - `iterations`: the kernel's refinement steps `N`, any of 0 to [`ST_MAX_ITERATIONS`]
+ *   (64): the work per patch test is bounded by `N` plus a constant, and `t_error` shrinks at least five-fold
  *   per step (8 is a good default in `f32`).
  *
  * Triangles the core rejects (degenerate, non-finite, bad normals) are skipped and counted

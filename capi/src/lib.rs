@@ -108,8 +108,8 @@ pub unsafe extern "C" fn st_scene_required_bytes_f64(
 ///   length, pointing to the side from which the triangles are counter-clockwise.
 /// - `indices`: `triangle_count` × 3 vertex indices.
 /// - `flags`: [`ST_BUILD_SEAMS`], [`ST_BUILD_SHARED_FIELD`], or 0.
-/// - `iterations`: the kernel's refinement steps `N` (0, 1, 2, 4, 8 or 16): the work per
-///   patch test is bounded by `N` plus a constant, and `t_error` shrinks at least five-fold
+/// - `iterations`: the kernel's refinement steps `N`, any of 0 to [`ST_MAX_ITERATIONS`]
+///   (64): the work per patch test is bounded by `N` plus a constant, and `t_error` shrinks at least five-fold
 ///   per step (8 is a good default in `f32`).
 ///
 /// Triangles the core rejects (degenerate, non-finite, bad normals) are skipped and counted

@@ -4,7 +4,7 @@ use core::ffi::c_void;
 use std::panic::{AssertUnwindSafe, catch_unwind};
 
 use glam::DVec3;
-use smoothtri::{Float, Hit, Patch, Ray, Scene, SceneHit};
+use smoothtri::{Float, Ray, SceneHit};
 
 use crate::store::{Prec, Stored};
 use crate::types::{
@@ -27,42 +27,6 @@ pub(crate) fn guard_status(f: impl FnOnce() -> st_status) -> st_status {
 /// Runs `f`; a panic becomes `false`.
 pub(crate) fn guard_bool(f: impl FnOnce() -> bool) -> bool {
     catch_unwind(AssertUnwindSafe(f)).unwrap_or(false)
-}
-
-/// `Scene::closest_hit::<N>` for one `N`.
-type ClosestFn<F> = fn(&Scene<'static, F>, &Ray<F>, F, F) -> Option<SceneHit<F>>;
-/// `Scene::any_hit::<N>` for one `N`.
-type AnyFn<F> = fn(&Scene<'static, F>, &Ray<F>, F, F) -> bool;
-/// `Patch::intersect::<N>` for one `N`.
-type PatchFn<F> = fn(&Patch<F>, &Ray<F>, F, F) -> Option<Hit<F>>;
-
-/// The kernel instantiations for one `iterations` value (the C API's runtime `N`).
-struct Kernels<F: Float + 'static> {
-    closest: ClosestFn<F>,
-    any: AnyFn<F>,
-    patch: PatchFn<F>,
-}
-
-impl<F: Float + 'static> Kernels<F> {
-    fn of<const N: usize>() -> Self {
-        Kernels {
-            closest: Scene::closest_hit::<N>,
-            any: Scene::any_hit::<N>,
-            patch: Patch::intersect::<N>,
-        }
-    }
-
-    /// The kernels of `iterations`, one of [`crate::store::ITERATIONS`] (checked at build).
-    fn for_iterations(iterations: u32) -> Self {
-        match iterations {
-            0 => Self::of::<0>(),
-            1 => Self::of::<1>(),
-            2 => Self::of::<2>(),
-            4 => Self::of::<4>(),
-            8 => Self::of::<8>(),
-            _ => Self::of::<16>(),
-        }
-    }
 }
 
 /// A ray of the C API in precision `F`: the core's ray and its `[tnear, tfar]`.
@@ -231,7 +195,9 @@ pub(crate) trait Lanes8 {
 /// `st_intersect1` on one ray-hit.
 pub(crate) fn trace_one<R: CRayHit>(scene: &Stored<R::F>, rh: &mut R) {
     let q = rh.query();
-    match (Kernels::for_iterations(scene.iterations).closest)(&scene.scene, &q.ray, q.tnear, q.tfar)
+    match scene
+        .scene
+        .closest_hit(&q.ray, q.tnear, q.tfar, scene.iterations as usize)
     {
         Some(h) => rh.write_hit(&h),
         None => rh.write_miss(),
@@ -266,7 +232,9 @@ pub(crate) unsafe fn occluded1<R: CRay>(scene: Option<&Stored<R::F>>, ray: *mut 
     // SAFETY: non-null, aligned, valid and not aliased during the call by the contract.
     let r = unsafe { &mut *ray };
     let q = r.query();
-    if (Kernels::for_iterations(s.iterations).any)(&s.scene, &q.ray, q.tnear, q.tfar) {
+    if s.scene
+        .any_hit(&q.ray, q.tnear, q.tfar, s.iterations as usize)
+    {
         r.occlude();
     }
 }
@@ -385,7 +353,7 @@ pub(crate) unsafe fn patch_intersect<R: CRayHit>(
     // SAFETY: non-null, aligned, valid and not aliased during the call by the contract.
     let rh = unsafe { &mut *rayhit };
     let q = rh.query();
-    match (Kernels::for_iterations(s.iterations).patch)(patch, &q.ray, q.tnear, q.tfar) {
+    match patch.intersect(&q.ray, q.tnear, q.tfar, s.iterations as usize) {
         Some(mut h) => {
             h.patch = prim;
             rh.write_hit(&s.scene.scene_hit(h));

@@ -9,8 +9,8 @@ pub type st_status = u32;
 pub const ST_OK: st_status = 0;
 /// A pointer argument that must not be NULL was NULL.
 pub const ST_ERROR_NULL_ARGUMENT: st_status = 1;
-/// An argument is out of its documented range: unknown flag bits, `iterations` not one of
-/// 0, 1, 2, 4, 8, 16, a stride below three scalars or not a multiple of the scalar size, a
+/// An argument is out of its documented range: unknown flag bits, `iterations` above
+/// [`ST_MAX_ITERATIONS`], a stride below three scalars or not a multiple of the scalar size, a
 /// pointer not aligned to its element type.
 pub const ST_ERROR_INVALID_ARGUMENT: st_status = 2;
 /// The memory given to `st_scene_build` is shorter than `st_scene_required_bytes` says.
@@ -45,6 +45,11 @@ pub const ST_BUILD_SEAMS: u32 = 1;
 /// Build flag: the shared line field (neighbours' edge curves meet exactly; adds a per-vertex
 /// normal remedy). Without it, the paper's per-face field; the kernel closes the cracks.
 pub const ST_BUILD_SHARED_FIELD: u32 = 2;
+
+/// The largest refinement budget `iterations` that `st_scene_build` takes (the core's
+/// `smoothtri::MAX_ITERATIONS`): any value from 0 to this one.
+pub const ST_MAX_ITERATIONS: u32 = 64;
+const _: () = assert!(ST_MAX_ITERATIONS as usize == smoothtri::MAX_ITERATIONS);
 
 /// A ray, laid out as Embree 3's `RTCRay` (same fields, order, sizes and 16-byte alignment, so
 /// a `RTCRay*` can be passed as an `st_ray*`). The ray is `org + t·dir` for `t` in
@@ -347,7 +352,7 @@ pub struct st_scene_info {
     pub rejected_other: usize,
     /// The first rejected triangle, [`ST_INVALID_ID`] when none was.
     pub first_rejected: u32,
-    /// The kernel's refinement steps `N` given to the build (0, 1, 2, 4, 8 or 16).
+    /// The kernel's refinement steps `N` given to the build (0 to [`ST_MAX_ITERATIONS`]).
     pub iterations: u32,
     /// Patches whose normals the steep-normal remedy clamped (still traced; smooth, slightly
     /// flatter near the clamped vertex).

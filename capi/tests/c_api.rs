@@ -219,23 +219,11 @@ fn check_scene_test(flags: u32, iterations: u32, rays: usize, memcheck: bool) {
 }
 
 fn closest32(s: &OwnedScene<f32>, r: &Ray<f32>, n: u32) -> Option<SceneHit<f32>> {
-    let s = s.scene();
-    match n {
-        0 => s.closest_hit::<0>(r, 0.0, f32::INFINITY),
-        8 => s.closest_hit::<8>(r, 0.0, f32::INFINITY),
-        16 => s.closest_hit::<16>(r, 0.0, f32::INFINITY),
-        _ => unimplemented!(),
-    }
+    s.scene().closest_hit(r, 0.0, f32::INFINITY, n as usize)
 }
 
 fn closest64(s: &OwnedScene<f64>, r: &Ray<f64>, n: u32) -> Option<SceneHit<f64>> {
-    let s = s.scene();
-    match n {
-        0 => s.closest_hit::<0>(r, 0.0, f64::INFINITY),
-        8 => s.closest_hit::<8>(r, 0.0, f64::INFINITY),
-        16 => s.closest_hit::<16>(r, 0.0, f64::INFINITY),
-        _ => unimplemented!(),
-    }
+    s.scene().closest_hit(r, 0.0, f64::INFINITY, n as usize)
 }
 
 #[test]
@@ -252,4 +240,12 @@ fn c_hits_equal_the_rust_api_without_seams_on_the_shared_field() {
 #[test]
 fn c_hits_equal_the_rust_api_bracketing_only() {
     check_scene_test(0, 0, 192, false);
+}
+
+#[test]
+fn c_hits_equal_the_rust_api_at_any_budget() {
+    // Budgets the C API took no instantiation of before `N` was a run-time value, and the
+    // largest.
+    check_scene_test(1, 3, 64, false);
+    check_scene_test(0, 64, 64, false);
 }

@@ -79,6 +79,10 @@ macro_rules! kernels {
 
             /// [`Scene::closest_hit`] compiled with [`FEATURES`]: the same hit, bit for bit.
             ///
+            /// # Safety
+            /// Safe to call from code compiled with [`FEATURES`]; elsewhere the call is
+            /// `unsafe`, and the CPU must have every feature of [`FEATURES`] (running an
+            /// instruction the CPU lacks is undefined behaviour).
             /// # Panics
             /// Never.
             #[target_feature(enable = $features)]
@@ -94,6 +98,10 @@ macro_rules! kernels {
 
             /// [`Scene::any_hit`] compiled with [`FEATURES`]: the same answer.
             ///
+            /// # Safety
+            /// Safe to call from code compiled with [`FEATURES`]; elsewhere the call is
+            /// `unsafe`, and the CPU must have every feature of [`FEATURES`] (running an
+            /// instruction the CPU lacks is undefined behaviour).
             /// # Panics
             /// Never.
             #[target_feature(enable = $features)]
@@ -109,6 +117,10 @@ macro_rules! kernels {
 
             /// [`Bvh::closest_hit`] compiled with [`FEATURES`]: the same hit, bit for bit.
             ///
+            /// # Safety
+            /// Safe to call from code compiled with [`FEATURES`]; elsewhere the call is
+            /// `unsafe`, and the CPU must have every feature of [`FEATURES`] (running an
+            /// instruction the CPU lacks is undefined behaviour).
             /// # Panics
             /// Never.
             #[target_feature(enable = $features)]
@@ -124,6 +136,10 @@ macro_rules! kernels {
 
             /// [`Bvh::any_hit`] compiled with [`FEATURES`]: the same answer.
             ///
+            /// # Safety
+            /// Safe to call from code compiled with [`FEATURES`]; elsewhere the call is
+            /// `unsafe`, and the CPU must have every feature of [`FEATURES`] (running an
+            /// instruction the CPU lacks is undefined behaviour).
             /// # Panics
             /// Never.
             #[target_feature(enable = $features)]
@@ -139,6 +155,10 @@ macro_rules! kernels {
 
             /// [`Patch::intersect`] compiled with [`FEATURES`]: the same hit, bit for bit.
             ///
+            /// # Safety
+            /// Safe to call from code compiled with [`FEATURES`]; elsewhere the call is
+            /// `unsafe`, and the CPU must have every feature of [`FEATURES`] (running an
+            /// instruction the CPU lacks is undefined behaviour).
             /// # Panics
             /// Never.
             #[target_feature(enable = $features)]
@@ -155,6 +175,10 @@ macro_rules! kernels {
             /// [`Patch::intersect_stats`] compiled with [`FEATURES`]: the same hit and
             /// statistics, bit for bit.
             ///
+            /// # Safety
+            /// Safe to call from code compiled with [`FEATURES`]; elsewhere the call is
+            /// `unsafe`, and the CPU must have every feature of [`FEATURES`] (running an
+            /// instruction the CPU lacks is undefined behaviour).
             /// # Panics
             /// Never.
             #[target_feature(enable = $features)]

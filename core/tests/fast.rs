@@ -86,7 +86,8 @@ fn fast_patches_stay_close_and_kernel_is_finite() {
             .intersect(
                 &smoothtri::DRay::new(ray.origin.as_dvec3(), ray.dir.as_dvec3()),
                 0.0,
-                f64::INFINITY, 16,
+                f64::INFINITY,
+                16,
             )
             .expect("f64 misses a central ray");
         let et = ((h.t.0 as f64) - want.t).abs() * ray.dir.as_dvec3().length() / size;

@@ -819,7 +819,7 @@ fn bad_input_is_one_readable_error() {
     let (json, _) = gltf_parts(&cube(), Some("nowhere.bin"));
     write(p, "nobin.gltf", &json);
     fails(p, &["render", "--mesh", "nobin.gltf"], &["nowhere.bin"]);
-    fails(p, &["render", "--iterations", "41"], &["--iterations 41"]);
+    fails(p, &["render", "--iterations", "65"], &["--iterations 65"]);
     fails(p, &["render", "--view", "10"], &["AZ,EL"]);
     fails(p, &["trace", "--rays", "r.csv"], &["--mesh"]);
     fails(

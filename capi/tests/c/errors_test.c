@@ -73,8 +73,9 @@ int main(void) {
     EXPECT(st_scene_build(memory, bytes, pos, 0, pos, 0, 5, idx, 4, 0, 8, NULL),
            ST_ERROR_NULL_ARGUMENT);
     /* Bad arguments. */
-    EXPECT(BUILD(memory, bytes, pos, 0, pos, 0, 5, idx, 4, 0, 3), ST_ERROR_INVALID_ARGUMENT);
-    EXPECT(BUILD(memory, bytes, pos, 0, pos, 0, 5, idx, 4, 0, 32), ST_ERROR_INVALID_ARGUMENT);
+    EXPECT(BUILD(memory, bytes, pos, 0, pos, 0, 5, idx, 4, 0, ST_MAX_ITERATIONS + 1),
+           ST_ERROR_INVALID_ARGUMENT);
+    EXPECT(BUILD(memory, bytes, pos, 0, pos, 0, 5, idx, 4, 0, UINT32_MAX), ST_ERROR_INVALID_ARGUMENT);
     EXPECT(BUILD(memory, bytes, pos, 0, pos, 0, 5, idx, 4, 4, 8), ST_ERROR_INVALID_ARGUMENT);
     EXPECT(BUILD(memory, bytes, pos, 8, pos, 0, 5, idx, 4, 0, 8), ST_ERROR_INVALID_ARGUMENT);
     EXPECT(BUILD(memory, bytes, pos, 13, pos, 0, 5, idx, 4, 0, 8), ST_ERROR_INVALID_ARGUMENT);

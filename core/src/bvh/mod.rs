@@ -34,7 +34,9 @@ use crate::exec::Executor;
 use build::{build_tree, refit, tree_cost};
 
 use crate::kernel::heights::Target;
-use crate::kernel::{self, Crossing, DEFAULT_SAMPLES, Heights, KernelStats, Test, WorldRay};
+use crate::kernel::{
+    self, Budget, Crossing, DEFAULT_SAMPLES, Heights, KernelStats, Test, WorldRay,
+};
 use crate::num::real::Float;
 use crate::patch::Patch;
 use crate::ray::{Hit, Ray};
@@ -219,6 +221,7 @@ impl<'a, F: Float> Bvh<'a, F> {
     ) -> Option<(u32, Crossing<F>, &'s Prepared<F>)> {
         let mut stats = KernelStats::default();
         let world = WorldRay::new(ray)?;
+        let n = Budget::new(n);
         let patches = self.patches;
         let [s0, s1] = slots;
         let mut free = 0usize;
@@ -270,6 +273,7 @@ impl<'a, F: Float> Bvh<'a, F> {
         let Some(world) = WorldRay::new(ray) else {
             return false;
         };
+        let n = Budget::new(n);
         let patches = self.patches;
         let mut scratch = None;
         let first = self

@@ -104,6 +104,25 @@ pub const fn iterations(n: usize) -> usize {
     }
 }
 
+/// A refinement budget at most [`MAX_ITERATIONS`]: bounded once per query
+/// ([`Budget::new`]), so that each patch test of the query runs it as it is.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Budget(usize);
+
+impl Budget {
+    /// The budget a query runs for a requested `n`: [`iterations`]`(n)`.
+    #[inline(always)]
+    pub(crate) const fn new(n: usize) -> Self {
+        Budget(iterations(n))
+    }
+
+    /// The number of steps, at most [`MAX_ITERATIONS`].
+    #[inline(always)]
+    pub(crate) const fn get(self) -> usize {
+        self.0
+    }
+}
+
 /// The most lane calls (eight height evaluations each) that one patch test
 /// with `k` bracketing samples and a refinement budget `n` makes: `⌈(k + 2)/8⌉ + min(n,`
 /// [`MAX_ITERATIONS`]`)` (the budget a query runs, [`iterations`]). Besides these, a test

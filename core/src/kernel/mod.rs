@@ -47,9 +47,10 @@ use crate::num::vec::V3;
 use crate::ray::{Hit, Ray};
 use crate::surface::lanes::Prepared;
 use crate::surface::scalar::{normal_local, project_bary};
+pub(crate) use budget::Budget;
 pub use budget::{
-    DEFAULT_SAMPLES, MAX_CRACK_REACH, MAX_ITERATIONS, ROUNDING_ULPS, WALL_MARGIN_ULPS,
-    iterations, max_height_evals, max_lane_calls,
+    DEFAULT_SAMPLES, MAX_CRACK_REACH, MAX_ITERATIONS, ROUNDING_ULPS, WALL_MARGIN_ULPS, iterations,
+    max_height_evals, max_lane_calls,
 };
 use budget::{end_snap, rounding_allowance, secant};
 pub(crate) use clip::WorldRay;
@@ -107,7 +108,7 @@ fn intersect_impl<F: Float, const K: usize>(
         t_min,
         t_max,
         beyond: None,
-        n,
+        n: Budget::new(n),
     };
     let c = crossing::<F, K>(patch, &world, test, stats, &mut prepared, heights)?;
     let hit = c.hit(patch, prepared.as_ref()?, ray);
@@ -119,13 +120,13 @@ fn intersect_impl<F: Float, const K: usize>(
 
 /// What a patch test searches: the caller's range `[t_min, t_max]`, the parameter `beyond`
 /// at or after which the caller discards crossings ([`crossing`]), and the refinement budget
-/// `n` (run as [`iterations`]`(n)`).
+/// `n`.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Test<F> {
     pub t_min: F,
     pub t_max: F,
     pub beyond: Option<F>,
-    pub n: usize,
+    pub n: Budget,
 }
 
 /// Where `ray` crosses `patch` in `[t_min, t_max]` (clip, bracket, refine; no normal yet),
@@ -178,7 +179,7 @@ pub(crate) fn crossing<F: Float, const K: usize>(
         count(ESTIMATE_POINTS);
         heights.f4(prep, o, r, taus)
     };
-    let (fin, tau) = refine(bracket, start, stop, iterations(n), &mut f, &mut f4);
+    let (fin, tau) = refine(bracket, start, stop, n.get(), &mut f, &mut f4);
     stats.height_evals += evals.get();
     complete(&patch.shape, &cl, &bracket, &fin, tau, [t_min, t_max], prep)
 }

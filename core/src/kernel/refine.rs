@@ -285,8 +285,9 @@ pub(crate) fn refine<F: Float>(
     let mut x = start;
     let mut estimate_step = true;
     let mut steps = 0usize;
-    // `n` uniform steps and at most one estimate step.
-    for _ in 0..=n {
+    // `n` uniform steps and at most one estimate step (`n + 1` cannot overflow: the caller
+    // passes `iterations(n)`, at most `MAX_ITERATIONS`).
+    for _ in 0..n + 1 {
         if br.fa == F::ZERO || br.fb == F::ZERO || !(br.b - br.a > stop) {
             break;
         }

@@ -55,13 +55,7 @@ impl<'a, F: Float> Scene<'a, F> {
     /// every patch. The shading normal as [`Seam::correct`].
     /// # Panics
     /// Never. Non-finite rays miss.
-    pub fn closest_hit(
-        &self,
-        ray: &Ray<F>,
-        t_min: F,
-        t_max: F,
-        n: usize,
-    ) -> Option<SceneHit<F>> {
+    pub fn closest_hit(&self, ray: &Ray<F>, t_min: F, t_max: F, n: usize) -> Option<SceneHit<F>> {
         self.closest_hit_with(ray, [t_min, t_max], n, &Target)
     }
 
