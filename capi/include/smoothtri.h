@@ -676,6 +676,16 @@ extern "C" {
 const char *st_status_str(st_status status);
 
 /**
+ * The instruction set the queries run, as a static, NUL-terminated name: `"sse2"`, `"avx2"`
+ * or `"avx512"` on x86-64 (`"neon"` on aarch64). The library's kernel is compiled for each
+ * and the widest the CPU has is chosen once, at the first call of this function or of a
+ * query; the environment variable `SMOOTHTRI_ISA` (one of those names) overrides the choice
+ * when the CPU has the one it names. Every instruction set gives the same hits, bit for bit.
+ * Never NULL.
+ */
+const char *st_get_isa(void);
+
+/**
  * Writes to `*bytes` the size of the memory [`st_scene_build`] needs for a mesh of
  * `vertex_count` vertices and `triangle_count` triangles built with `flags`, whatever the
  * data and the memory's alignment (the padding to align inside it is counted).

@@ -56,6 +56,17 @@ pub extern "C" fn st_status_str(status: st_status) -> *const c_char {
     s.as_ptr()
 }
 
+/// The instruction set the queries run, as a static, NUL-terminated name: `"sse2"`, `"avx2"`
+/// or `"avx512"` on x86-64 (`"neon"` on aarch64). The library's kernel is compiled for each
+/// and the widest the CPU has is chosen once, at the first call of this function or of a
+/// query; the environment variable `SMOOTHTRI_ISA` (one of those names) overrides the choice
+/// when the CPU has the one it names. Every instruction set gives the same hits, bit for bit.
+/// Never NULL.
+#[unsafe(no_mangle)]
+pub extern "C" fn st_get_isa() -> *const c_char {
+    smoothtri_isa::kernels().isa().c_name().as_ptr()
+}
+
 /// Writes to `*bytes` the size of the memory [`st_scene_build`] needs for a mesh of
 /// `vertex_count` vertices and `triangle_count` triangles built with `flags`, whatever the
 /// data and the memory's alignment (the padding to align inside it is counted).

@@ -5,6 +5,7 @@ use std::panic::{AssertUnwindSafe, catch_unwind};
 
 use glam::DVec3;
 use smoothtri::{Float, Ray, SceneHit};
+use smoothtri_isa::kernels;
 
 use crate::store::{Prec, Stored};
 use crate::types::{
@@ -195,10 +196,8 @@ pub(crate) trait Lanes8 {
 /// `st_intersect1` on one ray-hit.
 pub(crate) fn trace_one<R: CRayHit>(scene: &Stored<R::F>, rh: &mut R) {
     let q = rh.query();
-    match scene
-        .scene
-        .closest_hit(&q.ray, q.tnear, q.tfar, scene.iterations as usize)
-    {
+    let n = scene.iterations as usize;
+    match kernels().scene_closest_hit(&scene.scene, &q.ray, q.tnear, q.tfar, n) {
         Some(h) => rh.write_hit(&h),
         None => rh.write_miss(),
     }
@@ -232,9 +231,8 @@ pub(crate) unsafe fn occluded1<R: CRay>(scene: Option<&Stored<R::F>>, ray: *mut 
     // SAFETY: non-null, aligned, valid and not aliased during the call by the contract.
     let r = unsafe { &mut *ray };
     let q = r.query();
-    if s.scene
-        .any_hit(&q.ray, q.tnear, q.tfar, s.iterations as usize)
-    {
+    let n = s.iterations as usize;
+    if kernels().scene_any_hit(&s.scene, &q.ray, q.tnear, q.tfar, n) {
         r.occlude();
     }
 }
@@ -353,7 +351,8 @@ pub(crate) unsafe fn patch_intersect<R: CRayHit>(
     // SAFETY: non-null, aligned, valid and not aliased during the call by the contract.
     let rh = unsafe { &mut *rayhit };
     let q = rh.query();
-    match patch.intersect(&q.ray, q.tnear, q.tfar, s.iterations as usize) {
+    let n = s.iterations as usize;
+    match kernels().patch_intersect(patch, &q.ray, q.tnear, q.tfar, n) {
         Some(mut h) => {
             h.patch = prim;
             rh.write_hit(&s.scene.scene_hit(h));

@@ -16,7 +16,23 @@ use std::path::PathBuf;
 use glam::{DVec3, Vec3};
 use smoothtri::{BuildOptions, LineField, OwnedScene, Ray, SceneHit, Vertices};
 
+/// The C program `tests/c/{name}.c`, compiled once per run of this file: the tests that run
+/// one program share it (compiling it for each, in parallel, would replace the file under a
+/// test that is running it).
 fn c_program(name: &str) -> PathBuf {
+    static BUILT: std::sync::Mutex<Vec<(String, PathBuf)>> = std::sync::Mutex::new(Vec::new());
+    let mut built = BUILT
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner);
+    if let Some((_, exe)) = built.iter().find(|(n, _)| n == name) {
+        return exe.clone();
+    }
+    let exe = compile_program(name);
+    built.push((name.to_string(), exe.clone()));
+    exe
+}
+
+fn compile_program(name: &str) -> PathBuf {
     let dir = common::scratch(name);
     let src = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(format!("tests/c/{name}.c"));
     let exe = dir.join(name);
@@ -224,6 +240,17 @@ fn closest32(s: &OwnedScene<f32>, r: &Ray<f32>, n: u32) -> Option<SceneHit<f32>>
 
 fn closest64(s: &OwnedScene<f64>, r: &Ray<f64>, n: u32) -> Option<SceneHit<f64>> {
     s.scene().closest_hit(r, 0.0, f64::INFINITY, n as usize)
+}
+
+#[test]
+fn st_get_isa_names_the_kernels_smoothtri_isa_an_environment_override_chooses() {
+    // `SMOOTHTRI_ISA`, when set (CI sets each instruction set the machine has), names the
+    // kernels the queries run; unset, the widest the CPU has.
+    let want = smoothtri_isa::Kernels::from_env().expect("SMOOTHTRI_ISA names a supported set");
+    // SAFETY: `st_get_isa` returns a static, NUL-terminated string.
+    let got = unsafe { std::ffi::CStr::from_ptr(smoothtri_capi::st_get_isa()) };
+    assert_eq!(got, want.isa().c_name());
+    assert_eq!(smoothtri_isa::kernels(), want);
 }
 
 #[test]

@@ -50,6 +50,12 @@ int main(void) {
     memcpy(idx, I, sizeof idx);
     CHECK(strcmp(st_status_str(ST_OK), "ST_OK") == 0);
     CHECK(strcmp(st_status_str(ST_ERROR_NON_FINITE), "ST_ERROR_NON_FINITE") == 0);
+    /* The kernels' instruction set: a known name (which one, `tests/c_api.rs` checks). */
+    {
+        const char *isa = st_get_isa();
+        CHECK(isa != NULL && (strcmp(isa, "sse2") == 0 || strcmp(isa, "avx2") == 0 ||
+                              strcmp(isa, "avx512") == 0 || strcmp(isa, "neon") == 0));
+    }
     CHECK(strcmp(st_status_str(12345), "ST_ERROR_UNKNOWN") == 0);
 
     /* Sizes. */
