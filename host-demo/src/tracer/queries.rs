@@ -2,6 +2,7 @@
 //! flat and Phong baselines) and their choice at run time ([`tracer`]).
 
 use smoothtri::{Bvh, Float, Hit, Ray, flat_hit};
+use smoothtri_isa::Dispatch;
 
 use super::modes::Mode;
 use crate::error::{DemoError, Result};
@@ -34,7 +35,8 @@ pub trait Tracer<F: Float>: Sync {
     }
 }
 
-/// The smooth kernel with a refinement budget of `n` steps.
+/// The smooth kernel with a refinement budget of `n` steps, on the instruction set chosen at
+/// run time ([`smoothtri_isa::kernels`]: the same hits, bit for bit, as the core's queries).
 struct Smooth {
     n: usize,
 }
@@ -43,10 +45,10 @@ impl<F: Float> Tracer<F> for Smooth {
         true
     }
     fn closest(&self, bvh: &Bvh<'_, F>, ray: &Ray<F>, t_min: F, t_max: F) -> Option<Hit<F>> {
-        bvh.closest_hit(ray, t_min, t_max, self.n)
+        bvh.closest_hit_isa(ray, t_min, t_max, self.n)
     }
     fn occluded(&self, bvh: &Bvh<'_, F>, ray: &Ray<F>, t_min: F, t_max: F) -> bool {
-        bvh.any_hit(ray, t_min, t_max, self.n)
+        bvh.any_hit_isa(ray, t_min, t_max, self.n)
     }
     fn closest_shaded(
         &self,
@@ -55,7 +57,7 @@ impl<F: Float> Tracer<F> for Smooth {
         t_min: F,
         t_max: F,
     ) -> Option<(Hit<F>, F::Vec3)> {
-        let h = scene.closest_hit(ray, t_min, t_max, self.n)?;
+        let h = scene.closest_hit_isa(ray, t_min, t_max, self.n)?;
         Some((h.hit, h.shading_normal))
     }
 }
