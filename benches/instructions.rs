@@ -51,7 +51,7 @@ macro_rules! per_patch {
         let mut hits = 0usize;
         for _ in 0..$reps {
             for r in $rays.iter() {
-                hits += $patch.intersect::<$n>(black_box(r), 0.0, $inf).is_some() as usize;
+                hits += $patch.intersect(black_box(r), 0.0, $inf, $n).is_some() as usize;
             }
         }
         hits
@@ -70,7 +70,7 @@ fn scene_rays<const N: usize>(scene: &Scene, reps: usize) -> usize {
     let mut hits = 0;
     for _ in 0..reps {
         for r in &rays {
-            let h = bvh.closest_hit::<N>(black_box(r), 0.0, f32::INFINITY);
+            let h = bvh.closest_hit(black_box(r), 0.0, f32::INFINITY, N);
             hits += h.is_some() as usize;
         }
     }
@@ -127,7 +127,7 @@ fn run_case(name: &str, reps: usize) -> usize {
             let mut hits = 0;
             for _ in 0..reps {
                 for r in &rays {
-                    let h = scene.closest_hit::<8>(black_box(r), 0.0, f32::INFINITY);
+                    let h = scene.closest_hit(black_box(r), 0.0, f32::INFINITY, 8);
                     hits += h.is_some() as usize;
                 }
             }
@@ -151,9 +151,9 @@ fn run_case(name: &str, reps: usize) -> usize {
             for _ in 0..reps {
                 for r in &rays {
                     let h = if fused {
-                        scene.closest_hit::<8>(black_box(r), 0.0, f32::INFINITY)
+                        scene.closest_hit(black_box(r), 0.0, f32::INFINITY, 8)
                     } else {
-                        bvh.closest_hit::<8>(black_box(r), 0.0, f32::INFINITY)
+                        bvh.closest_hit(black_box(r), 0.0, f32::INFINITY, 8)
                             .map(|h| scene.scene_hit(h))
                     };
                     acc += h.map_or(0.0, |h| h.shading_normal.x);

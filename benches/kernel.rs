@@ -20,7 +20,7 @@ macro_rules! smooth32 {
     ($s:expr, $n:literal) => {
         |rays: &[Ray]| {
             rays.iter()
-                .filter(|r| $s.p32.intersect::<$n>(r, 0.0, f32::INFINITY).is_some())
+                .filter(|r| $s.p32.intersect(r, 0.0, f32::INFINITY, $n).is_some())
                 .count()
         }
     };
@@ -29,7 +29,7 @@ macro_rules! smooth64 {
     ($s:expr, $n:literal) => {
         |rays: &[DRay]| {
             rays.iter()
-                .filter(|r| $s.p64.intersect::<$n>(r, 0.0, f64::INFINITY).is_some())
+                .filter(|r| $s.p64.intersect(r, 0.0, f64::INFINITY, $n).is_some())
                 .count()
         }
     };
@@ -90,7 +90,7 @@ fn bench_scene(c: &mut Criterion) {
         let bvh = smooth.bvh();
         b.iter(|| {
             rays.iter()
-                .filter(|r| bvh.closest_hit::<8>(r, 0.0, f32::INFINITY).is_some())
+                .filter(|r| bvh.closest_hit(r, 0.0, f32::INFINITY, 8).is_some())
                 .count()
         })
     });
@@ -199,7 +199,7 @@ fn summary() {
                     || {
                         fast_rays
                             .iter()
-                            .filter(|r| fast.intersect::<$n>(r, zero, inf).is_some())
+                            .filter(|r| fast.intersect(r, zero, inf, $n).is_some())
                             .count()
                     },
                     200,
@@ -232,7 +232,7 @@ fn summary() {
                 .iter()
                 .map(|r| {
                     s.p32
-                        .intersect_stats::<DEFAULT_SAMPLES, $n>(r, 0.0, f32::INFINITY)
+                        .intersect_stats::<DEFAULT_SAMPLES>(r, 0.0, f32::INFINITY, $n)
                         .1
                         .height_evals
                 })
@@ -242,7 +242,7 @@ fn summary() {
                 .iter()
                 .map(|r| {
                     s.p64
-                        .intersect_stats::<DEFAULT_SAMPLES, $n>(r, 0.0, f64::INFINITY)
+                        .intersect_stats::<DEFAULT_SAMPLES>(r, 0.0, f64::INFINITY, $n)
                         .1
                         .height_evals
                 })
@@ -286,7 +286,7 @@ fn summary() {
     let (ts, tf) = interleaved(
         || {
             rays.iter()
-                .filter(|r| bs.closest_hit::<8>(r, 0.0, f32::INFINITY).is_some())
+                .filter(|r| bs.closest_hit(r, 0.0, f32::INFINITY, 8).is_some())
                 .count()
         },
         || {

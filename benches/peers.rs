@@ -740,9 +740,9 @@ impl Tracers {
                 let bvh = self.smooth.as_ref()?.bvh();
                 for r in rays {
                     let h = match k {
-                        4 => bvh.closest_hit::<0>(black_box(r), 0.0, f32::MAX),
-                        5 => bvh.closest_hit::<4>(black_box(r), 0.0, f32::MAX),
-                        _ => bvh.closest_hit::<8>(black_box(r), 0.0, f32::MAX),
+                        4 => bvh.closest_hit(black_box(r), 0.0, f32::MAX, 0),
+                        5 => bvh.closest_hit(black_box(r), 0.0, f32::MAX, 4),
+                        _ => bvh.closest_hit(black_box(r), 0.0, f32::MAX, 8),
                     };
                     hits += black_box(h).is_some() as usize;
                 }

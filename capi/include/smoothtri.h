@@ -49,6 +49,12 @@
 #define ST_BUILD_UPDATABLE 4
 
 /**
+ * The largest refinement budget `iterations` that `st_scene_build` takes (the core's
+ * `smoothtri::MAX_ITERATIONS`): any value from 0 to this one.
+ */
+#define ST_MAX_ITERATIONS 64
+
+/**
  * A built scene in single precision (opaque; it lives inside the memory given to
  * `st_scene_build`).
  */
@@ -99,7 +105,7 @@ typedef struct st_scene_info {
    */
   uint32_t first_rejected;
   /**
-   * The kernel's refinement steps `N` given to the build (0, 1, 2, 4, 8 or 16).
+   * The kernel's refinement steps `N` given to the build (0 to [`ST_MAX_ITERATIONS`]).
    */
   uint32_t iterations;
   /**
@@ -628,8 +634,8 @@ typedef struct ST_ALIGNED(32) st_rayhit8_f64 {
 #define ST_ERROR_NULL_ARGUMENT 1
 
 /**
- * An argument is out of its documented range: unknown flag bits, `iterations` not one of
- * 0, 1, 2, 4, 8, 16, a stride below three scalars or not a multiple of the scalar size, a
+ * An argument is out of its documented range: unknown flag bits, `iterations` above
+ * [`ST_MAX_ITERATIONS`], a stride below three scalars or not a multiple of the scalar size, a
  * pointer not aligned to its element type.
  */
 #define ST_ERROR_INVALID_ARGUMENT 2
@@ -693,6 +699,16 @@ extern "C" {
 const char *st_status_str(st_status status);
 
 /**
+ * The instruction set the queries run, as a static, NUL-terminated name: `"sse2"`, `"avx2"`
+ * or `"avx512"` on x86-64 (`"neon"` on aarch64). The library's kernel is compiled for each
+ * and the widest the CPU has is chosen once, at the first call of this function or of a
+ * query; the environment variable `SMOOTHTRI_ISA` (one of those names) overrides the choice
+ * when the CPU has the one it names. Every instruction set gives the same hits, bit for bit.
+ * Never NULL.
+ */
+const char *st_get_isa(void);
+
+/**
  * Writes to `*bytes` the size of the memory [`st_scene_build`] needs for a mesh of
  * `vertex_count` vertices and `triangle_count` triangles built with `flags`, whatever the
  * data and the memory's alignment (the padding to align inside it is counted).
@@ -733,8 +749,8 @@ st_status st_scene_required_bytes_f64(size_t vertex_count,
  *   length, pointing to the side from which the triangles are counter-clockwise.
  * - `indices`: `triangle_count` × 3 vertex indices.
  * - `flags`: [`ST_BUILD_SEAMS`], [`ST_BUILD_SHARED_FIELD`], [`ST_BUILD_UPDATABLE`], or 0.
- * - `iterations`: the kernel's refinement steps `N` (0, 1, 2, 4, 8 or 16): the work per
- *   patch test is bounded by `N` plus a constant, and `t_error` shrinks at least five-fold
+ * - `iterations`: the kernel's refinement steps `N`, any of 0 to [`ST_MAX_ITERATIONS`]
+ *   (64): the work per patch test is bounded by `N` plus a constant, and `t_error` shrinks at least five-fold
  *   per step (8 is a good default in `f32`).
  *
  * Triangles the core rejects (degenerate, non-finite, bad normals) are skipped and counted

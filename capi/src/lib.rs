@@ -58,6 +58,17 @@ pub extern "C" fn st_status_str(status: st_status) -> *const c_char {
     s.as_ptr()
 }
 
+/// The instruction set the queries run, as a static, NUL-terminated name: `"sse2"`, `"avx2"`
+/// or `"avx512"` on x86-64 (`"neon"` on aarch64). The library's kernel is compiled for each
+/// and the widest the CPU has is chosen once, at the first call of this function or of a
+/// query; the environment variable `SMOOTHTRI_ISA` (one of those names) overrides the choice
+/// when the CPU has the one it names. Every instruction set gives the same hits, bit for bit.
+/// Never NULL.
+#[unsafe(no_mangle)]
+pub extern "C" fn st_get_isa() -> *const c_char {
+    smoothtri_isa::kernels().isa().c_name().as_ptr()
+}
+
 /// Writes to `*bytes` the size of the memory [`st_scene_build`] needs for a mesh of
 /// `vertex_count` vertices and `triangle_count` triangles built with `flags`, whatever the
 /// data and the memory's alignment (the padding to align inside it is counted).
@@ -110,8 +121,8 @@ pub unsafe extern "C" fn st_scene_required_bytes_f64(
 ///   length, pointing to the side from which the triangles are counter-clockwise.
 /// - `indices`: `triangle_count` × 3 vertex indices.
 /// - `flags`: [`ST_BUILD_SEAMS`], [`ST_BUILD_SHARED_FIELD`], [`ST_BUILD_UPDATABLE`], or 0.
-/// - `iterations`: the kernel's refinement steps `N` (0, 1, 2, 4, 8 or 16): the work per
-///   patch test is bounded by `N` plus a constant, and `t_error` shrinks at least five-fold
+/// - `iterations`: the kernel's refinement steps `N`, any of 0 to [`ST_MAX_ITERATIONS`]
+///   (64): the work per patch test is bounded by `N` plus a constant, and `t_error` shrinks at least five-fold
 ///   per step (8 is a good default in `f32`).
 ///
 /// Triangles the core rejects (degenerate, non-finite, bad normals) are skipped and counted

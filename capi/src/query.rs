@@ -4,7 +4,8 @@ use core::ffi::c_void;
 use std::panic::{AssertUnwindSafe, catch_unwind};
 
 use glam::DVec3;
-use smoothtri::{Float, Hit, Patch, Ray, Scene, SceneHit};
+use smoothtri::{Float, Ray, SceneHit};
+use smoothtri_isa::kernels;
 
 use crate::store::{Prec, Stored};
 use crate::types::{
@@ -27,42 +28,6 @@ pub(crate) fn guard_status(f: impl FnOnce() -> st_status) -> st_status {
 /// Runs `f`; a panic becomes `false`.
 pub(crate) fn guard_bool(f: impl FnOnce() -> bool) -> bool {
     catch_unwind(AssertUnwindSafe(f)).unwrap_or(false)
-}
-
-/// `Scene::closest_hit::<N>` for one `N`.
-type ClosestFn<F> = for<'s> fn(&Scene<'s, F>, &Ray<F>, F, F) -> Option<SceneHit<F>>;
-/// `Scene::any_hit::<N>` for one `N`.
-type AnyFn<F> = for<'s> fn(&Scene<'s, F>, &Ray<F>, F, F) -> bool;
-/// `Patch::intersect::<N>` for one `N`.
-type PatchFn<F> = fn(&Patch<F>, &Ray<F>, F, F) -> Option<Hit<F>>;
-
-/// The kernel instantiations for one `iterations` value (the C API's runtime `N`).
-struct Kernels<F: Float + 'static> {
-    closest: ClosestFn<F>,
-    any: AnyFn<F>,
-    patch: PatchFn<F>,
-}
-
-impl<F: Float + 'static> Kernels<F> {
-    fn of<const N: usize>() -> Self {
-        Kernels {
-            closest: |s, ray, t_min, t_max| s.closest_hit::<N>(ray, t_min, t_max),
-            any: |s, ray, t_min, t_max| s.any_hit::<N>(ray, t_min, t_max),
-            patch: Patch::intersect::<N>,
-        }
-    }
-
-    /// The kernels of `iterations`, one of [`crate::store::ITERATIONS`] (checked at build).
-    fn for_iterations(iterations: u32) -> Self {
-        match iterations {
-            0 => Self::of::<0>(),
-            1 => Self::of::<1>(),
-            2 => Self::of::<2>(),
-            4 => Self::of::<4>(),
-            8 => Self::of::<8>(),
-            _ => Self::of::<16>(),
-        }
-    }
 }
 
 /// A ray of the C API in precision `F`: the core's ray and its `[tnear, tfar]`.
@@ -231,12 +196,8 @@ pub(crate) trait Lanes8 {
 /// `st_intersect1` on one ray-hit.
 pub(crate) fn trace_one<R: CRayHit>(scene: &Stored<R::F>, rh: &mut R) {
     let q = rh.query();
-    match (Kernels::for_iterations(scene.iterations).closest)(
-        &scene.scene(),
-        &q.ray,
-        q.tnear,
-        q.tfar,
-    ) {
+    let n = scene.iterations as usize;
+    match kernels().scene_closest_hit(&scene.scene(), &q.ray, q.tnear, q.tfar, n) {
         Some(h) => rh.write_hit(&h),
         None => rh.write_miss(),
     }
@@ -270,7 +231,8 @@ pub(crate) unsafe fn occluded1<R: CRay>(scene: Option<&Stored<R::F>>, ray: *mut 
     // SAFETY: non-null, aligned, valid and not aliased during the call by the contract.
     let r = unsafe { &mut *ray };
     let q = r.query();
-    if (Kernels::for_iterations(s.iterations).any)(&s.scene(), &q.ray, q.tnear, q.tfar) {
+    let n = s.iterations as usize;
+    if kernels().scene_any_hit(&s.scene(), &q.ray, q.tnear, q.tfar, n) {
         r.occlude();
     }
 }
@@ -389,7 +351,8 @@ pub(crate) unsafe fn patch_intersect<R: CRayHit>(
     // SAFETY: non-null, aligned, valid and not aliased during the call by the contract.
     let rh = unsafe { &mut *rayhit };
     let q = rh.query();
-    match (Kernels::for_iterations(s.iterations).patch)(patch, &q.ray, q.tnear, q.tfar) {
+    let n = s.iterations as usize;
+    match kernels().patch_intersect(patch, &q.ray, q.tnear, q.tfar, n) {
         Some(mut h) => {
             h.patch = prim;
             rh.write_hit(&s.scene().scene_hit(h));

@@ -28,8 +28,8 @@ use crate::types::{
     ST_BUILD_SEAMS, ST_BUILD_SHARED_FIELD, ST_BUILD_UPDATABLE, ST_ERROR_BUFFER_TOO_SMALL,
     ST_ERROR_INDEX_OUT_OF_RANGE, ST_ERROR_INTERNAL, ST_ERROR_INVALID_ARGUMENT,
     ST_ERROR_NO_USABLE_TRIANGLES, ST_ERROR_NON_FINITE, ST_ERROR_NOT_UPDATABLE,
-    ST_ERROR_NULL_ARGUMENT, ST_ERROR_TOO_LARGE, ST_ERROR_WRONG_SCENE, ST_INVALID_ID, ST_OK,
-    st_scene_info, st_status,
+    ST_ERROR_NULL_ARGUMENT, ST_ERROR_TOO_LARGE, ST_ERROR_WRONG_SCENE, ST_INVALID_ID,
+    ST_MAX_ITERATIONS, ST_OK, st_scene_info, st_status,
 };
 
 /// The precisions of the C API, each with the tag that marks its scenes.
@@ -46,10 +46,6 @@ impl Prec for f64 {
     const MAGIC: u64 = u64::from_le_bytes(*b"stScn-64");
 }
 
-/// The refinement steps the C API accepts (`iterations`): each is one instantiation of the
-/// kernel.
-pub(crate) const ITERATIONS: [u32; 6] = [0, 1, 2, 4, 8, 16];
-
 /// A scene as built: fixed, or updatable ([`ST_BUILD_UPDATABLE`]).
 enum Kept<F: Float + 'static> {
     /// A scene that never changes.
@@ -65,7 +61,7 @@ pub(crate) struct Stored<F: Float + 'static> {
     magic: u64,
     /// The scene; borrows the memory after this head.
     kept: Kept<F>,
-    /// The kernel's `N`, one of [`ITERATIONS`].
+    /// The kernel's refinement budget, at most [`smoothtri::MAX_ITERATIONS`].
     pub(crate) iterations: u32,
     /// The build flags.
     pub(crate) flags: u32,
@@ -337,7 +333,7 @@ pub(crate) unsafe fn build_into<F: Prec>(
     let Some(options) = options(input.flags) else {
         return ST_ERROR_INVALID_ARGUMENT;
     };
-    if !ITERATIONS.contains(&input.iterations) || !out.is_aligned() {
+    if input.iterations > ST_MAX_ITERATIONS || !out.is_aligned() {
         return ST_ERROR_INVALID_ARGUMENT;
     }
     if tc == 0 {

@@ -9,8 +9,8 @@ pub type st_status = u32;
 pub const ST_OK: st_status = 0;
 /// A pointer argument that must not be NULL was NULL.
 pub const ST_ERROR_NULL_ARGUMENT: st_status = 1;
-/// An argument is out of its documented range: unknown flag bits, `iterations` not one of
-/// 0, 1, 2, 4, 8, 16, a stride below three scalars or not a multiple of the scalar size, a
+/// An argument is out of its documented range: unknown flag bits, `iterations` above
+/// [`ST_MAX_ITERATIONS`], a stride below three scalars or not a multiple of the scalar size, a
 /// pointer not aligned to its element type.
 pub const ST_ERROR_INVALID_ARGUMENT: st_status = 2;
 /// The memory given to `st_scene_build` is shorter than `st_scene_required_bytes` says.
@@ -52,6 +52,11 @@ pub const ST_BUILD_SHARED_FIELD: u32 = 2;
 /// `st_scene_required_bytes`, the build's scratch included (`bytes_used` is all of it), and
 /// finds the shared edges of the index buffer once, at the build.
 pub const ST_BUILD_UPDATABLE: u32 = 4;
+
+/// The largest refinement budget `iterations` that `st_scene_build` takes (the core's
+/// `smoothtri::MAX_ITERATIONS`): any value from 0 to this one.
+pub const ST_MAX_ITERATIONS: u32 = 64;
+const _: () = assert!(ST_MAX_ITERATIONS as usize == smoothtri::MAX_ITERATIONS);
 
 /// A ray, laid out as Embree 3's `RTCRay` (same fields, order, sizes and 16-byte alignment, so
 /// a `RTCRay*` can be passed as an `st_ray*`). The ray is `org + t·dir` for `t` in
@@ -354,7 +359,7 @@ pub struct st_scene_info {
     pub rejected_other: usize,
     /// The first rejected triangle, [`ST_INVALID_ID`] when none was.
     pub first_rejected: u32,
-    /// The kernel's refinement steps `N` given to the build (0, 1, 2, 4, 8 or 16).
+    /// The kernel's refinement steps `N` given to the build (0 to [`ST_MAX_ITERATIONS`]).
     pub iterations: u32,
     /// Patches whose normals the steep-normal remedy clamped (still traced; smooth, slightly
     /// flatter near the clamped vertex).

@@ -17,7 +17,23 @@ use std::path::PathBuf;
 use glam::{DVec3, Vec3};
 use smoothtri::{BuildOptions, LineField, OwnedScene, Ray, SceneHit, Vertices};
 
+/// The C program `tests/c/{name}.c`, compiled once per run of this file: the tests that run
+/// one program share it (compiling it for each, in parallel, would replace the file under a
+/// test that is running it).
 fn c_program(name: &str) -> PathBuf {
+    static BUILT: std::sync::Mutex<Vec<(String, PathBuf)>> = std::sync::Mutex::new(Vec::new());
+    let mut built = BUILT
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner);
+    if let Some((_, exe)) = built.iter().find(|(n, _)| n == name) {
+        return exe.clone();
+    }
+    let exe = compile_program(name);
+    built.push((name.to_string(), exe.clone()));
+    exe
+}
+
+fn compile_program(name: &str) -> PathBuf {
     let dir = common::scratch(name);
     let src = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(format!("tests/c/{name}.c"));
     let exe = dir.join(name);
@@ -228,23 +244,22 @@ fn check_scene_test(flags: u32, iterations: u32, rays: usize, memcheck: bool) {
 }
 
 fn closest32(s: &OwnedScene<f32>, r: &Ray<f32>, n: u32) -> Option<SceneHit<f32>> {
-    let s = s.scene();
-    match n {
-        0 => s.closest_hit::<0>(r, 0.0, f32::INFINITY),
-        8 => s.closest_hit::<8>(r, 0.0, f32::INFINITY),
-        16 => s.closest_hit::<16>(r, 0.0, f32::INFINITY),
-        _ => unimplemented!(),
-    }
+    s.scene().closest_hit(r, 0.0, f32::INFINITY, n as usize)
 }
 
 fn closest64(s: &OwnedScene<f64>, r: &Ray<f64>, n: u32) -> Option<SceneHit<f64>> {
-    let s = s.scene();
-    match n {
-        0 => s.closest_hit::<0>(r, 0.0, f64::INFINITY),
-        8 => s.closest_hit::<8>(r, 0.0, f64::INFINITY),
-        16 => s.closest_hit::<16>(r, 0.0, f64::INFINITY),
-        _ => unimplemented!(),
-    }
+    s.scene().closest_hit(r, 0.0, f64::INFINITY, n as usize)
+}
+
+#[test]
+fn st_get_isa_names_the_kernels_smoothtri_isa_an_environment_override_chooses() {
+    // `SMOOTHTRI_ISA`, when set (CI sets each instruction set the machine has), names the
+    // kernels the queries run; unset, the widest the CPU has.
+    let want = smoothtri_isa::Kernels::from_env().expect("SMOOTHTRI_ISA names a supported set");
+    // SAFETY: `st_get_isa` returns a static, NUL-terminated string.
+    let got = unsafe { std::ffi::CStr::from_ptr(smoothtri_capi::st_get_isa()) };
+    assert_eq!(got, want.isa().c_name());
+    assert_eq!(smoothtri_isa::kernels(), want);
 }
 
 #[test]
@@ -261,4 +276,12 @@ fn c_hits_equal_the_rust_api_without_seams_on_the_shared_field() {
 #[test]
 fn c_hits_equal_the_rust_api_bracketing_only() {
     check_scene_test(0, 0, 192, false);
+}
+
+#[test]
+fn c_hits_equal_the_rust_api_at_any_budget() {
+    // Budgets the C API took no instantiation of before `N` was a run-time value, and the
+    // largest.
+    check_scene_test(1, 3, 64, false);
+    check_scene_test(0, 64, 64, false);
 }

@@ -67,7 +67,7 @@
 //! };
 //! let (pos, nrm) = (Vertices::packed(&p), Vertices::packed(&p));
 //! let scene = Scene::build(pos, nrm, &ib, &mut options, storage).unwrap();
-//! let hit = scene.closest_hit::<4>(&Ray::new(Vec3::splat(2.0), -Vec3::ONE), 0.0, f32::INFINITY);
+//! let hit = scene.closest_hit(&Ray::new(Vec3::splat(2.0), -Vec3::ONE), 0.0, f32::INFINITY, 4);
 //! let hit = hit.unwrap();
 //! assert!((hit.hit.point.length() - 1.0).abs() < 2e-6); // the method reproduces spheres
 //! assert_eq!(hit.triangle, 0);
@@ -121,13 +121,16 @@ mod testing;
 
 #[doc(hidden)]
 pub mod internal;
+pub mod isa;
 
 pub use aabb::Aabb;
 pub use bvh::{BVH_EMPTY_SLOT, BVH_STACK, BVH_WIDTH, BoxBvh, Bvh, BvhError, BvhNode, MAX_DEPTH};
 pub use error::PatchError;
 pub use geometry::PatchData;
 pub use kernel::flat::{flat_hit, moller_trumbore};
-pub use kernel::{DEFAULT_SAMPLES, KernelStats, max_height_evals, max_lane_calls};
+pub use kernel::{
+    DEFAULT_SAMPLES, KernelStats, MAX_ITERATIONS, iterations, max_height_evals, max_lane_calls,
+};
 #[cfg(feature = "alloc")]
 pub use mesh::OwnedScene;
 pub use mesh::{

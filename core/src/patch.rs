@@ -439,8 +439,11 @@ impl<F: Float> Patch<F> {
         )
     }
 
-    /// Closest intersection of `ray` with the patch for `t` in `[t_min, t_max]`, with `N`
-    /// refinement iterations and [`DEFAULT_SAMPLES`] bracketing samples.
+    /// Closest intersection of `ray` with the patch for `t` in `[t_min, t_max]`, with a
+    /// refinement budget of `n` steps (any `n`; it runs [`iterations`](kernel::iterations)`(n)`,
+    /// at most [`MAX_ITERATIONS`](kernel::MAX_ITERATIONS)) and [`DEFAULT_SAMPLES`] bracketing
+    /// samples. The lane code is compiled for the build's target; [`crate::isa`] has the same
+    /// test with a kernel chosen at run time (the same hit, bit for bit).
     ///
     /// Returns `None` when the ray misses (including degenerate rays: zero or non-finite
     /// direction, non-finite origin, `t_max < t_min`, NaN bounds). `t_max` may be infinite.
@@ -449,40 +452,41 @@ impl<F: Float> Patch<F> {
     /// `|t − t_true| ≤ hit.t_error` where `t_true` is the crossing inside the final bracket.
     /// `t_error` is the final bracket's width plus a rounding allowance
     /// ([`KernelStats::rounding`]: `16 · ε · L / |f′|`
-    /// for the patch's extent `L = 4 · longest_edge + |P0|`), and the bracket is at most `(tb − ta) / ((K + 1)·5^N)` for the shell interval
+    /// for the patch's extent `L = 4 · longest_edge + |P0|`), and the bracket is at most `(tb − ta) / ((K + 1)·5^n)` for the shell interval
     /// `[ta, tb]` ([`KernelStats::shell_width`]): one sampling step, divided by at least
     /// `WORST_SHRINK` = 5 by every refinement step (tested on
     /// every patch test of random rays in `tests/suite/kernel.rs`). Convergence is usually far
-    /// faster: from N = 4, `f64` hits on the torus are at rounding
-    /// (the table of docs/MEASUREMENTS.md); at N = 8 `f64`
+    /// faster: from n = 4, `f64` hits on the torus are at rounding
+    /// (the table of docs/MEASUREMENTS.md); at n = 8 `f64`
     /// hits on spheres are on the sphere to [`F64_SPHERE_HIT`](crate::accuracy::F64_SPHERE_HIT).
     /// Rays that cross the surface twice within one sampling step `(tb − ta)/(K + 1)` may be
     /// reported as misses.
     /// # Panics
-    /// Never. Work is bounded: at most [`max_lane_calls`](kernel::max_lane_calls)`(K, N)` lane
+    /// Never. Work is bounded: at most [`max_lane_calls`](kernel::max_lane_calls)`(K, n)` lane
     /// calls (eight height evaluations each), one call of four and one normal evaluation
-    /// ([`max_height_evals`](kernel::max_height_evals)).
+    /// ([`max_height_evals`](kernel::max_height_evals)), whatever `n`.
     #[inline]
-    pub fn intersect<const N: usize>(&self, ray: &Ray<F>, t_min: F, t_max: F) -> Option<Hit<F>> {
-        self.intersect_stats::<DEFAULT_SAMPLES, N>(ray, t_min, t_max)
+    pub fn intersect(&self, ray: &Ray<F>, t_min: F, t_max: F, n: usize) -> Option<Hit<F>> {
+        self.intersect_stats::<DEFAULT_SAMPLES>(ray, t_min, t_max, n)
             .0
     }
 
-    /// [`Patch::intersect`] with `K` bracketing samples and `N` refinement iterations chosen by
-    /// the caller, also returning the [`KernelStats`] of the call (evaluation counts, the shell
-    /// interval's width and the rounding allowance).
+    /// [`Patch::intersect`] with `K` bracketing samples chosen by the caller, also returning
+    /// the [`KernelStats`] of the call (evaluation counts, the shell interval's width and the
+    /// rounding allowance).
     ///
     /// # Accuracy
     /// As [`Patch::intersect`].
     /// # Panics
     /// Never.
-    pub fn intersect_stats<const K: usize, const N: usize>(
+    pub fn intersect_stats<const K: usize>(
         &self,
         ray: &Ray<F>,
         t_min: F,
         t_max: F,
+        n: usize,
     ) -> (Option<Hit<F>>, KernelStats) {
-        kernel::intersect_stats::<F, K, N>(self, ray, t_min, t_max)
+        kernel::intersect_stats::<F, K>(self, ray, [t_min, t_max], n, &kernel::heights::Target)
     }
 
     /// The triangle's vertices in world coordinates, as given (up to rounding of the frame).

@@ -78,15 +78,16 @@ fn fast_patches_stay_close_and_kernel_is_finite() {
         // Unit direction: `t` is a distance.
         let ray = Ray::new((c + nf * size).as_vec3(), (-nf).as_vec3());
         let h = fast
-            .intersect::<8>(&ray, FastF32(0.0), FastF32(f32::INFINITY))
+            .intersect(&ray, FastF32(0.0), FastF32(f32::INFINITY), 8)
             .expect("FastF32 misses a central ray");
         hits += 1;
         assert!(h.t.0.is_finite() && h.point.is_finite() && h.normal.is_finite());
         let want = exact
-            .intersect::<16>(
+            .intersect(
                 &smoothtri::DRay::new(ray.origin.as_dvec3(), ray.dir.as_dvec3()),
                 0.0,
                 f64::INFINITY,
+                16,
             )
             .expect("f64 misses a central ray");
         let et = ((h.t.0 as f64) - want.t).abs() * ray.dir.as_dvec3().length() / size;
@@ -128,14 +129,14 @@ fn fast_bvh_equals_brute_force() {
         let o = rng.unit() * 12.0;
         let aim = rng.unit() * 6.0 * rng.f();
         let ray = Ray::<FastF32>::new(o.as_vec3(), (aim - o).as_vec3());
-        let got = bvh.closest_hit::<4>(&ray, zero, inf).map(|h| h.t.0);
+        let got = bvh.closest_hit(&ray, zero, inf, 4).map(|h| h.t.0);
         let want = patches
             .iter()
-            .filter_map(|p| p.intersect::<4>(&ray, zero, inf))
+            .filter_map(|p| p.intersect(&ray, zero, inf, 4))
             .map(|h| h.t.0)
             .reduce(f32::min);
         assert_eq!(got, want);
-        assert_eq!(bvh.any_hit::<4>(&ray, zero, inf), want.is_some());
+        assert_eq!(bvh.any_hit(&ray, zero, inf, 4), want.is_some());
         hits += want.is_some() as usize;
     }
     assert!(hits > 200, "{hits} hits");

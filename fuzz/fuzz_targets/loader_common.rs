@@ -40,7 +40,7 @@ pub fn run(ext: &str, data: &[u8]) {
         c + (hi - lo) + glam::DVec3::splat(1.0),
         -(hi - lo) - glam::DVec3::splat(1.0),
     );
-    if let Some(h) = scene.closest_hit::<8>(&ray, 0.0, f64::INFINITY) {
+    if let Some(h) = scene.closest_hit(&ray, 0.0, f64::INFINITY, 8) {
         let p = h.hit.point;
         assert!(h.hit.t.is_finite() && p.is_finite() && h.hit.normal.is_finite());
         assert!(h.shading_normal.is_finite(), "non-finite shading normal");

@@ -12,8 +12,9 @@ pub const SAMPLES: usize = 6;
 pub const STACK: usize = smoothtri::BVH_STACK;
 /// The refinement budget the demo uses by default on the GPU.
 pub const DEFAULT_ITERATIONS: usize = 4;
-/// Largest refinement budget a pipeline is built for.
-pub const MAX_ITERATIONS: usize = 64;
+/// Largest refinement budget a pipeline is built for: the CPU kernel's
+/// [`smoothtri::MAX_ITERATIONS`].
+pub const MAX_ITERATIONS: usize = smoothtri::MAX_ITERATIONS;
 /// `vec4<f32>` per smooth patch record: 432 bytes (the patch data of
 /// [`PatchData`](smoothtri::PatchData), the CPU kernel's per-patch precomputation and the
 /// culling band).

@@ -68,7 +68,7 @@ fn compare(
         ..Parity::default()
     };
     for (ray, g) in rays.iter().zip(&got) {
-        let c = bvh.closest_hit::<N>(ray, 0.0, f32::INFINITY);
+        let c = bvh.closest_hit(ray, 0.0, f32::INFINITY, N);
         match (g, c) {
             (Some(g), Some(c)) => {
                 s.hits += 1;
@@ -212,7 +212,7 @@ fn cube_with_averaged_normals_matches_the_sphere_and_the_cpu() {
 /// Whether the CPU's hit/miss answer changes when the ray's origin moves by [`SILHOUETTE`]
 /// sideways (in four directions perpendicular to it): the ray is that close to a silhouette.
 fn cpu_near_silhouette(bvh: &smoothtri::Bvh<'_, f32>, ray: &Ray) -> bool {
-    let hit = |r: &Ray| bvh.closest_hit::<N>(r, 0.0, f32::INFINITY).is_some();
+    let hit = |r: &Ray| bvh.closest_hit(r, 0.0, f32::INFINITY, N).is_some();
     let base = hit(ray);
     let (u, v) = perpendiculars(ray.dir);
     [u, -u, v, -v]
@@ -259,7 +259,7 @@ fn any_hit_matches_the_cpu() {
         .expect("trace");
     let (mut hits, mut excused) = (0, 0);
     for (ray, &g) in rays.iter().zip(&occluded) {
-        let c = bvh.any_hit::<N>(ray, 0.0, f32::INFINITY);
+        let c = bvh.any_hit(ray, 0.0, f32::INFINITY, N);
         hits += usize::from(c);
         if g != c {
             assert!(cpu_near_silhouette(&bvh, ray), "any hit differs: {ray:?}");
@@ -520,7 +520,7 @@ fn rays_into_cracks_once_closed() {
     let bvh = tree.bvh(&patches);
     let cpu: Vec<usize> = (0..rays.len())
         .filter(|&i| {
-            bvh.closest_hit::<N>(&rays[i], 0.0, f32::INFINITY)
+            bvh.closest_hit(&rays[i], 0.0, f32::INFINITY, N)
                 .is_none_or(|h| h.t > RAY_DIST * 1.01)
         })
         .collect();

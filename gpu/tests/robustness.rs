@@ -69,7 +69,7 @@ fn degenerate_rays_are_misses() {
             .closest_hit::<4>(&[ray], a, b, &mut hit)
             .expect("trace");
         assert!(hit[0].is_none(), "{ray:?} [{a}, {b}]: {:?}", hit[0]);
-        assert!(bvh.closest_hit::<4>(&ray, a, b).is_none());
+        assert!(bvh.closest_hit(&ray, a, b, 4).is_none());
         let mut occ = [true];
         scene.any_hit::<4>(&[ray], a, b, &mut occ).expect("trace");
         assert!(!occ[0], "{ray:?}");

@@ -14,7 +14,7 @@ use crate::commands::tessellate::TessellateOptions;
 use crate::commands::trace::TraceOptions;
 use crate::commands::view::ViewOptions;
 use crate::commands::{self, MeshSource};
-use crate::error::Result;
+use crate::error::{DemoError, Result};
 use crate::tessellate::Level;
 use crate::tracer::{Field, Mode, Normals, Precision};
 use crate::up::Up;
@@ -100,7 +100,9 @@ struct RenderArgs {
     /// Also write the primary-hit mask as a plain PBM (for tests).
     #[arg(long, hide = true)]
     mask: Option<String>,
-    /// Also print the scene build's time per step (vertex normals, patches, cracks, seams, BVH).
+    /// Also print the scene build's time per step (vertex normals, patches, cracks, seams, BVH)
+    /// and the CPU kernel's instruction set (the widest this CPU has; SMOOTHTRI_ISA=sse2, avx2
+    /// or avx512 overrides it).
     #[arg(long)]
     verbose: bool,
     /// A shadow-terminator fix for --mode phong: hanika (shadow-ray origin offset) or chiang
@@ -338,6 +340,9 @@ pub fn main() -> ExitCode {
 
 /// Runs a parsed command line.
 pub fn run(cli: Cli) -> Result<()> {
+    // A `SMOOTHTRI_ISA` that names no instruction set, or one this CPU lacks, is a usage error
+    // here (the C library falls back to the best the CPU has).
+    smoothtri_isa::Kernels::from_env().map_err(|e| DemoError::Usage(e.to_string()))?;
     match cli.cmd {
         Cmd::Render(a) => commands::render::run(RenderOptions {
             source: a.src.into(),

@@ -819,7 +819,7 @@ fn bad_input_is_one_readable_error() {
     let (json, _) = gltf_parts(&cube(), Some("nowhere.bin"));
     write(p, "nobin.gltf", &json);
     fails(p, &["render", "--mesh", "nobin.gltf"], &["nowhere.bin"]);
-    fails(p, &["render", "--iterations", "41"], &["--iterations 41"]);
+    fails(p, &["render", "--iterations", "65"], &["--iterations 65"]);
     fails(p, &["render", "--view", "10"], &["AZ,EL"]);
     fails(p, &["trace", "--rays", "r.csv"], &["--mesh"]);
     fails(
@@ -1406,4 +1406,41 @@ fn tessellate_picture_has_two_panels() {
     let png = std::fs::read(p.join("t.png")).expect("png");
     let be = |at: usize| u32::from_be_bytes(png[at..at + 4].try_into().expect("4 bytes"));
     assert_eq!((be(16), be(20)), (84, 30));
+}
+
+#[test]
+fn verbose_names_the_cpu_kernel_and_smoothtri_isa_is_checked() {
+    let d = tmp();
+    let args = ["render", "--width", "16", "--height", "12", "--verbose"];
+    let r = ok(d.path(), &args);
+    let best = smoothtri_isa::Isa::best();
+    assert!(r.err.contains(&format!("CPU kernel: {best}")), "{}", r.err);
+    // Each instruction set this CPU has, by name; one it lacks or an unknown name is a usage
+    // error of one line.
+    for isa in smoothtri_isa::Isa::ALL {
+        let out = bin()
+            .current_dir(d.path())
+            .args(args)
+            .env(smoothtri_isa::ENV, isa.name())
+            .output()
+            .expect("run");
+        let err = String::from_utf8_lossy(&out.stderr);
+        if isa.supported() {
+            assert!(out.status.success(), "{isa}: {err}");
+            assert!(err.contains(&format!("CPU kernel: {isa}")), "{err}");
+        } else {
+            assert_eq!(out.status.code(), Some(1), "{isa}: {err}");
+            assert!(err.contains("this CPU lacks it"), "{err}");
+        }
+    }
+    let out = bin()
+        .current_dir(d.path())
+        .args(args)
+        .env(smoothtri_isa::ENV, "avx3")
+        .output()
+        .expect("run");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(err.contains("names no instruction set"), "{err}");
+    assert_eq!(err.lines().count(), 1, "{err}");
 }

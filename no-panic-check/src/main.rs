@@ -125,7 +125,7 @@ fn exercise<F: Float>() -> u32 {
         ] {
             if let Ok(q) = r {
                 let ray = Ray::<F>::new(v::<F>(2.0, 2.0, 2.0), v::<F>(-1.0, -1.0, -1.0));
-                let h = q.intersect::<4>(&ray, c::<F>(0.0), c::<F>(f64::INFINITY));
+                let h = q.intersect(&ray, c::<F>(0.0), c::<F>(f64::INFINITY), 4);
                 acc += h.map_or(0, |h| h.t.is_fin() as u32);
                 acc += fin::<F>(q.point(c::<F>(0.1), c::<F>(0.7))) as u32;
             }
@@ -161,9 +161,9 @@ fn exercise<F: Float>() -> u32 {
     let at = ray.at(c::<F>(0.5));
     acc += fin::<F>(at) as u32;
     let (t0, t1) = (c::<F>(0.0), c::<F>(f64::INFINITY));
-    let hit: Option<Hit<F>> = patch.intersect::<8>(&ray, t0, t1);
-    let (hit2, stats): (_, KernelStats) = patch.intersect_stats::<DEFAULT_SAMPLES, 5>(&ray, t0, t1);
-    let (hit3, _) = patch.intersect_stats::<0, 0>(&ray, t0, t1);
+    let hit: Option<Hit<F>> = patch.intersect(&ray, t0, t1, 8);
+    let (hit2, stats): (_, KernelStats) = patch.intersect_stats::<DEFAULT_SAMPLES>(&ray, t0, t1, 5);
+    let (hit3, _) = patch.intersect_stats::<0>(&ray, t0, t1, 0);
     let verts = patch.vertices();
     let mt = moller_trumbore(&verts, &ray, t0, t1);
     let flat = flat_hit(&verts, None, &ray, t0, t1);
@@ -187,17 +187,17 @@ fn exercise<F: Float>() -> u32 {
             let k = black_box(2usize);
             acc += root.child(k) + root.count(k) + bvh.order().len() as u32;
             acc += fin::<F>(root.bounds(k).min()) as u32;
-            if let Some(h) = bvh.closest_hit::<8>(&ray, t0, t1) {
+            if let Some(h) = bvh.closest_hit(&ray, t0, t1, 8) {
                 acc += h.patch;
             }
-            acc += bvh.any_hit::<4>(&ray, t0, t1) as u32;
+            acc += bvh.any_hit(&ray, t0, t1, 4) as u32;
             let with = bvh.closest_with(&ray, t0, t1, |_, p, a, b| {
                 flat_hit(&p.vertices(), Some(&p.normals()), &ray, a, b)
             });
             acc += with.is_some() as u32;
             // Re-wrapped storage, checked once.
             if let Ok(again) = Bvh::from_parts(&patches, bvh.nodes(), bvh.order()) {
-                acc += again.closest_hit::<2>(&ray, t0, t1).is_some() as u32;
+                acc += again.closest_hit(&ray, t0, t1, 2).is_some() as u32;
             }
         }
         Err(e) => acc += display_len(&e),
@@ -211,7 +211,7 @@ fn exercise<F: Float>() -> u32 {
         BvhNode::new([Aabb::EMPTY; 4], black_box([0; 4]), black_box([9; 4])),
     ];
     match Bvh::from_parts(black_box(&patches), black_box(&junk), black_box(&order)) {
-        Ok(raw) => acc += raw.closest_hit::<2>(&ray, t0, t1).is_some() as u32,
+        Ok(raw) => acc += raw.closest_hit(&ray, t0, t1, 2).is_some() as u32,
         Err(e) => acc += display_len(&e),
     }
     let mut few = [BvhNode::<F>::default(); 1];
@@ -295,7 +295,7 @@ fn seams<F: Float>(patches: &[Patch<F>], ray: &Ray<F>) -> u32 {
     match close_cracks(&mut sealed, &tris, black_box(9), &mut scratch) {
         Ok(r) => {
             acc += r.shared_edges as u32 + r.open_edges as u32 + (r.widest_gap > 0.0) as u32;
-            if let Some(h) = sealed[1].intersect::<4>(ray, c::<F>(0.0), c::<F>(f64::INFINITY)) {
+            if let Some(h) = sealed[1].intersect(ray, c::<F>(0.0), c::<F>(f64::INFINITY), 4) {
                 acc += h.t.is_fin() as u32;
             }
             acc += sealed[2].data().reach.iter().filter(|r| r.is_fin()).count() as u32;
@@ -324,7 +324,7 @@ fn seams<F: Float>(patches: &[Patch<F>], ray: &Ray<F>) -> u32 {
         acc += seam.is_zero() as u32 + (seam == &wild) as u32;
     }
     if let Some(p) = ps.first() {
-        if let Some(h) = p.intersect::<4>(ray, c::<F>(0.0), c::<F>(f64::INFINITY)) {
+        if let Some(h) = p.intersect(ray, c::<F>(0.0), c::<F>(f64::INFINITY), 4) {
             let n = wild.correct(p, h.w1, h.w2, h.normal);
             acc += fin::<F>(n) as u32;
         }
@@ -454,12 +454,12 @@ fn builder<F: Float>() -> u32 {
                 Ok(scene) => {
                     let ray = Ray::<F>::new(v::<F>(0.2, 0.3, 3.0), v::<F>(0.0, 0.0, -1.0));
                     let (t0, t1) = (c::<F>(0.0), c::<F>(f64::INFINITY));
-                    if let Some(h) = scene.closest_hit::<4>(&ray, t0, t1) {
+                    if let Some(h) = scene.closest_hit(&ray, t0, t1, 4) {
                         acc += h.triangle + fin::<F>(h.shading_normal) as u32;
                         acc += fin::<F>(scene.shading_normal(&h.hit)) as u32;
                         acc += scene.scene_hit(h.hit).triangle;
                     }
-                    acc += scene.any_hit::<4>(&ray, t0, t1) as u32;
+                    acc += scene.any_hit(&ray, t0, t1, 4) as u32;
                     acc += scene.patch_of_triangle(black_box(3)).is_some() as u32;
                     acc += scene.patch_index(black_box(2)).map_or(0, |i| i as u32);
                     acc += scene.bvh().node_count() as u32 + scene.patches().len() as u32;
@@ -586,10 +586,10 @@ fn dynamic<F: Float>() -> u32 {
         let s = scene.scene();
         let ray = Ray::<F>::new(v::<F>(0.2, 0.3, 3.0), v::<F>(0.0, 0.0, -1.0));
         let (t0, t1) = (c::<F>(0.0), c::<F>(f64::INFINITY));
-        if let Some(h) = s.closest_hit::<4>(&ray, t0, t1) {
+        if let Some(h) = s.closest_hit(&ray, t0, t1, 4) {
             acc += h.triangle;
         }
-        acc += s.any_hit::<4>(&ray, t0, t1) as u32;
+        acc += s.any_hit(&ray, t0, t1, 4) as u32;
         acc += s
             .patches()
             .iter()

@@ -211,8 +211,8 @@ fn hits<F: Bytes, const N: usize>(scene: &OwnedScene<F>, rays: &[(DVec3, DVec3)]
     for &(o, d) in rays {
         let ray = Ray::<F>::new(F::from_dvec3(o), F::from_dvec3(d));
         let inf = F::from_f64(f64::INFINITY);
-        let h = s.closest_hit::<N>(&ray, F::ZERO, inf);
-        let occluded = s.any_hit::<N>(&ray, F::ZERO, inf);
+        let h = s.closest_hit(&ray, F::ZERO, inf, N);
+        let occluded = s.any_hit(&ray, F::ZERO, inf, N);
         data.push(u8::from(h.is_some()));
         match h {
             Some(h) => {

@@ -188,9 +188,9 @@ def test_some_triangles_rejected_are_reported() -> None:
 # Iterations out of range.
 
 
-@pytest.mark.parametrize("n", [-1, 17, 41, 1000])
+@pytest.mark.parametrize("n", [-1, 65, 1000])
 def test_iterations_out_of_range(scene: smoothtri.Scene, n: int) -> None:
-    with pytest.raises(ValueError, match=rf"iterations must be one of 0..=16, 20, 24, 32, 40 .*, got {n}"):
+    with pytest.raises(ValueError, match=rf"iterations must be one of 0..=64 .*, got {n}"):
         scene.intersect(O, D, iterations=n)
     with pytest.raises(ValueError, match="iterations must be one of"):
         scene.occluded(O, D, iterations=n)
@@ -204,7 +204,7 @@ def test_iterations_must_be_integers(scene: smoothtri.Scene) -> None:
 
 
 def test_every_supported_budget_runs(scene: smoothtri.Scene) -> None:
-    assert smoothtri.SUPPORTED_ITERATIONS == list(range(17)) + [20, 24, 32, 40]
+    assert smoothtri.SUPPORTED_ITERATIONS == list(range(65))
     for n in smoothtri.SUPPORTED_ITERATIONS:
         assert scene.intersect(O, D, iterations=n).hit.all()
 
@@ -344,9 +344,9 @@ def test_sweep_errors() -> None:
     s = smoothtri.Scene(V, N, F)
     rays = (O, D)
     with pytest.raises(ValueError, match="iterations must be one of"):
-        smoothtri.precision_sweep(s, rays, iterations=[4, 17])
+        smoothtri.precision_sweep(s, rays, iterations=[4, 65])
     with pytest.raises(ValueError, match="reference_iterations must be one of"):
-        smoothtri.precision_sweep(s, rays, reference_iterations=50)
+        smoothtri.precision_sweep(s, rays, reference_iterations=80)
     with pytest.raises(ValueError, match=r'precision must be "f32" or "f64"'):
         smoothtri.precision_sweep(s, rays, precision="f16")
     bad = O.copy()

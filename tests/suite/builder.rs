@@ -108,11 +108,11 @@ fn check_equals_steps<F: P>(name: &str, m: &Mesh, mut options: BuildOptions) {
     let mut hits = 0;
     for (o, d) in camera_rays(m, 400, 5) {
         let ray = Ray::<F>::new(F::v(o), F::v(d));
-        let got = scene.closest_hit::<4>(&ray, F::ZERO, inf);
-        let want = bvh.closest_hit::<4>(&ray, F::ZERO, inf);
+        let got = scene.closest_hit(&ray, F::ZERO, inf, 4);
+        let want = bvh.closest_hit(&ray, F::ZERO, inf, 4);
         assert_eq!(got.map(|h| h.hit), want, "{name}");
         assert_eq!(
-            scene.any_hit::<4>(&ray, F::ZERO, inf),
+            scene.any_hit(&ray, F::ZERO, inf, 4),
             want.is_some(),
             "{name}"
         );
@@ -329,7 +329,7 @@ fn rejected_triangles_are_counted_and_reported() {
     // From inside the unit octant outward: triangle 0 first (the remedied triangle 3 lies
     // beyond it).
     let ray = Ray::<f64>::new(DVec3::splat(0.1), DVec3::ONE);
-    let h = scene.closest_hit::<4>(&ray, 0.0, f64::INFINITY).unwrap();
+    let h = scene.closest_hit(&ray, 0.0, f64::INFINITY, 4).unwrap();
     assert_eq!(h.triangle, 0);
     // No seams asked for: the shading normal is the geometric one.
     assert_eq!(h.shading_normal, h.hit.normal);
@@ -419,7 +419,7 @@ fn default_patches_are_never_hit() {
     for _ in 0..200 {
         let o = rng.unit() * 2.0;
         let ray = Ray::new(o.as_vec3(), (-o + rng.unit() * 0.1).as_vec3());
-        assert!(p.intersect::<4>(&ray, 0.0, f32::INFINITY).is_none());
+        assert!(p.intersect(&ray, 0.0, f32::INFINITY, 4).is_none());
     }
 }
 

@@ -1,4 +1,6 @@
-//! The BVH scene against brute force, and its error paths.
+//! The BVH scene against brute force, and its error paths. The queries run on the kernels
+//! `smoothtri-isa` chooses (the widest the CPU has, or the one `SMOOTHTRI_ISA` names: CI runs
+//! this file under each one the machine has).
 
 use crate::common::*;
 use glam::{DVec3, Vec3};
@@ -6,6 +8,7 @@ use smoothtri::accuracy::F64_SPHERE_HIT;
 use smoothtri::internal::MAX_LEAF;
 use smoothtri::{Aabb, BVH_EMPTY_SLOT, BVH_WIDTH, MAX_DEPTH};
 use smoothtri::{Bvh, BvhError, BvhNode, DPatch, DRay, Float, Hit, Patch, Ray};
+use smoothtri_isa::Dispatch;
 use smoothtri_testkit::scenes::{icosphere, torus};
 
 #[test]
@@ -35,10 +38,10 @@ fn closest_and_any_hit_equal_brute_force() {
             _ => {}
         }
         let ray = Ray::new(o.as_vec3(), dir);
-        let got = bvh.closest_hit::<6>(&ray, 0.0, f32::INFINITY);
+        let got = bvh.closest_hit_isa(&ray, 0.0, f32::INFINITY, 6);
         let mut want: Option<(f32, u32)> = None;
         for (i, p) in ps.iter().enumerate() {
-            if let Some(h) = p.intersect::<6>(&ray, 0.0, f32::INFINITY)
+            if let Some(h) = p.closest_hit_isa(&ray, 0.0, f32::INFINITY, 6)
                 && want.is_none_or(|(t, _)| h.t < t)
             {
                 want = Some((h.t, i as u32));
@@ -51,7 +54,7 @@ fn closest_and_any_hit_equal_brute_force() {
                 // Two patches can tie (a ray through a shared edge): then the other patch's hit
                 // is at exactly the same t.
                 assert_eq!(g.t, t, "bvh patch {} vs brute force patch {id}", g.patch);
-                let mine = ps[g.patch as usize].intersect::<6>(&ray, 0.0, f32::INFINITY);
+                let mine = ps[g.patch as usize].closest_hit_isa(&ray, 0.0, f32::INFINITY, 6);
                 assert_eq!(
                     mine.map(|h| Hit {
                         patch: g.patch,
@@ -64,16 +67,16 @@ fn closest_and_any_hit_equal_brute_force() {
             (None, None) => {}
             (g, w) => panic!("bvh {g:?} vs brute force {w:?}"),
         }
-        let any = bvh.any_hit::<6>(&ray, 0.0, f32::INFINITY);
+        let any = bvh.any_hit_isa(&ray, 0.0, f32::INFINITY, 6);
         assert_eq!(any, want.is_some());
         // Shadow-ray style query bounded before the first hit: nothing, like brute force.
         if let Some((t, _)) = want {
             let short = t * 0.999;
             let brute = ps
                 .iter()
-                .any(|p| p.intersect::<6>(&ray, 0.0, short).is_some());
+                .any(|p| p.closest_hit_isa(&ray, 0.0, short, 6).is_some());
             assert!(!brute, "brute force hits before the closest hit {t}");
-            assert!(!bvh.any_hit::<6>(&ray, 0.0, short), "shadow ray hits");
+            assert!(!bvh.any_hit_isa(&ray, 0.0, short, 6), "shadow ray hits");
         }
         tested += 1;
     }
@@ -97,7 +100,7 @@ fn f64_scene_and_flat_leaf_test() {
     for _ in 0..500 {
         let o = rng.unit() * 4.0;
         let ray = DRay::new(o, rng.unit() * 0.5 - o);
-        let smooth = bvh.closest_hit::<8>(&ray, 0.0, f64::INFINITY);
+        let smooth = bvh.closest_hit_isa(&ray, 0.0, f64::INFINITY, 8);
         if let Some(h) = smooth {
             assert!(
                 (h.point.length() - 1.0).abs() <= F64_SPHERE_HIT,
@@ -153,7 +156,7 @@ fn errors_are_reported() {
     let blank = vec![BvhNode::<f32>::default(); 2];
     let bvh = Bvh::from_parts(&ps, &blank, &order).unwrap();
     let ray = Ray::new(Vec3::splat(2.0), -Vec3::ONE);
-    assert!(bvh.closest_hit::<4>(&ray, 0.0, f32::INFINITY).is_none());
+    assert!(bvh.closest_hit_isa(&ray, 0.0, f32::INFINITY, 4).is_none());
     for e in [
         BvhError::EmptyScene,
         BvhError::StackOverflow,
@@ -190,8 +193,8 @@ fn corrupt_storage_is_reported() {
     let ray = Ray::new(Vec3::new(-5.0, 0.3, 0.3), Vec3::X);
     let query = |bvh: Result<Bvh<f32>, BvhError>| {
         bvh.map(|bvh| {
-            let closest = bvh.closest_hit::<4>(&ray, 0.0, f32::INFINITY).is_some();
-            let any = bvh.any_hit::<4>(&ray, 0.0, f32::INFINITY);
+            let closest = bvh.closest_hit_isa(&ray, 0.0, f32::INFINITY, 4).is_some();
+            let any = bvh.any_hit_isa(&ray, 0.0, f32::INFINITY, 4);
             assert_eq!(closest, any, "closest_hit and any_hit disagree");
             closest
         })
@@ -300,12 +303,12 @@ fn identical_boxes_give_a_balanced_tree() {
     let bvh = Bvh::build(&ps, &mut nodes, &mut order).unwrap();
     let used = bvh.node_count();
     let ray = DRay::new(DVec3::splat(2.0), -DVec3::ONE);
-    let h = bvh.closest_hit::<8>(&ray, 0.0, f64::INFINITY).unwrap();
+    let h = bvh.closest_hit_isa(&ray, 0.0, f64::INFINITY, 8).unwrap();
     assert!((h.point.length() - 1.0).abs() <= F64_SPHERE_HIT);
     let mut tested = 0;
     bvh.closest_with(&ray, 0.0, f64::INFINITY, |_, p, a, b| {
         tested += 1;
-        p.intersect::<8>(&ray, a, b)
+        p.closest_hit_isa(&ray, a, b, 8)
     });
     assert_eq!(tested, ps.len(), "patch tests");
     assert!(used <= Bvh::<f64>::nodes_needed(ps.len()), "{used} nodes");
@@ -338,9 +341,9 @@ fn depth_never_exceeds_max_depth() {
     let used = bvh.node_count();
     // Along the line, through every patch's box.
     let ray = DRay::new(DVec3::new(-10.0, 0.3, 0.3), DVec3::X);
-    let h = bvh.closest_hit::<8>(&ray, 0.0, f64::INFINITY);
+    let h = bvh.closest_hit_isa(&ray, 0.0, f64::INFINITY, 8);
     assert!(h.is_some());
-    assert!(bvh.any_hit::<8>(&ray, 0.0, f64::INFINITY));
+    assert!(bvh.any_hit_isa(&ray, 0.0, f64::INFINITY, 8));
     let (depth, leaf) = shape(&nodes[..used], ps.len());
     eprintln!(
         "{} patches on a geometric line: {used} nodes, depth {depth}, largest leaf {leaf}",

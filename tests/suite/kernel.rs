@@ -1,6 +1,8 @@
 //! The bounded-iteration ray kernel against analytic spheres, itself at N = 40, its worst-case
 //! guarantee and its work bound, within the named bounds of [`smoothtri::accuracy`]. Prints
-//! what it measures: `cargo test --release --test suite kernel:: -- --nocapture`.
+//! what it measures: `cargo test --release --test suite kernel:: -- --nocapture`. The patch
+//! tests run on the kernels `smoothtri-isa` chooses (the widest the CPU has, or the one
+//! `SMOOTHTRI_ISA` names: CI runs this file under each one the machine has).
 
 use crate::common::pins::*;
 use crate::common::*;
@@ -9,6 +11,7 @@ use smoothtri::accuracy::*;
 use smoothtri::internal::{EARLY_STOP, WORST_SHRINK};
 use smoothtri::{DEFAULT_SAMPLES, DPatch, DRay, Float, Patch, Ray};
 use smoothtri::{max_height_evals, max_lane_calls};
+use smoothtri_isa::{Dispatch, kernels};
 use smoothtri_testkit::scenes::{cube, icosphere, sphere_root, torus};
 use smoothtri_testkit::{Mesh, patches32};
 
@@ -26,7 +29,7 @@ fn closest64<const N: usize>(ps: &[DPatch], ray: &DRay) -> Option<smoothtri::DHi
     let mut best: Option<smoothtri::DHit> = None;
     for p in ps {
         // `t_max` is the best so far, so any hit is closer.
-        if let Some(h) = p.intersect::<N>(ray, 0.0, best.map_or(f64::INFINITY, |b| b.t)) {
+        if let Some(h) = p.closest_hit_isa(ray, 0.0, best.map_or(f64::INFINITY, |b| b.t), N) {
             best = Some(h);
         }
     }
@@ -36,7 +39,7 @@ fn closest32<const N: usize>(ps: &[Patch], ray: &Ray) -> Option<smoothtri::Hit> 
     let mut best: Option<smoothtri::Hit> = None;
     for p in ps {
         // `t_max` is the best so far, so any hit is closer.
-        if let Some(h) = p.intersect::<N>(ray, 0.0, best.map_or(f32::INFINITY, |b| b.t)) {
+        if let Some(h) = p.closest_hit_isa(ray, 0.0, best.map_or(f32::INFINITY, |b| b.t), N) {
             best = Some(h);
         }
     }
@@ -234,7 +237,13 @@ fn work_per_ray_is_bounded() {
         let (mut max_evals, mut sum, mut tests) = (0u32, 0u64, 0u64);
         for ray in rays {
             for p in ps {
-                let (_, s) = p.intersect_stats::<K, N>(ray, F::ZERO, F::from_f64(f64::INFINITY));
+                let (_, s) = kernels().patch_intersect_stats::<F, K>(
+                    p,
+                    ray,
+                    F::ZERO,
+                    F::from_f64(f64::INFINITY),
+                    N,
+                );
                 assert!(
                     s.height_evals <= bound,
                     "K={K} N={N}: {} evaluations",
@@ -309,7 +318,8 @@ fn t_error_is_within_the_worst_case_bound() {
         ray: &Ray<F>,
         worst: &mut f64,
     ) -> bool {
-        let (h, s) = p.intersect_stats::<K, N>(ray, F::ZERO, F::from_f64(f64::INFINITY));
+        let (h, s) =
+            kernels().patch_intersect_stats::<F, K>(p, ray, F::ZERO, F::from_f64(f64::INFINITY), N);
         let Some(h) = h else { return false };
         let (t, t_error) = (h.t.to_f64(), h.t_error.to_f64());
         let bracket = t_error - s.rounding;
@@ -374,7 +384,7 @@ fn degenerate_rays_give_no_hit_and_no_nan() {
     let o = Vec3::splat(2.0);
     let toward = -Vec3::ONE;
     assert!(
-        p.intersect::<8>(&Ray::new(o, toward), 0.0, f32::INFINITY)
+        p.closest_hit_isa(&Ray::new(o, toward), 0.0, f32::INFINITY, 8)
             .is_some()
     );
     for (ray, a, b) in [
@@ -395,26 +405,29 @@ fn degenerate_rays_give_no_hit_and_no_nan() {
         (Ray::new(o, toward), 0.0, f32::NAN),
         (Ray::new(o, -toward), 0.0, f32::INFINITY),
     ] {
-        assert!(p.intersect::<8>(&ray, a, b).is_none(), "{ray:?} [{a}, {b}]");
+        assert!(
+            p.closest_hit_isa(&ray, a, b, 8).is_none(),
+            "{ray:?} [{a}, {b}]"
+        );
     }
     // Starting inside the shell, below the surface: hits it from behind.
     let inside = Vec3::splat(0.5);
     let h = p
-        .intersect::<8>(&Ray::new(inside, Vec3::ONE), 0.0, f32::INFINITY)
+        .closest_hit_isa(&Ray::new(inside, Vec3::ONE), 0.0, f32::INFINITY, 8)
         .unwrap();
     assert!(!h.front_face && (h.point.length() - 1.0).abs() < 1e-5);
     // Parallel to the face, through the middle of the bulge.
     let nf = p.face_normal();
     let c = Vec3::ONE / 3.0 + nf * 0.05;
     let par = (Vec3::X - Vec3::Y) * 1.0;
-    let h = p.intersect::<8>(&Ray::new(c - par * 2.0, par), 0.0, f32::INFINITY);
+    let h = p.closest_hit_isa(&Ray::new(c - par * 2.0, par), 0.0, f32::INFINITY, 8);
     assert!(h.is_none_or(|h| h.t.is_finite() && h.point.is_finite()));
     // Grazing the edge region: only finite answers.
     let mut rng = Rng(3);
     for _ in 0..20000 {
         let o = rng.unit().as_vec3() * 3.0;
         let d = (rng.unit() * 0.3 + DVec3::ONE / 3.0f64.sqrt()).as_vec3() - o;
-        if let Some(h) = p.intersect::<8>(&Ray::new(o, d), 0.0, f32::INFINITY) {
+        if let Some(h) = p.closest_hit_isa(&Ray::new(o, d), 0.0, f32::INFINITY, 8) {
             assert!(
                 h.t.is_finite()
                     && h.point.is_finite()

@@ -11,6 +11,7 @@ mod box_bvh;
 mod builder;
 mod bvh;
 mod domain;
+mod isa;
 mod kernel;
 mod linefield;
 mod patch;

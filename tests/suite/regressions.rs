@@ -197,9 +197,9 @@ fn hits_are_inside_the_ray_range() {
     );
     let t_min = f(4.471166734220605e-33);
     let hits = [
-        patch.intersect::<4>(&ray, t_min, f32::INFINITY),
-        patch.intersect_stats::<0, 0>(&ray, t_min, f32::INFINITY).0,
-        patch.intersect_stats::<4, 8>(&ray, t_min, f32::INFINITY).0,
+        patch.intersect(&ray, t_min, f32::INFINITY, 4),
+        patch.intersect_stats::<0>(&ray, t_min, f32::INFINITY, 0).0,
+        patch.intersect_stats::<4>(&ray, t_min, f32::INFINITY, 8).0,
     ];
     for h in &hits {
         let h = h.expect("the ray starts on the surface and crosses it");
@@ -355,13 +355,13 @@ fn bvh_closest_hit_equals_brute_force() {
     let mut nodes = vec![BvhNode::<f64>::default(); Bvh::<f64>::nodes_needed(ps.len())];
     let mut order = vec![0u32; ps.len()];
     let bvh = Bvh::build(&ps, &mut nodes, &mut order).unwrap();
-    let got = bvh.closest_hit::<6>(&ray, t0, t1);
+    let got = bvh.closest_hit(&ray, t0, t1, 6);
     // Brute force over the whole range, each hit tagged with its patch's index.
     let brute = ps
         .iter()
         .enumerate()
         .filter_map(|(k, p)| {
-            let h = p.intersect::<6>(&ray, t0, t1)?;
+            let h = p.intersect(&ray, t0, t1, 6)?;
             Some(smoothtri::DHit {
                 patch: k as u32,
                 ..h
@@ -375,7 +375,7 @@ fn bvh_closest_hit_equals_brute_force() {
     let mut ranges = Vec::new();
     bvh.closest_with(&ray, t0, t1, |_, p, a, b| {
         ranges.push((a, b));
-        p.intersect::<6>(&ray, a, b)
+        p.intersect(&ray, a, b, 6)
     })
     .unwrap();
     assert!(ranges.len() >= 2, "{} patch tests", ranges.len());

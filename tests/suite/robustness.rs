@@ -224,7 +224,7 @@ fn tiny_and_huge_patches() {
         }
         let ray = smoothtri::DRay::new(DVec3::splat(2.0 * s), -DVec3::ONE);
         let h = patch
-            .intersect::<8>(&ray, 0.0, f64::INFINITY)
+            .intersect(&ray, 0.0, f64::INFINITY, 8)
             .unwrap_or_else(|| panic!("f64 scale {s:e}: the ray misses"));
         // Within the certified bound (|dir| = √3) plus rounding.
         let bound = h.t_error * 3f64.sqrt() / s + F64_SPHERE_HIT;
@@ -240,7 +240,7 @@ fn tiny_and_huge_patches() {
                 accepted32.push(e);
                 let ray = Ray::new(Vec3::splat(2.0 * s as f32), -Vec3::ONE);
                 let h = patch
-                    .intersect::<8>(&ray, 0.0, f32::INFINITY)
+                    .intersect(&ray, 0.0, f32::INFINITY, 8)
                     .unwrap_or_else(|| panic!("f32 scale {s:e}: the ray misses"));
                 let r = h.point.as_dvec3().length() / s;
                 let bound = h.t_error as f64 * 3f64.sqrt() / s + F32_SPHERE_HIT;
@@ -299,7 +299,7 @@ fn generator_coverage() {
                 let target = patch.point(r.aim.0, r.aim.1);
                 let (o, d, a, b) = r.build(lo, hi, patch.face_normal(), target);
                 rays[0] += 1;
-                hits[0] += patch.intersect::<8>(&Ray::new(o, d), a, b).is_some() as u32;
+                hits[0] += patch.intersect(&Ray::new(o, d), a, b, 8).is_some() as u32;
             }
         }
         if let Ok(patch) = r32 {
@@ -314,7 +314,7 @@ fn generator_coverage() {
                 );
                 rays[1] += 1;
                 let ray = Ray::new(o.as_vec3(), d.as_vec3());
-                hits[1] += patch.intersect::<8>(&ray, a as f32, b as f32).is_some() as u32;
+                hits[1] += patch.intersect(&ray, a as f32, b as f32, 8).is_some() as u32;
             }
         }
     }

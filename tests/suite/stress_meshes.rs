@@ -46,7 +46,7 @@ fn holes(name: &str, m: &M, rng: &mut Rng) -> (usize, usize) {
         let flat = bvh.closest_with(&ray, 0.0, f64::INFINITY, |_, p, lo, hi| {
             flat_hit(&p.vertices(), None, &ray, lo, hi)
         });
-        let smooth = bvh.closest_hit::<8>(&ray, 0.0, f64::INFINITY);
+        let smooth = bvh.closest_hit(&ray, 0.0, f64::INFINITY, 8);
         if let Some(h) = smooth {
             assert!(
                 h.t.is_finite()

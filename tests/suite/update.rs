@@ -95,11 +95,11 @@ fn same_hits<F: P>(
     for &(o, d) in rays {
         let ray = Ray::<F>::new(F::v(o), F::v(d));
         let (a, b) = (
-            updated.closest_hit::<4>(&ray, F::ZERO, inf),
-            fresh.closest_hit::<4>(&ray, F::ZERO, inf),
+            updated.closest_hit(&ray, F::ZERO, inf, 4),
+            fresh.closest_hit(&ray, F::ZERO, inf, 4),
         );
         assert_eq!(
-            updated.any_hit::<4>(&ray, F::ZERO, inf),
+            updated.any_hit(&ray, F::ZERO, inf, 4),
             b.is_some(),
             "{name}: shadow ray"
         );
@@ -212,7 +212,7 @@ fn degenerate_triangles_come_and_go() {
     );
     for (o, d) in rays(&collapsed, 400, 3) {
         let ray = Ray::new(o.as_vec3(), d.as_vec3());
-        if let Some(h) = s.closest_hit::<4>(&ray, 0.0, f32::INFINITY) {
+        if let Some(h) = s.closest_hit(&ray, 0.0, f32::INFINITY, 4) {
             assert!(h.triangle != 7);
         }
     }
@@ -253,15 +253,15 @@ fn degenerate_triangles_come_and_go() {
     assert!(
         scene
             .scene()
-            .closest_hit::<4>(&ray, 0.0, f32::INFINITY)
+            .closest_hit(&ray, 0.0, f32::INFINITY, 4)
             .is_none()
     );
-    assert!(!scene.scene().any_hit::<4>(&ray, 0.0, f32::INFINITY));
+    assert!(!scene.scene().any_hit(&ray, 0.0, f32::INFINITY, 4));
     update(&mut scene, &m, &mut options).unwrap();
     assert!(
         scene
             .scene()
-            .closest_hit::<4>(&ray, 0.0, f32::INFINITY)
+            .closest_hit(&ray, 0.0, f32::INFINITY, 4)
             .is_some()
     );
 }
@@ -284,7 +284,7 @@ fn bad_updates_leave_the_scene_as_it_was() {
             .iter()
             .map(|&(o, d)| {
                 s.scene()
-                    .closest_hit::<4>(&Ray::new(o.as_vec3(), d.as_vec3()), 0.0, f32::INFINITY)
+                    .closest_hit(&Ray::new(o.as_vec3(), d.as_vec3()), 0.0, f32::INFINITY, 4)
             })
             .collect()
     };

@@ -143,7 +143,7 @@ fn fall_through<F: P>(
             for (kind, target) in [(0, c), (1, target_near), (2, (c + cb) * 0.5)] {
                 let o = target + u * dist;
                 let ray = Ray::<F>::new(F::v(o), F::v(-u));
-                let hit = bvh.closest_hit::<4>(&ray, F::ZERO, F::from_f64(f64::INFINITY));
+                let hit = bvh.closest_hit(&ray, F::ZERO, F::from_f64(f64::INFINITY), 4);
                 let through = match hit {
                     None => true,
                     Some(h) => h.t.to_f64() > dist + slack,

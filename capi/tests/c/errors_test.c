@@ -51,6 +51,12 @@ int main(void) {
     CHECK(strcmp(st_status_str(ST_OK), "ST_OK") == 0);
     CHECK(strcmp(st_status_str(ST_ERROR_NON_FINITE), "ST_ERROR_NON_FINITE") == 0);
     CHECK(strcmp(st_status_str(ST_ERROR_NOT_UPDATABLE), "ST_ERROR_NOT_UPDATABLE") == 0);
+    /* The kernels' instruction set: a known name (which one, `tests/c_api.rs` checks). */
+    {
+        const char *isa = st_get_isa();
+        CHECK(isa != NULL && (strcmp(isa, "sse2") == 0 || strcmp(isa, "avx2") == 0 ||
+                              strcmp(isa, "avx512") == 0 || strcmp(isa, "neon") == 0));
+    }
     CHECK(strcmp(st_status_str(12345), "ST_ERROR_UNKNOWN") == 0);
 
     /* Sizes. */
@@ -74,8 +80,9 @@ int main(void) {
     EXPECT(st_scene_build(memory, bytes, pos, 0, pos, 0, 5, idx, 4, 0, 8, NULL),
            ST_ERROR_NULL_ARGUMENT);
     /* Bad arguments. */
-    EXPECT(BUILD(memory, bytes, pos, 0, pos, 0, 5, idx, 4, 0, 3), ST_ERROR_INVALID_ARGUMENT);
-    EXPECT(BUILD(memory, bytes, pos, 0, pos, 0, 5, idx, 4, 0, 32), ST_ERROR_INVALID_ARGUMENT);
+    EXPECT(BUILD(memory, bytes, pos, 0, pos, 0, 5, idx, 4, 0, ST_MAX_ITERATIONS + 1),
+           ST_ERROR_INVALID_ARGUMENT);
+    EXPECT(BUILD(memory, bytes, pos, 0, pos, 0, 5, idx, 4, 0, UINT32_MAX), ST_ERROR_INVALID_ARGUMENT);
     EXPECT(BUILD(memory, bytes, pos, 0, pos, 0, 5, idx, 4, 8, 8), ST_ERROR_INVALID_ARGUMENT);
     EXPECT(BUILD(memory, bytes, pos, 8, pos, 0, 5, idx, 4, 0, 8), ST_ERROR_INVALID_ARGUMENT);
     EXPECT(BUILD(memory, bytes, pos, 13, pos, 0, 5, idx, 4, 0, 8), ST_ERROR_INVALID_ARGUMENT);

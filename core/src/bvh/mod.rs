@@ -33,7 +33,10 @@ pub use tree::BoxBvh;
 use crate::exec::Executor;
 use build::{build_tree, refit, tree_cost};
 
-use crate::kernel::{self, Crossing, DEFAULT_SAMPLES, KernelStats, WorldRay};
+use crate::kernel::heights::Target;
+use crate::kernel::{
+    self, Budget, Crossing, DEFAULT_SAMPLES, Heights, KernelStats, Test, WorldRay,
+};
 use crate::num::real::Float;
 use crate::patch::Patch;
 use crate::ray::{Hit, Ray};
@@ -169,19 +172,35 @@ impl<'a, F: Float> Bvh<'a, F> {
         self.tree.memory_bytes()
     }
 
-    /// Closest hit of `ray` in `[t_min, t_max]` using the smooth kernel with `N` iterations;
-    /// `hit.patch` is the patch's index in the slice given to [`Bvh::build`].
+    /// Closest hit of `ray` in `[t_min, t_max]` using the smooth kernel with a refinement
+    /// budget of `n` steps (any `n`; it runs [`iterations`](crate::iterations)`(n)`, at most
+    /// [`MAX_ITERATIONS`](crate::MAX_ITERATIONS)); `hit.patch` is the patch's index in the
+    /// slice given to [`Bvh::build`]. The lane code is compiled for the build's target; the
+    /// same query with a kernel chosen at run time is [`crate::isa`]'s (the same hit, bit for
+    /// bit).
     ///
     /// # Accuracy
     /// As [`Patch::intersect`]; the result equals a brute-force loop over all patches.
     /// # Panics
     /// Never.
-    pub fn closest_hit<const N: usize>(&self, ray: &Ray<F>, t_min: F, t_max: F) -> Option<Hit<F>> {
+    pub fn closest_hit(&self, ray: &Ray<F>, t_min: F, t_max: F, n: usize) -> Option<Hit<F>> {
+        self.closest_hit_with(ray, [t_min, t_max], n, &Target)
+    }
+
+    /// [`Bvh::closest_hit`] with the lane calls of `heights`.
+    #[inline(always)]
+    pub(crate) fn closest_hit_with(
+        &self,
+        ray: &Ray<F>,
+        range: [F; 2],
+        n: usize,
+        heights: &impl Heights<F>,
+    ) -> Option<Hit<F>> {
         // Candidates are compared by their crossings; the normal is evaluated once, for the
         // closest (it is finite for every accepted patch, so this equals testing each patch
         // with `Patch::intersect`).
         let mut slots = [None, None];
-        let (id, c, prepared) = self.closest_crossing::<N>(ray, t_min, t_max, &mut slots)?;
+        let (id, c, prepared) = self.closest_crossing(ray, range, n, &mut slots, heights)?;
         let mut h = c.hit(self.patches.get(id as usize)?, prepared, ray)?;
         h.patch = id;
         Some(h)
@@ -191,15 +210,18 @@ impl<'a, F: Float> Bvh<'a, F> {
     /// patch's index, where the ray crosses it and the patch prepared for the height
     /// evaluation (in one of the two `slots`: each candidate is prepared into the slot the
     /// best crossing so far does not hold).
-    pub(crate) fn closest_crossing<'s, const N: usize>(
+    #[inline(always)]
+    pub(crate) fn closest_crossing<'s>(
         &self,
         ray: &Ray<F>,
-        t_min: F,
-        t_max: F,
+        [t_min, t_max]: [F; 2],
+        n: usize,
         slots: &'s mut [Option<Prepared<F>>; 2],
+        heights: &impl Heights<F>,
     ) -> Option<(u32, Crossing<F>, &'s Prepared<F>)> {
         let mut stats = KernelStats::default();
         let world = WorldRay::new(ray)?;
+        let n = Budget::new(n);
         let patches = self.patches;
         let [s0, s1] = slots;
         let mut free = 0usize;
@@ -208,8 +230,14 @@ impl<'a, F: Float> Bvh<'a, F> {
             .traverse(ray, t_min, t_max, false, &mut |id, a, b, beyond| {
                 let p = patches.get(id as usize)?;
                 let slot = if free == 0 { &mut *s0 } else { &mut *s1 };
-                let c = kernel::crossing::<F, DEFAULT_SAMPLES, N>(
-                    p, &world, a, b, beyond, &mut stats, slot,
+                let test = Test {
+                    t_min: a,
+                    t_max: b,
+                    beyond,
+                    n,
+                };
+                let c = kernel::crossing::<F, DEFAULT_SAMPLES>(
+                    p, &world, test, &mut stats, slot, heights,
                 )?;
                 // The traversal keeps a crossing iff it precedes the best so far (`beyond`):
                 // then its slot holds the best, and the next candidate takes the other.
@@ -223,29 +251,48 @@ impl<'a, F: Float> Bvh<'a, F> {
         Some((id, c, best.as_ref()?))
     }
 
-    /// Whether anything is hit in `[t_min, t_max]` (shadow rays): stops at the first hit.
+    /// Whether anything is hit in `[t_min, t_max]` (shadow rays), with a refinement budget of
+    /// `n` steps (as [`Bvh::closest_hit`]): stops at the first hit.
     ///
     /// # Panics
     /// Never.
-    pub fn any_hit<const N: usize>(&self, ray: &Ray<F>, t_min: F, t_max: F) -> bool {
+    pub fn any_hit(&self, ray: &Ray<F>, t_min: F, t_max: F, n: usize) -> bool {
+        self.any_hit_with(ray, [t_min, t_max], n, &Target)
+    }
+
+    /// [`Bvh::any_hit`] with the lane calls of `heights`.
+    #[inline(always)]
+    pub(crate) fn any_hit_with(
+        &self,
+        ray: &Ray<F>,
+        [t_min, t_max]: [F; 2],
+        n: usize,
+        heights: &impl Heights<F>,
+    ) -> bool {
         let mut stats = KernelStats::default();
         let Some(world) = WorldRay::new(ray) else {
             return false;
         };
+        let n = Budget::new(n);
         let patches = self.patches;
         let mut scratch = None;
         let first = self
             .tree
             .traverse(ray, t_min, t_max, true, &mut |id, a, b, _| {
                 let p = patches.get(id as usize)?;
-                kernel::crossing::<F, DEFAULT_SAMPLES, N>(
+                let test = Test {
+                    t_min: a,
+                    t_max: b,
+                    beyond: None,
+                    n,
+                };
+                kernel::crossing::<F, DEFAULT_SAMPLES>(
                     p,
                     &world,
-                    a,
-                    b,
-                    None,
+                    test,
                     &mut stats,
                     &mut scratch,
+                    heights,
                 )
             });
         matches!(first, Ok(Some(_)))

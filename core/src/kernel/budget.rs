@@ -79,19 +79,64 @@ pub const WALL_MARGIN_ULPS: f64 = 8.0;
 /// ray aimed at a curve of that cube.
 pub const MAX_CRACK_REACH: f64 = 0.25;
 
+/// The largest refinement budget `n` of a patch test: every query takes any `n` and runs
+/// `min(n, MAX_ITERATIONS)` ([`iterations`]).
+///
+/// Sixty-four is the GPU kernel's limit as well (its pipelines are compiled per budget, up to
+/// this one), and is far past where more steps change anything: each step shrinks the
+/// bracket at least [`WORST_SHRINK`](super::refine::WORST_SHRINK) = 5 times, so after 23 steps
+/// a bracket is below `f64`'s ε of the interval it started from (`5^−23 ≈ 8·10^−17`) and
+/// after 11 below `f32`'s (`5^−11 ≈ 2·10^−8`); the early stop ends refinement there
+/// (docs/METHOD.md §8). The bound keeps the work of one patch test at most
+/// [`max_lane_calls`]`(K, MAX_ITERATIONS)` lane calls whatever the caller passes.
+pub const MAX_ITERATIONS: usize = 64;
+
+/// The refinement budget a query runs for a requested `n`: `min(n, MAX_ITERATIONS)`
+/// ([`MAX_ITERATIONS`]).
+///
+/// # Panics
+/// Never.
+pub const fn iterations(n: usize) -> usize {
+    if n < MAX_ITERATIONS {
+        n
+    } else {
+        MAX_ITERATIONS
+    }
+}
+
+/// A refinement budget at most [`MAX_ITERATIONS`]: bounded once per query
+/// ([`Budget::new`]), so that each patch test of the query runs it as it is.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Budget(usize);
+
+impl Budget {
+    /// The budget a query runs for a requested `n`: [`iterations`]`(n)`.
+    #[inline(always)]
+    pub(crate) const fn new(n: usize) -> Self {
+        Budget(iterations(n))
+    }
+
+    /// The number of steps, at most [`MAX_ITERATIONS`].
+    #[inline(always)]
+    pub(crate) const fn get(self) -> usize {
+        self.0
+    }
+}
+
 /// The most lane calls (eight height evaluations each) that one patch test
-/// with `k` bracketing samples and `n` refinement steps makes: `⌈(k + 2)/8⌉ + n`. Besides
-/// these, a test makes at most one call of `ESTIMATE_POINTS` = 4 evaluations (the
-/// estimate step around a trusted root estimate); [`max_height_evals`] counts both.
+/// with `k` bracketing samples and a refinement budget `n` makes: `⌈(k + 2)/8⌉ + min(n,`
+/// [`MAX_ITERATIONS`]`)` (the budget a query runs, [`iterations`]). Besides these, a test
+/// makes at most one call of `ESTIMATE_POINTS` = 4 evaluations (the estimate step around a
+/// trusted root estimate); [`max_height_evals`] counts both.
 ///
 /// # Panics
 /// Never.
 pub const fn max_lane_calls(k: usize, n: usize) -> usize {
-    (k + 2).div_ceil(LANES) + n
+    k.saturating_add(2).div_ceil(LANES) + iterations(n)
 }
 
-/// The most height evaluations `σS` that one patch test with `k` bracketing samples and `n`
-/// refinement steps makes: eight per lane call of [`max_lane_calls`]`(k, n)` plus, for
+/// The most height evaluations `σS` that one patch test with `k` bracketing samples and a
+/// refinement budget `n` makes: eight per lane call of [`max_lane_calls`]`(k, n)` plus, for
 /// `n ≥ 1`, the four of the estimate step (`ESTIMATE_POINTS` = 4; `n = 0` brackets
 /// only). [`KernelStats::height_evals`](crate::KernelStats::height_evals) never exceeds it.
 ///
@@ -99,7 +144,9 @@ pub const fn max_lane_calls(k: usize, n: usize) -> usize {
 /// Never.
 pub const fn max_height_evals(k: usize, n: usize) -> usize {
     let estimate = if n > 0 { ESTIMATE_POINTS } else { 0 };
-    LANES * max_lane_calls(k, n) + estimate
+    LANES
+        .saturating_mul(max_lane_calls(k, n))
+        .saturating_add(estimate)
 }
 
 /// `|f(b) − f(a)| / (b − a)` of a bracket (`+∞` or NaN when it has zero width).

@@ -37,23 +37,25 @@
 pub(crate) mod budget;
 pub(crate) mod clip;
 pub mod flat;
+pub(crate) mod heights;
 pub mod refine;
 
 use crate::geometry::Patch;
 use crate::geometry::Shape;
-use crate::num::lanes::Lane;
 use crate::num::real::Float;
 use crate::num::vec::V3;
 use crate::ray::{Hit, Ray};
 use crate::surface::lanes::Prepared;
 use crate::surface::scalar::{normal_local, project_bary};
+pub(crate) use budget::Budget;
 pub use budget::{
-    DEFAULT_SAMPLES, MAX_CRACK_REACH, ROUNDING_ULPS, WALL_MARGIN_ULPS, max_height_evals,
-    max_lane_calls,
+    DEFAULT_SAMPLES, MAX_CRACK_REACH, MAX_ITERATIONS, ROUNDING_ULPS, WALL_MARGIN_ULPS, iterations,
+    max_height_evals, max_lane_calls,
 };
 use budget::{end_snap, rounding_allowance, secant};
 pub(crate) use clip::WorldRay;
 use clip::{Clipped, clip};
+pub(crate) use heights::Heights;
 use refine::{ESTIMATE_POINTS, first_sign_change, refine};
 
 /// Statistics of one kernel call, for tests and studies.
@@ -76,31 +78,39 @@ pub struct KernelStats {
 }
 
 /// [`Patch::intersect_stats`]: the closest crossing of `ray` with `patch` in `[t_min, t_max]`
-/// (`K` bracketing samples, `N` refinement steps) completed into a [`Hit`], with the call's
-/// [`KernelStats`].
+/// (`K` bracketing samples, a refinement budget `n`) completed into a [`Hit`], with the
+/// call's [`KernelStats`]; `f` evaluated by `heights`.
 #[inline(always)]
-pub(crate) fn intersect_stats<F: Float, const K: usize, const N: usize>(
+pub(crate) fn intersect_stats<F: Float, const K: usize>(
     patch: &Patch<F>,
     ray: &Ray<F>,
-    t_min: F,
-    t_max: F,
+    [t_min, t_max]: [F; 2],
+    n: usize,
+    heights: &impl Heights<F>,
 ) -> (Option<Hit<F>>, KernelStats) {
     let mut stats = KernelStats::default();
-    let hit = intersect_impl::<F, K, N>(patch, ray, t_min, t_max, &mut stats);
+    let hit = intersect_impl::<F, K>(patch, ray, [t_min, t_max], n, &mut stats, heights);
     (hit, stats)
 }
 
 #[inline(always)]
-fn intersect_impl<F: Float, const K: usize, const N: usize>(
+fn intersect_impl<F: Float, const K: usize>(
     patch: &Patch<F>,
     ray: &Ray<F>,
-    t_min: F,
-    t_max: F,
+    [t_min, t_max]: [F; 2],
+    n: usize,
     stats: &mut KernelStats,
+    heights: &impl Heights<F>,
 ) -> Option<Hit<F>> {
     let world = WorldRay::new(ray)?;
     let mut prepared = None;
-    let c = crossing::<F, K, N>(patch, &world, t_min, t_max, None, stats, &mut prepared)?;
+    let test = Test {
+        t_min,
+        t_max,
+        beyond: None,
+        n: Budget::new(n),
+    };
+    let c = crossing::<F, K>(patch, &world, test, stats, &mut prepared, heights)?;
     let hit = c.hit(patch, prepared.as_ref()?, ray);
     stats.normal_evals += 1;
     let hit = hit?;
@@ -108,38 +118,53 @@ fn intersect_impl<F: Float, const K: usize, const N: usize>(
     Some(hit)
 }
 
+/// What a patch test searches: the caller's range `[t_min, t_max]`, the parameter `beyond`
+/// at or after which the caller discards crossings ([`crossing`]), and the refinement budget
+/// `n`.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Test<F> {
+    pub t_min: F,
+    pub t_max: F,
+    pub beyond: Option<F>,
+    pub n: Budget,
+}
+
 /// Where `ray` crosses `patch` in `[t_min, t_max]` (clip, bracket, refine; no normal yet),
-/// or `None`. At most [`max_lane_calls`]`(K, N)` lane calls and one four-point call
-/// ([`max_height_evals`]). The patch's height evaluation is prepared into `prepared` (once the
-/// ray reaches its shell; otherwise the slot is left alone), where it stays for completing the
-/// crossing into a hit ([`Crossing::hit`]) without preparing the patch again.
+/// or `None`. At most [`max_lane_calls`]`(K, n)` lane calls and one four-point call
+/// ([`max_height_evals`]), made by `heights`. The patch's height evaluation is prepared into
+/// `prepared` (once the ray reaches its shell; otherwise the slot is left alone), where it
+/// stays for completing the crossing into a hit ([`Crossing::hit`]) without preparing the
+/// patch again.
 ///
-/// `beyond`, when given, is a ray parameter at or after which the caller discards crossings
-/// (the closest one found so far, `≤ t_max`): a patch whose shell interval starts after it is
-/// not searched (`None`, no lane call), which returns `None` exactly where the search would
-/// have returned a crossing the caller discards.
+/// `test.beyond`, when given, is a ray parameter at or after which the caller discards
+/// crossings (the closest one found so far, `≤ t_max`): a patch whose shell interval starts
+/// after it is not searched (`None`, no lane call), which returns `None` exactly where the
+/// search would have returned a crossing the caller discards.
 #[inline(always)]
-pub(crate) fn crossing<F: Float, const K: usize, const N: usize>(
+pub(crate) fn crossing<F: Float, const K: usize>(
     patch: &Patch<F>,
     ray: &WorldRay<F>,
-    t_min: F,
-    t_max: F,
-    beyond: Option<F>,
+    test: Test<F>,
     stats: &mut KernelStats,
     prepared: &mut Option<Prepared<F>>,
+    heights: &impl Heights<F>,
 ) -> Option<Crossing<F>> {
+    let Test {
+        t_min,
+        t_max,
+        beyond,
+        n,
+    } = test;
     let cl = clip(patch, ray, t_min, t_max, beyond)?;
     let (a, b) = (cl.a, cl.b);
     stats.shell_width = (b - a).to_f64();
     let prep = &*prepared.insert(Prepared::new(&patch.shape));
-    let sp = <F::L8 as crate::num::lanes::LaneOps>::splat;
     let (o, r) = (cl.lray.o, cl.lray.r);
-    let (o8, r8) = ([sp(o.x), sp(o.y), sp(o.z)], [sp(r.x), sp(r.y), sp(r.z)]);
     let evals = core::cell::Cell::new(0u32);
     let count = |n: usize| evals.set(evals.get().saturating_add(n as u32));
     let mut f = |taus: [F; crate::num::lanes::LANES]| {
         count(crate::num::lanes::LANES);
-        prep.f(o8, r8, <F::L8 as Lane>::from_array(taus)).to_array()
+        heights.f8(prep, o, r, taus)
     };
     let found = first_sign_change::<F, K>(a, b, end_snap(cl.scale), &mut f);
     let Some((bracket, start)) = found else {
@@ -152,38 +177,11 @@ pub(crate) fn crossing<F: Float, const K: usize, const N: usize>(
     let stop = floor * F::from_f64(refine::EARLY_STOP);
     let mut f4 = |taus: [F; ESTIMATE_POINTS]| {
         count(ESTIMATE_POINTS);
-        four_points(prep, o, r, taus)
+        heights.f4(prep, o, r, taus)
     };
-    let (fin, tau) = refine::<F, N>(bracket, start, stop, &mut f, &mut f4);
+    let (fin, tau) = refine(bracket, start, stop, n.get(), &mut f, &mut f4);
     stats.height_evals += evals.get();
     complete(&patch.shape, &cl, &bracket, &fin, tau, [t_min, t_max], prep)
-}
-
-/// `f` at four parameters of the local ray `o + τ·r` ([`refine()`]'s estimate step): one call
-/// over [`Float::L4`] where it holds four lanes (bit for bit the same lanes of an eight-lane
-/// call: the same operations per lane), else one eight-lane call.
-#[inline(always)]
-fn four_points<F: Float>(
-    prep: &Prepared<F>,
-    o: V3<F>,
-    r: V3<F>,
-    taus: [F; ESTIMATE_POINTS],
-) -> [F; ESTIMATE_POINTS] {
-    use crate::num::lanes::LaneOps;
-    use crate::num::real::Lane4;
-    if <F::L4 as Lane4>::POINTS == ESTIMATE_POINTS {
-        let sp = <F::L4 as LaneOps>::splat;
-        let (o4, r4) = ([sp(o.x), sp(o.y), sp(o.z)], [sp(r.x), sp(r.y), sp(r.z)]);
-        return prep.f(o4, r4, F::L4::from_array4(taus)).to_array4();
-    }
-    let sp = <F::L8 as LaneOps>::splat;
-    let (o8, r8) = ([sp(o.x), sp(o.y), sp(o.z)], [sp(r.x), sp(r.y), sp(r.z)]);
-    let [a, b, c, d] = taus;
-    let taus8 = [a, b, c, d, d, d, d, d];
-    let [fa, fb, fc, fd, ..] = prep
-        .f(o8, r8, <F::L8 as Lane>::from_array(taus8))
-        .to_array();
-    [fa, fb, fc, fd]
 }
 
 /// The crossing at `tau`, the estimate inside the final bracket `fin` (refined from the

@@ -8,7 +8,7 @@
 //! (`⌈(K + 2)/8⌉` calls; [`DEFAULT_SAMPLES`](super::DEFAULT_SAMPLES) `= 6` fills one call), and
 //! takes the first sign change.
 //!
-//! **Refinement** runs at most `N` steps (see the early stop below). A step on the bracket `[a, b]` of width `w` places
+//! **Refinement** runs at most `n` steps (see the early stop below). A step on the bracket `[a, b]` of width `w` places
 //! - [`UNIFORM_POINTS`] evenly spaced points `a + w·j/5`, `j = 1…4`, which alone guarantee that
 //!   the next bracket is at most `w/5` wide ([`WORST_SHRINK`]), whatever `f` does, and
 //! - four points around an estimate `x̂` of the root: `x̂ ± r_in` and `x̂ ± r_out`. When the
@@ -29,7 +29,7 @@
 //! `f32` test takes 2.04 lane calls (2.82 with the regula falsi steps this replaced), an `f64`
 //! test 3.32 (4.36 before); docs/MEASUREMENTS.md "Cheaper root isolation".
 //!
-//! **Early stop.** Refinement ends before `N` steps once the bracket is at most [`EARLY_STOP`]
+//! **Early stop.** Refinement ends before `n` steps once the bracket is at most [`EARLY_STOP`]
 //! times the rounding allowance's lower bound (the allowance computed from the sampling
 //! bracket's secant, `super::ROUNDING_ULPS`): the returned `t_error` is the bracket's width
 //! plus an allowance at least that large, so further steps could shrink `t_error` by at most a
@@ -42,12 +42,12 @@
 //! When the root is caught the result is the bracket the eight-point step would have left
 //! (unless one of its uniform points fell inside `x̂ ± r_in`); when it is not, the step has
 //! still narrowed the bracket or left it as it was, and the eight-point steps go on. At most
-//! one such step per test, on top of the `N` (none at `N = 0`, which brackets only), so the
+//! one such step per test, on top of the `n` (none at `n = 0`, which brackets only), so the
 //! bound below is unchanged and the work bound grows by four evaluations
 //! (`crate::kernel::max_height_evals`).
 //!
-//! Bound: after bracketing and `N` steps the bracket is at most
-//! `max((b − a) / ((K + 1)·5^N), EARLY_STOP · allowance)` for the shell interval `[a, b]` (up
+//! Bound: after bracketing and `n` steps the bracket is at most
+//! `max((b − a) / ((K + 1)·5^n), EARLY_STOP · allowance)` for the shell interval `[a, b]` (up
 //! to one ulp of the parameters per step, where the points collapse onto each other).
 
 use crate::num::lanes::LANES;
@@ -58,7 +58,7 @@ pub const UNIFORM_POINTS: usize = 4;
 /// The guaranteed shrink factor of the bracket per refinement step: `UNIFORM_POINTS + 1`.
 pub const WORST_SHRINK: usize = UNIFORM_POINTS + 1;
 /// Points of the estimate step (module docs, "Estimate steps"): `x̂ ± r_in` and `x̂ ± r_out`,
-/// without the uniform points; at most one per patch test, on top of the `N` steps.
+/// without the uniform points; at most one per patch test, on top of the `n` steps.
 pub const ESTIMATE_POINTS: usize = 4;
 /// The inner radius around a step's estimate, as a fraction of its distance `e` to regula
 /// falsi's (at least [`INNER_OF_STOP`] times the early-stop width, so a caught root ends the
@@ -258,7 +258,7 @@ fn inverse_interpolation<F: Float, const M: usize>(points: [(F, F); M]) -> F {
     x
 }
 
-/// Refines `br` with at most `N` steps of eight evaluations (`f8`) and at most one step of
+/// Refines `br` with at most `n` steps of eight evaluations (`f8`) and at most one step of
 /// [`ESTIMATE_POINTS`] (`f4`): fewer when the bracket has collapsed to an exact zero or is at
 /// most `stop` wide ([`EARLY_STOP`] times the rounding allowance's lower bound; 0 never stops
 /// early). `start` is the first step's estimate ([`first_sign_change`]); later steps take
@@ -268,13 +268,15 @@ fn inverse_interpolation<F: Float, const M: usize>(points: [(F, F); M]) -> F {
 /// once the bracket is within `stop`; within the bracket, so within its width of the root).
 ///
 /// The four-point step (module docs, "Estimate steps") is taken once, at the first step whose
-/// estimate is trusted to the early stop, when `N ≥ 1` (`N = 0` brackets only); it is not one
-/// of the `N`, which keep their guaranteed shrink.
+/// estimate is trusted to the early stop, when `n ≥ 1` (`n = 0` brackets only); it is not one
+/// of the `n`, which keep their guaranteed shrink. The caller bounds `n`
+/// ([`MAX_ITERATIONS`](super::MAX_ITERATIONS)).
 #[inline(always)]
-pub(crate) fn refine<F: Float, const N: usize>(
+pub(crate) fn refine<F: Float>(
     mut br: Bracket<F>,
     start: F,
     stop: F,
+    n: usize,
     f8: &mut impl FnMut([F; LANES]) -> [F; LANES],
     f4: &mut impl FnMut([F; ESTIMATE_POINTS]) -> [F; ESTIMATE_POINTS],
 ) -> (Bracket<F>, F) {
@@ -283,8 +285,9 @@ pub(crate) fn refine<F: Float, const N: usize>(
     let mut x = start;
     let mut estimate_step = true;
     let mut steps = 0usize;
-    // `N` uniform steps and at most one estimate step.
-    for _ in 0..N + 1 {
+    // `n` uniform steps and at most one estimate step (`n + 1` cannot overflow: the caller
+    // passes `iterations(n)`, at most `MAX_ITERATIONS`).
+    for _ in 0..n + 1 {
         if br.fa == F::ZERO || br.fb == F::ZERO || !(br.b - br.a > stop) {
             break;
         }
@@ -312,11 +315,11 @@ pub(crate) fn refine<F: Float, const N: usize>(
         // Trusted: a root caught within `r_in` of the estimate ends the refinement (the
         // bracket `2·r_in` is within `stop`), where the uniform points would not be needed.
         let trusted = e > F::ZERO && r_in + r_in <= stop;
-        let (next, before, after) = if N > 0 && estimate_step && trusted {
+        let (next, before, after) = if n > 0 && estimate_step && trusted {
             estimate_step = false;
             narrow(&br, &around, &f4(around))
         } else {
-            if steps == N {
+            if steps == n {
                 break;
             }
             steps += 1;
@@ -450,7 +453,7 @@ mod tests {
         let found = first_sign_change::<f64, 6>(0.2, 0.4, 0.0, &mut f8);
         assert!(found.is_some(), "a sign change in [0.2, 0.4]");
         let Some((br, start)) = found else { return };
-        let (fin, x) = refine::<f64, 8>(br, start, stop, &mut f8, &mut f4);
+        let (fin, x) = refine(br, start, stop, 8, &mut f8, &mut f4);
         assert!(fin.a <= x && x <= fin.b);
         assert!(
             fin.a <= root && root <= fin.b && fin.b - fin.a <= stop,
@@ -471,7 +474,7 @@ mod tests {
         assert!(found.is_some(), "a sign change in [0.0, 1.0]");
         let Some((br, start)) = found else { return };
         let w0 = br.b - br.a;
-        let (fin, _) = refine::<f64, 4>(br, start, 0.0, &mut f8, &mut f4);
+        let (fin, _) = refine(br, start, 0.0, 4, &mut f8, &mut f4);
         assert_eq!((calls.get(), fours.get()), (5, 0));
         assert!(fin.b - fin.a <= w0 / 625.0 * (1.0 + 1e-12), "{fin:?}");
         assert!(fin.a < 0.6180339887 && 0.6180339887 <= fin.b, "{fin:?}");

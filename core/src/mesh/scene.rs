@@ -3,6 +3,8 @@
 use super::report::BuildReport;
 use super::seams::Seam;
 use crate::bvh::Bvh;
+use crate::kernel::Heights;
+use crate::kernel::heights::Target;
 use crate::num::real::Float;
 use crate::patch::Patch;
 use crate::ray::{Hit, Ray};
@@ -36,8 +38,12 @@ pub struct Scene<'a, F: Float = f32> {
 }
 
 impl<'a, F: Float> Scene<'a, F> {
-    /// The closest hit of `ray` with `t` in `[t_min, t_max]`, the smooth kernel at `N`
-    /// refinement steps (eight height evaluations each; `N = 0` brackets only), or `None`.
+    /// The closest hit of `ray` with `t` in `[t_min, t_max]`, the smooth kernel with a
+    /// refinement budget of `n` steps (eight height evaluations each; `n = 0` brackets only;
+    /// any `n`, run as [`iterations`](crate::iterations)`(n)`, at most
+    /// [`MAX_ITERATIONS`](crate::MAX_ITERATIONS)), or `None`. The lane code is compiled for
+    /// the build's target; [`crate::isa`] has the same query with a kernel chosen at run time
+    /// (the same hit, bit for bit).
     ///
     /// With seams, the hit's normal and the seamless shading normal come from one height
     /// evaluation over four lanes of jets (the point and the three edge points), from the
@@ -49,16 +55,23 @@ impl<'a, F: Float> Scene<'a, F> {
     /// every patch. The shading normal as [`Seam::correct`].
     /// # Panics
     /// Never. Non-finite rays miss.
-    pub fn closest_hit<const N: usize>(
+    pub fn closest_hit(&self, ray: &Ray<F>, t_min: F, t_max: F, n: usize) -> Option<SceneHit<F>> {
+        self.closest_hit_with(ray, [t_min, t_max], n, &Target)
+    }
+
+    /// [`Scene::closest_hit`] with the lane calls of `heights`.
+    #[inline(always)]
+    pub(crate) fn closest_hit_with(
         &self,
         ray: &Ray<F>,
-        t_min: F,
-        t_max: F,
+        range: [F; 2],
+        n: usize,
+        heights: &impl Heights<F>,
     ) -> Option<SceneHit<F>> {
         let mut slots = [None, None];
         let (id, c, prepared) = self
             .bvh
-            .closest_crossing::<N>(ray, t_min, t_max, &mut slots)?;
+            .closest_crossing(ray, range, n, &mut slots, heights)?;
         let patch = self.bvh.patches().get(id as usize)?;
         // With a seam, the hit's normal and the shading normal come from one evaluation over
         // four lanes, bit for bit what `Bvh::closest_hit` and `Scene::scene_hit` give.
@@ -89,13 +102,26 @@ impl<'a, F: Float> Scene<'a, F> {
             .unwrap_or(u32::MAX)
     }
 
-    /// Whether `ray` hits anything with `t` in `[t_min, t_max]` (shadow rays): stops at the
-    /// first crossing found and evaluates no normal.
+    /// Whether `ray` hits anything with `t` in `[t_min, t_max]` (shadow rays), with a
+    /// refinement budget of `n` steps (as [`Scene::closest_hit`]): stops at the first crossing
+    /// found and evaluates no normal.
     ///
     /// # Panics
     /// Never. Non-finite rays miss.
-    pub fn any_hit<const N: usize>(&self, ray: &Ray<F>, t_min: F, t_max: F) -> bool {
-        self.bvh.any_hit::<N>(ray, t_min, t_max)
+    pub fn any_hit(&self, ray: &Ray<F>, t_min: F, t_max: F, n: usize) -> bool {
+        self.bvh.any_hit(ray, t_min, t_max, n)
+    }
+
+    /// [`Scene::any_hit`] with the lane calls of `heights`.
+    #[inline(always)]
+    pub(crate) fn any_hit_with(
+        &self,
+        ray: &Ray<F>,
+        range: [F; 2],
+        n: usize,
+        heights: &impl Heights<F>,
+    ) -> bool {
+        self.bvh.any_hit_with(ray, range, n, heights)
     }
 
     /// `hit` (from this scene's patches, e.g. by a query of [`Scene::bvh`]) with its triangle

@@ -89,6 +89,8 @@ impl Float for FastF32 {
     type Vec3 = glam::Vec3;
     type L8 = Lanes8<FastF32>;
     type L4 = crate::num::lanes::One<FastF32>;
+    type A8 = Lanes8<FastF32>;
+    type A4 = crate::num::lanes::One<FastF32>;
     const ZERO: FastF32 = FastF32(0.0);
     const ONE: FastF32 = FastF32(1.0);
     const EPSILON: FastF32 = FastF32(f32::EPSILON);

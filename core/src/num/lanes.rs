@@ -140,6 +140,280 @@ impl_wide4!(wide::f64x4, f64);
 // compile quickly where eight-lane jets are not.
 impl_wide_ops!(wide::f64x2, f64);
 
+/// Lane types as plain arrays of `W` values, every operation a loop over the lanes with the
+/// scalar's own IEEE operation: the compiler turns each loop into vector instructions of the
+/// width that the *enclosing function* may use (the target's features, or those of a
+/// `#[target_feature]` entry point that the lane code is inlined into: two SSE2 or NEON
+/// registers or one AVX register for eight `f32`), and every lane's value is the scalar
+/// operation's, bit for bit, whatever the width. Masks are lanes of the same width with all bits
+/// set or clear.
+macro_rules! array_lanes {
+    ($name:ident, $mask:ident, $f:ty, $u:ty, $w:literal, $align:literal, $sqrt:path, $doc:literal) => {
+        #[doc = $doc]
+        ///
+        /// # Panics
+        /// No method panics.
+        #[derive(Clone, Copy, Debug)]
+        #[repr(C, align($align))]
+        pub struct $name(pub(crate) [$f; $w]);
+
+        /// The per-lane booleans of
+        #[doc = concat!("[`", stringify!($name), "`]")]
+        /// : all bits set (true) or clear (false).
+        #[derive(Clone, Copy, Debug)]
+        #[repr(C, align($align))]
+        pub struct $mask(pub(crate) [$u; $w]);
+
+        impl $name {
+            /// `f` of each lane.
+            #[inline(always)]
+            fn map(self, f: impl Fn($f) -> $f) -> Self {
+                let mut out = self.0;
+                for x in out.iter_mut() {
+                    *x = f(*x);
+                }
+                $name(out)
+            }
+            /// `f` of each pair of lanes.
+            #[inline(always)]
+            fn zip(self, o: Self, f: impl Fn($f, $f) -> $f) -> Self {
+                let mut out = self.0;
+                for (x, y) in out.iter_mut().zip(o.0) {
+                    *x = f(*x, y);
+                }
+                $name(out)
+            }
+            /// The mask of `f` of each pair of lanes.
+            #[inline(always)]
+            fn cmp(self, o: Self, f: impl Fn($f, $f) -> bool) -> $mask {
+                let mut out = [0 as $u; $w];
+                for ((m, x), y) in out.iter_mut().zip(self.0).zip(o.0) {
+                    *m = (0 as $u).wrapping_sub(f(x, y) as $u);
+                }
+                $mask(out)
+            }
+        }
+
+        impl $mask {
+            /// `f` of each pair of lanes.
+            #[inline(always)]
+            fn zip(self, o: Self, f: impl Fn($u, $u) -> $u) -> Self {
+                let mut out = self.0;
+                for (x, y) in out.iter_mut().zip(o.0) {
+                    *x = f(*x, y);
+                }
+                $mask(out)
+            }
+            /// The lanes' bits, or-ed together: non-zero when any lane is set.
+            #[inline(always)]
+            fn or_all(self) -> $u {
+                self.0.iter().fold(0, |a, &b| a | b)
+            }
+        }
+
+        impl core::ops::Add for $name {
+            type Output = Self;
+            #[inline(always)]
+            fn add(self, o: Self) -> Self {
+                self.zip(o, |x, y| x + y)
+            }
+        }
+        impl core::ops::Sub for $name {
+            type Output = Self;
+            #[inline(always)]
+            fn sub(self, o: Self) -> Self {
+                self.zip(o, |x, y| x - y)
+            }
+        }
+        impl core::ops::Mul for $name {
+            type Output = Self;
+            #[inline(always)]
+            fn mul(self, o: Self) -> Self {
+                self.zip(o, |x, y| x * y)
+            }
+        }
+        impl core::ops::Div for $name {
+            type Output = Self;
+            #[inline(always)]
+            fn div(self, o: Self) -> Self {
+                self.zip(o, |x, y| x / y)
+            }
+        }
+        impl core::ops::Neg for $name {
+            type Output = Self;
+            #[inline(always)]
+            fn neg(self) -> Self {
+                self.map(|x| -x)
+            }
+        }
+
+        impl LaneOps for $name {
+            type F = $f;
+            type Mask = $mask;
+            crate::num::real::plain_lanes!();
+            #[inline(always)]
+            fn splat(x: $f) -> Self {
+                $name([x; $w])
+            }
+            #[inline(always)]
+            fn sqrt(self) -> Self {
+                self.map($sqrt)
+            }
+            #[inline(always)]
+            fn abs(self) -> Self {
+                self.map(<$f>::abs)
+            }
+            #[inline(always)]
+            fn lt(self, o: Self) -> $mask {
+                self.cmp(o, |x, y| x < y)
+            }
+            #[inline(always)]
+            fn le(self, o: Self) -> $mask {
+                self.cmp(o, |x, y| x <= y)
+            }
+            #[inline(always)]
+            fn gt(self, o: Self) -> $mask {
+                self.cmp(o, |x, y| x > y)
+            }
+            #[inline(always)]
+            fn eq(self, o: Self) -> $mask {
+                self.cmp(o, |x, y| x == y)
+            }
+            #[inline(always)]
+            fn finite(self) -> $mask {
+                self.cmp(self, |x, _| x.is_finite())
+            }
+            #[inline(always)]
+            fn select(m: $mask, a: Self, b: Self) -> Self {
+                let mut out = a.0;
+                for ((x, y), m) in out.iter_mut().zip(b.0).zip(m.0) {
+                    *x = <$f>::from_bits((x.to_bits() & m) | (y.to_bits() & !m));
+                }
+                $name(out)
+            }
+            #[inline(always)]
+            fn and(a: $mask, b: $mask) -> $mask {
+                a.zip(b, |x, y| x & y)
+            }
+            #[inline(always)]
+            fn or(a: $mask, b: $mask) -> $mask {
+                a.zip(b, |x, y| x | y)
+            }
+            #[inline(always)]
+            fn not(a: $mask) -> $mask {
+                a.zip(a, |x, _| !x)
+            }
+            #[inline(always)]
+            fn any_set(m: $mask) -> bool {
+                m.or_all() != 0
+            }
+        }
+    };
+}
+
+/// [`array_lanes`] with the [`Lane`] items of an eight-lane type.
+macro_rules! array_lane8 {
+    ($name:ident, $f:ty) => {
+        impl Lane for $name {
+            #[inline(always)]
+            fn from_array(a: [$f; LANES]) -> Self {
+                $name(a)
+            }
+            #[inline(always)]
+            fn to_array(self) -> [$f; LANES] {
+                self.0
+            }
+            #[inline(always)]
+            fn any(m: Self::Mask) -> bool {
+                Self::any_set(m)
+            }
+            #[inline(always)]
+            fn mask_array(m: Self::Mask) -> [bool; LANES] {
+                m.0.map(|x| x != 0)
+            }
+        }
+    };
+}
+
+/// [`array_lanes`] with the [`Lane4`] items of a four-lane type.
+macro_rules! array_lane4 {
+    ($name:ident, $f:ty) => {
+        impl Lane4 for $name {
+            const POINTS: usize = 4;
+            #[inline(always)]
+            fn from_array4(a: [$f; 4]) -> Self {
+                $name(a)
+            }
+            #[inline(always)]
+            fn to_array4(self) -> [$f; 4] {
+                self.0
+            }
+            #[inline(always)]
+            fn bits4(m: Self::Mask) -> u32 {
+                let mut bits = 0u32;
+                for (i, &b) in m.0.iter().enumerate() {
+                    bits |= u32::from(b != 0) << i;
+                }
+                bits
+            }
+            #[inline(always)]
+            fn max_fast(self, o: Self) -> Self {
+                self.zip(o, |x, y| if x > y { x } else { y })
+            }
+            #[inline(always)]
+            fn min_fast(self, o: Self) -> Self {
+                self.zip(o, |x, y| if x < y { x } else { y })
+            }
+        }
+    };
+}
+
+array_lanes!(
+    F32x8,
+    M32x8,
+    f32,
+    u32,
+    8,
+    32,
+    crate::num::math::sqrt_f32,
+    "Eight `f32` lanes: the kernel's height evaluations ([`Float::L8`] of `f32`)."
+);
+array_lane8!(F32x8, f32);
+array_lanes!(
+    F64x8,
+    M64x8,
+    f64,
+    u64,
+    8,
+    64,
+    crate::num::math::sqrt_f64,
+    "Eight `f64` lanes ([`Float::L8`] of `f64`)."
+);
+array_lane8!(F64x8, f64);
+array_lanes!(
+    F32x4,
+    M32x4,
+    f32,
+    u32,
+    4,
+    16,
+    crate::num::math::sqrt_f32,
+    "Four `f32` lanes: the estimate step, the BVH's slab test of four children, the seamless \
+     shading normal's four points ([`Float::L4`] of `f32`)."
+);
+array_lane4!(F32x4, f32);
+array_lanes!(
+    F64x4,
+    M64x4,
+    f64,
+    u64,
+    4,
+    32,
+    crate::num::math::sqrt_f64,
+    "Four `f64` lanes ([`Float::L4`] of `f64`)."
+);
+array_lane4!(F64x4, f64);
+
 /// One scalar as a lane type (`Mask = bool`): the one-point evaluations over the lane code
 /// (the hit normal's jets, `crate::surface::lanes::Prepared::derivatives`), the same arithmetic as the
 /// scalar with branches for selects.

@@ -249,6 +249,14 @@ pub trait Float: Real<F = Self> + Copy + Default + PartialEq + Send + Sync {
     /// The 4-lane vector of this float (internal).
     #[doc(hidden)]
     type L4: Lane4<F = Self>;
+    /// Eight lanes as a plain array, vectorised by the target features of the function the
+    /// lane code is inlined into (internal: the kernels per instruction set of
+    /// [`isa`](crate::isa)).
+    #[doc(hidden)]
+    type A8: Lane<F = Self>;
+    /// Four lanes as a plain array, as [`Float::A8`] (internal).
+    #[doc(hidden)]
+    type A4: Lane4<F = Self>;
     /// `0.0`.
     const ZERO: Self;
     /// `1.0`.
@@ -305,7 +313,7 @@ pub trait Float: Real<F = Self> + Copy + Default + PartialEq + Send + Sync {
 }
 
 macro_rules! impl_float {
-    ($f:ty, $v:ty, $l:ty, $l4:ty, $sqrt:path) => {
+    ($f:ty, $v:ty, $l:ty, $l4:ty, $a:ty, $a4:ty, $sqrt:path) => {
         impl Real for $f {
             type F = $f;
             #[inline(always)]
@@ -329,6 +337,8 @@ macro_rules! impl_float {
             type Vec3 = $v;
             type L8 = $l;
             type L4 = $l4;
+            type A8 = $a;
+            type A4 = $a4;
             const ZERO: $f = 0.0;
             const ONE: $f = 1.0;
             const EPSILON: $f = <$f>::EPSILON;
@@ -384,6 +394,8 @@ impl_float!(
     glam::Vec3,
     wide::f32x8,
     wide::f32x4,
+    crate::num::lanes::F32x8,
+    crate::num::lanes::F32x4,
     crate::num::math::sqrt_f32
 );
 impl_float!(
@@ -391,5 +403,7 @@ impl_float!(
     glam::DVec3,
     wide::f64x8,
     wide::f64x4,
+    crate::num::lanes::F64x8,
+    crate::num::lanes::F64x4,
     crate::num::math::sqrt_f64
 );

@@ -365,6 +365,9 @@ pub fn run(a: RenderOptions) -> Result<()> {
     } else {
         a.mode.name().to_string()
     };
+    if a.verbose && gpu.is_none() {
+        eprintln!("CPU kernel: {}", smoothtri_isa::kernels().isa());
+    }
     let device = match &gpu {
         Some(g) if g.is_software() => format!(
             ", GPU kernel on {} (software Vulkan: a correctness run, not a GPU timing)",

@@ -10,5 +10,5 @@ mod scene;
 
 pub use modes::{Field, Mode, Normals};
 pub use precision::{Prec, Precision};
-pub use queries::{MAX_ITERATIONS, SUPPORTED_ITERATIONS, Tracer, smooth_tracer, tracer};
+pub use queries::{MAX_ITERATIONS, Tracer, smooth_tracer, tracer};
 pub use scene::Scene;

@@ -1,7 +1,8 @@
-//! Ray-scene queries: the [`Tracer`] strategies (the smooth kernel at a compile-time iteration
-//! budget, the flat and Phong baselines) and their choice at run time ([`tracer`]).
+//! Ray-scene queries: the [`Tracer`] strategies (the smooth kernel at an iteration budget, the
+//! flat and Phong baselines) and their choice at run time ([`tracer`]).
 
 use smoothtri::{Bvh, Float, Hit, Ray, flat_hit};
+use smoothtri_isa::Dispatch;
 
 use super::modes::Mode;
 use crate::error::{DemoError, Result};
@@ -34,16 +35,20 @@ pub trait Tracer<F: Float>: Sync {
     }
 }
 
-struct Smooth<const N: usize>;
-impl<F: Float, const N: usize> Tracer<F> for Smooth<N> {
+/// The smooth kernel with a refinement budget of `n` steps, on the instruction set chosen at
+/// run time ([`smoothtri_isa::kernels`]: the same hits, bit for bit, as the core's queries).
+struct Smooth {
+    n: usize,
+}
+impl<F: Float> Tracer<F> for Smooth {
     fn smooth(&self) -> bool {
         true
     }
     fn closest(&self, bvh: &Bvh<'_, F>, ray: &Ray<F>, t_min: F, t_max: F) -> Option<Hit<F>> {
-        bvh.closest_hit::<N>(ray, t_min, t_max)
+        bvh.closest_hit_isa(ray, t_min, t_max, self.n)
     }
     fn occluded(&self, bvh: &Bvh<'_, F>, ray: &Ray<F>, t_min: F, t_max: F) -> bool {
-        bvh.any_hit::<N>(ray, t_min, t_max)
+        bvh.any_hit_isa(ray, t_min, t_max, self.n)
     }
     fn closest_shaded(
         &self,
@@ -52,7 +57,7 @@ impl<F: Float, const N: usize> Tracer<F> for Smooth<N> {
         t_min: F,
         t_max: F,
     ) -> Option<(Hit<F>, F::Vec3)> {
-        let h = scene.closest_hit::<N>(ray, t_min, t_max)?;
+        let h = scene.closest_hit_isa(ray, t_min, t_max, self.n)?;
         Some((h.hit, h.shading_normal))
     }
 }
@@ -72,26 +77,26 @@ impl<F: Float> Tracer<F> for Flat {
     }
 }
 
-/// Largest iteration budget accepted by `--iterations`.
-pub const MAX_ITERATIONS: usize = 40;
+/// Largest iteration budget accepted by `--iterations`: the core's
+/// [`smoothtri::MAX_ITERATIONS`].
+pub const MAX_ITERATIONS: usize = smoothtri::MAX_ITERATIONS;
 
-macro_rules! smooth_dispatch {
-    ($n:expr, $($k:literal)*) => {
-        match $n {
-            $($k => Some(&Smooth::<$k> as &'static dyn Tracer<F>),)*
-            _ => None,
-        }
-    };
-}
+/// One smooth tracer per budget `0..=MAX_ITERATIONS` (values, not instantiations: every budget
+/// runs the same kernel), so that [`smooth_tracer`] hands out `'static` trait objects.
+static SMOOTH: [Smooth; MAX_ITERATIONS + 1] = {
+    let mut all = [const { Smooth { n: 0 } }; MAX_ITERATIONS + 1];
+    let mut n = 0;
+    while n <= MAX_ITERATIONS {
+        all[n] = Smooth { n };
+        n += 1;
+    }
+    all
+};
 
-/// Iteration budgets the demo is compiled for (each is a separate monomorphised kernel; the
-/// core takes any `N` at compile time).
-pub const SUPPORTED_ITERATIONS: &str = "0..=16, 20, 24, 32, 40";
-
-/// The smooth kernel with an iteration budget of `n` (see [`SUPPORTED_ITERATIONS`]),
-/// monomorphised.
+/// The smooth kernel with an iteration budget of `n`, or `None` when `n` is above
+/// [`MAX_ITERATIONS`].
 pub fn smooth_tracer<F: Float>(n: usize) -> Option<&'static dyn Tracer<F>> {
-    smooth_dispatch!(n, 0 1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16 20 24 32 40)
+    SMOOTH.get(n).map(|t| t as &'static dyn Tracer<F>)
 }
 
 /// The tracer of `mode` (the budget matters for [`Mode::Smooth`] only).
@@ -99,7 +104,7 @@ pub fn tracer<F: Float>(mode: Mode, n: usize) -> Result<&'static dyn Tracer<F>> 
     match mode {
         Mode::Smooth => smooth_tracer(n).ok_or_else(|| {
             DemoError::Usage(format!(
-                "--iterations {n} is not supported (use one of {SUPPORTED_ITERATIONS})"
+                "--iterations {n} is above the largest budget, {MAX_ITERATIONS}"
             ))
         }),
         Mode::Flat => Ok(&Flat { phong: false }),

@@ -295,19 +295,19 @@ pub fn check_ray<F: Float>(
     t_max: F,
 ) -> Result<(), TestCaseError> {
     let hits = [
-        patch.intersect::<0>(ray, t_min, t_max),
-        patch.intersect::<1>(ray, t_min, t_max),
-        patch.intersect::<4>(ray, t_min, t_max),
-        patch.intersect::<8>(ray, t_min, t_max),
+        patch.intersect(ray, t_min, t_max, 0),
+        patch.intersect(ray, t_min, t_max, 1),
+        patch.intersect(ray, t_min, t_max, 4),
+        patch.intersect(ray, t_min, t_max, 8),
     ];
     for h in hits.iter().flatten() {
         check_hit(patch, ray, t_min, t_max, h)?;
     }
     for (k, n, (h, s)) in [
-        (0, 0, patch.intersect_stats::<0, 0>(ray, t_min, t_max)),
-        (1, 3, patch.intersect_stats::<1, 3>(ray, t_min, t_max)),
-        (4, 8, patch.intersect_stats::<4, 8>(ray, t_min, t_max)),
-        (8, 24, patch.intersect_stats::<8, 24>(ray, t_min, t_max)),
+        (0, 0, patch.intersect_stats::<0>(ray, t_min, t_max, 0)),
+        (1, 3, patch.intersect_stats::<1>(ray, t_min, t_max, 3)),
+        (4, 8, patch.intersect_stats::<4>(ray, t_min, t_max, 8)),
+        (8, 24, patch.intersect_stats::<8>(ray, t_min, t_max, 24)),
     ] {
         check_stats(s, k, n)?;
         if let Some(h) = h {
@@ -341,8 +341,8 @@ pub fn check_bvh<F: Float>(ps: &[Patch<F>], rays: &[RayParam]) -> Result<(), Tes
         let (o, d, t0, t1) = r.build(lo, hi, to_d::<F>(patch.face_normal()), target);
         let ray = Ray::<F>::new(to_f::<F>(o), to_f::<F>(d));
         let (t0, t1) = (F::from_f64(t0), F::from_f64(t1));
-        let got = bvh.closest_hit::<6>(&ray, t0, t1);
-        let any = bvh.any_hit::<6>(&ray, t0, t1);
+        let got = bvh.closest_hit(&ray, t0, t1, 6);
+        let any = bvh.any_hit(&ray, t0, t1, 6);
         if let Some(f) = bvh.closest_with(&ray, t0, t1, |_, p, a, b| {
             smoothtri::flat_hit(&p.vertices(), None, &ray, a, b)
         }) {
@@ -353,7 +353,7 @@ pub fn check_bvh<F: Float>(ps: &[Patch<F>], rays: &[RayParam]) -> Result<(), Tes
             .iter()
             .enumerate()
             .filter_map(|(k, p)| {
-                let h = p.intersect::<6>(&ray, t0, t1)?;
+                let h = p.intersect(&ray, t0, t1, 6)?;
                 Some(Hit {
                     patch: k as u32,
                     ..h

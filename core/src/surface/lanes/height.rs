@@ -197,11 +197,19 @@ impl<L: LaneOps> MaxOf for L {
 }
 
 /// `f(τ) = z − σS(X)` at the local points `o + τ·r` of eight parameters `tau` (one ray: `o`
-/// and `r` splatted), with the projected barycentrics `X`.
+/// and `r` splatted), with the projected barycentrics `X`: [`f_inline`] out of line.
 // Not inlined: one lane call is long beside the cost of a call, and a single copy per lane
 // type keeps builds (and the freestanding link proof's LTO) fast.
 #[inline(never)]
 pub(super) fn f_lanes<L: LaneOps>(pr: &Prepared<L::F>, o: [L; 3], r: [L; 3], tau: L) -> L {
+    f_inline(pr, o, r, tau)
+}
+
+/// [`f_lanes`] inlined into its caller: the lane code compiled with the caller's target
+/// features (the kernels per instruction set, `crate::isa`, call it from their own
+/// out-of-line functions).
+#[inline(always)]
+pub(super) fn f_inline<L: LaneOps>(pr: &Prepared<L::F>, o: [L; 3], r: [L; 3], tau: L) -> L {
     let [ox, oy, oz] = o;
     let [rx, ry, rz] = r;
     let x = L3 {

@@ -136,6 +136,13 @@ impl<F: Float> Prepared<F> {
         height::f_lanes(self, o, r, tau)
     }
 
+    /// [`Prepared::f`] inlined into the caller, so that the lane code is compiled with the
+    /// caller's target features (`crate::isa`'s out-of-line lane calls).
+    #[inline(always)]
+    pub(crate) fn f_inline<L: LaneOps<F = F>>(&self, o: [L; 3], r: [L; 3], tau: L) -> L {
+        height::f_inline(self, o, r, tau)
+    }
+
     /// The height `σS(X)` at the lanes' barycentric triples (summing to one, inside the
     /// triangle).
     #[inline(always)]

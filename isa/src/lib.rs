@@ -1,0 +1,414 @@
+//! The kernel of `smoothtri` compiled per instruction set and chosen at run time.
+//!
+//! A binary built for baseline x86-64 (a C library, a demo, a Python wheel) runs the core's lane
+//! code as SSE2. The core also compiles its queries for AVX2 + FMA and for AVX-512
+//! ([`smoothtri::isa`]); this crate detects what the CPU has and calls them: [`Kernels`] holds
+//! one instruction set the CPU has, [`kernels`] is the process's choice (the best the CPU has,
+//! or the one `SMOOTHTRI_ISA` names), and [`Dispatch`] adds the dispatched queries to
+//! [`Scene`], [`Bvh`] and [`Patch`].
+//!
+//! # Accuracy
+//! Every query returns what the core's query of the same name returns, bit for bit, on every
+//! instruction set: the lane code is the same IEEE operations in the same order at every width,
+//! and no operation is fused (Rust never contracts `a·b + c` into a fused multiply-add, and the
+//! core calls no `mul_add`), so the FMA feature changes nothing in the results
+//! (docs/METHOD.md, "Instruction sets"; `tests/suite/isa.rs` checks it).
+//!
+//! # Panics
+//! No function panics.
+
+#![deny(missing_docs)]
+#![deny(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
+use std::ffi::CStr;
+use std::fmt;
+use std::sync::OnceLock;
+
+use smoothtri::{Bvh, Float, Hit, KernelStats, Patch, Ray, Scene, SceneHit};
+
+/// The environment variable that overrides the choice of [`kernels`]: `sse2`, `avx2` or
+/// `avx512` ([`Isa::name`]; `neon` or `baseline` for [`Isa::Baseline`] elsewhere).
+pub const ENV: &str = "SMOOTHTRI_ISA";
+
+/// An instruction set the kernel is compiled for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Isa {
+    /// The build's own target features: SSE2 in a default x86-64 build, NEON on aarch64.
+    Baseline,
+    /// AVX2 and FMA (x86-64-v3): eight `f32` lanes in one register.
+    Avx2,
+    /// AVX-512 F, VL, BW and DQ besides AVX2 and FMA (x86-64-v4): mask registers, 32 vector
+    /// registers.
+    Avx512,
+}
+
+impl Isa {
+    /// Every instruction set, from the baseline to the widest.
+    pub const ALL: [Isa; 3] = [Isa::Baseline, Isa::Avx2, Isa::Avx512];
+
+    /// The name `SMOOTHTRI_ISA` takes and `st_get_isa()` returns: `sse2` (x86, x86-64), `neon`
+    /// (aarch64) or `baseline` (elsewhere) for [`Isa::Baseline`]; `avx2`; `avx512`.
+    pub fn name(self) -> &'static str {
+        self.c_name().to_str().unwrap_or("baseline")
+    }
+
+    /// [`Isa::name`] as a NUL-terminated string with static lifetime (for the C API).
+    pub fn c_name(self) -> &'static CStr {
+        match self {
+            Isa::Baseline if cfg!(any(target_arch = "x86", target_arch = "x86_64")) => c"sse2",
+            Isa::Baseline if cfg!(target_arch = "aarch64") => c"neon",
+            Isa::Baseline => c"baseline",
+            Isa::Avx2 => c"avx2",
+            Isa::Avx512 => c"avx512",
+        }
+    }
+
+    /// The instruction set of a name ([`Isa::name`], ASCII case ignored; `baseline` names
+    /// [`Isa::Baseline`] on every target), or `None`.
+    pub fn parse(name: &str) -> Option<Isa> {
+        let name = name.trim();
+        Isa::ALL
+            .into_iter()
+            .find(|i| i.name().eq_ignore_ascii_case(name))
+            .or_else(|| {
+                name.eq_ignore_ascii_case("baseline")
+                    .then_some(Isa::Baseline)
+            })
+    }
+
+    /// The target features (as `#[target_feature]` names them) its kernels are compiled with:
+    /// empty for [`Isa::Baseline`] (the build's own).
+    pub fn features(self) -> &'static str {
+        match self {
+            Isa::Baseline => "",
+            #[cfg(any(target_arch = "x86", target_arch = "x86_64"))]
+            Isa::Avx2 => smoothtri::isa::avx2::FEATURES,
+            #[cfg(any(target_arch = "x86", target_arch = "x86_64"))]
+            Isa::Avx512 => smoothtri::isa::avx512::FEATURES,
+            #[cfg(not(any(target_arch = "x86", target_arch = "x86_64")))]
+            Isa::Avx2 | Isa::Avx512 => "",
+        }
+    }
+
+    /// Whether this build has kernels for it and the CPU running it has every feature of
+    /// [`Isa::features`] (detected at run time; the baseline always).
+    pub fn supported(self) -> bool {
+        match self {
+            Isa::Baseline => true,
+            _ if cfg!(any(target_arch = "x86", target_arch = "x86_64")) => {
+                self.features().split(',').all(detected)
+            }
+            _ => false,
+        }
+    }
+
+    /// The widest instruction set this CPU has.
+    pub fn best() -> Isa {
+        Isa::ALL
+            .into_iter()
+            .rev()
+            .find(|i| i.supported())
+            .unwrap_or(Isa::Baseline)
+    }
+}
+
+impl fmt::Display for Isa {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// Whether the CPU has the target feature `name` (the names [`Isa::features`] uses; any other
+/// name: `false`).
+#[cfg(any(target_arch = "x86", target_arch = "x86_64"))]
+fn detected(name: &str) -> bool {
+    match name {
+        "avx2" => std::arch::is_x86_feature_detected!("avx2"),
+        "fma" => std::arch::is_x86_feature_detected!("fma"),
+        "avx512f" => std::arch::is_x86_feature_detected!("avx512f"),
+        "avx512vl" => std::arch::is_x86_feature_detected!("avx512vl"),
+        "avx512bw" => std::arch::is_x86_feature_detected!("avx512bw"),
+        "avx512dq" => std::arch::is_x86_feature_detected!("avx512dq"),
+        _ => false,
+    }
+}
+
+#[cfg(not(any(target_arch = "x86", target_arch = "x86_64")))]
+fn detected(_: &str) -> bool {
+    false
+}
+
+/// Why [`Kernels::new`] or [`Kernels::from_env`] refused an instruction set.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum IsaError {
+    /// `SMOOTHTRI_ISA` names no instruction set (the value given).
+    Unknown(String),
+    /// The CPU (or this build's target) lacks the instruction set.
+    Unsupported(Isa),
+}
+
+impl fmt::Display for IsaError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            IsaError::Unknown(v) => write!(
+                f,
+                "{ENV}={v:?} names no instruction set (use sse2, avx2 or avx512)"
+            ),
+            IsaError::Unsupported(i) => {
+                write!(f, "{ENV}={i}: this CPU lacks it (it has {})", Isa::best())
+            }
+        }
+    }
+}
+
+impl std::error::Error for IsaError {}
+
+/// The queries of one instruction set the CPU has: made only by [`Kernels::new`] (which checks
+/// the CPU), so every call runs instructions the CPU has.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Kernels {
+    isa: Isa,
+}
+
+/// One query on the chosen instruction set: `$core` on the baseline, the core's
+/// `#[target_feature]` function of that name otherwise.
+macro_rules! dispatch {
+    ($self:ident, $core:expr, $name:ident $(::<$k:ident>)? ($($arg:expr),*)) => {
+        match $self.isa {
+            Isa::Baseline => $core,
+            // SAFETY: a `Kernels` holds `Avx2` only when the CPU has every feature of
+            // `avx2::FEATURES` (`Kernels::new` checks `Isa::supported`), the one requirement of
+            // the core's `#[target_feature]` functions.
+            #[cfg(any(target_arch = "x86", target_arch = "x86_64"))]
+            Isa::Avx2 => unsafe { smoothtri::isa::avx2::$name $(::<F, $k>)? ($($arg),*) },
+            // SAFETY: as above, for `avx512::FEATURES`.
+            #[cfg(any(target_arch = "x86", target_arch = "x86_64"))]
+            Isa::Avx512 => unsafe { smoothtri::isa::avx512::$name $(::<F, $k>)? ($($arg),*) },
+            #[cfg(not(any(target_arch = "x86", target_arch = "x86_64")))]
+            Isa::Avx2 | Isa::Avx512 => $core,
+        }
+    };
+}
+
+impl Kernels {
+    /// The kernels of `isa`, or [`IsaError::Unsupported`] when the CPU lacks it.
+    pub fn new(isa: Isa) -> Result<Kernels, IsaError> {
+        if isa.supported() {
+            Ok(Kernels { isa })
+        } else {
+            Err(IsaError::Unsupported(isa))
+        }
+    }
+
+    /// The kernels of the widest instruction set the CPU has ([`Isa::best`]).
+    pub fn best() -> Kernels {
+        Kernels { isa: Isa::best() }
+    }
+
+    /// The kernels that `SMOOTHTRI_ISA` names, or the best when it is unset or empty; an error
+    /// when it names no instruction set or one the CPU lacks.
+    pub fn from_env() -> Result<Kernels, IsaError> {
+        match std::env::var(ENV) {
+            Ok(v) if !v.trim().is_empty() => {
+                Kernels::new(Isa::parse(&v).ok_or(IsaError::Unknown(v))?)
+            }
+            _ => Ok(Kernels::best()),
+        }
+    }
+
+    /// The instruction set these kernels run.
+    pub fn isa(self) -> Isa {
+        self.isa
+    }
+
+    /// [`Scene::closest_hit`] on this instruction set: the same hit, bit for bit.
+    #[inline]
+    pub fn scene_closest_hit<F: Float>(
+        self,
+        scene: &Scene<'_, F>,
+        ray: &Ray<F>,
+        t_min: F,
+        t_max: F,
+        n: usize,
+    ) -> Option<SceneHit<F>> {
+        dispatch!(
+            self,
+            scene.closest_hit(ray, t_min, t_max, n),
+            scene_closest_hit(scene, ray, t_min, t_max, n)
+        )
+    }
+
+    /// [`Scene::any_hit`] on this instruction set: the same answer.
+    #[inline]
+    pub fn scene_any_hit<F: Float>(
+        self,
+        scene: &Scene<'_, F>,
+        ray: &Ray<F>,
+        t_min: F,
+        t_max: F,
+        n: usize,
+    ) -> bool {
+        dispatch!(
+            self,
+            scene.any_hit(ray, t_min, t_max, n),
+            scene_any_hit(scene, ray, t_min, t_max, n)
+        )
+    }
+
+    /// [`Bvh::closest_hit`] on this instruction set: the same hit, bit for bit.
+    #[inline]
+    pub fn bvh_closest_hit<F: Float>(
+        self,
+        bvh: &Bvh<'_, F>,
+        ray: &Ray<F>,
+        t_min: F,
+        t_max: F,
+        n: usize,
+    ) -> Option<Hit<F>> {
+        dispatch!(
+            self,
+            bvh.closest_hit(ray, t_min, t_max, n),
+            bvh_closest_hit(bvh, ray, t_min, t_max, n)
+        )
+    }
+
+    /// [`Bvh::any_hit`] on this instruction set: the same answer.
+    #[inline]
+    pub fn bvh_any_hit<F: Float>(
+        self,
+        bvh: &Bvh<'_, F>,
+        ray: &Ray<F>,
+        t_min: F,
+        t_max: F,
+        n: usize,
+    ) -> bool {
+        dispatch!(
+            self,
+            bvh.any_hit(ray, t_min, t_max, n),
+            bvh_any_hit(bvh, ray, t_min, t_max, n)
+        )
+    }
+
+    /// [`Patch::intersect`] on this instruction set: the same hit, bit for bit.
+    #[inline]
+    pub fn patch_intersect<F: Float>(
+        self,
+        patch: &Patch<F>,
+        ray: &Ray<F>,
+        t_min: F,
+        t_max: F,
+        n: usize,
+    ) -> Option<Hit<F>> {
+        dispatch!(
+            self,
+            patch.intersect(ray, t_min, t_max, n),
+            patch_intersect(patch, ray, t_min, t_max, n)
+        )
+    }
+
+    /// [`Patch::intersect_stats`] on this instruction set: the same hit and statistics, bit for
+    /// bit.
+    #[inline]
+    pub fn patch_intersect_stats<F: Float, const K: usize>(
+        self,
+        patch: &Patch<F>,
+        ray: &Ray<F>,
+        t_min: F,
+        t_max: F,
+        n: usize,
+    ) -> (Option<Hit<F>>, KernelStats) {
+        dispatch!(
+            self,
+            patch.intersect_stats::<K>(ray, t_min, t_max, n),
+            patch_intersect_stats::<K>(patch, ray, t_min, t_max, n)
+        )
+    }
+}
+
+/// The process's kernels, chosen once (at the first call): those [`Kernels::from_env`] gives,
+/// or the best the CPU has ([`Kernels::best`]) when `SMOOTHTRI_ISA` is invalid or names an
+/// instruction set the CPU lacks (see [`Kernels::from_env`] to report that instead).
+pub fn kernels() -> Kernels {
+    static CHOSEN: OnceLock<Kernels> = OnceLock::new();
+    *CHOSEN.get_or_init(|| Kernels::from_env().unwrap_or_else(|_| Kernels::best()))
+}
+
+/// The queries of [`Scene`], [`Bvh`] and [`Patch`] on the process's kernels ([`kernels`]):
+/// `x.closest_hit_isa(…)` returns what `x.closest_hit(…)` returns, bit for bit.
+pub trait Dispatch<F: Float> {
+    /// The closest hit's type: [`SceneHit`] of a scene, [`Hit`] of a BVH or a patch.
+    type Hit;
+    /// The closest hit of `ray` in `[t_min, t_max]` with a refinement budget of `n` steps (as
+    /// the core's `closest_hit` / [`Patch::intersect`]), on [`kernels`].
+    fn closest_hit_isa(&self, ray: &Ray<F>, t_min: F, t_max: F, n: usize) -> Option<Self::Hit>;
+    /// Whether anything is hit in `[t_min, t_max]` (as the core's `any_hit`; for a patch,
+    /// whether [`Dispatch::closest_hit_isa`] hits), on [`kernels`].
+    fn any_hit_isa(&self, ray: &Ray<F>, t_min: F, t_max: F, n: usize) -> bool;
+}
+
+impl<F: Float> Dispatch<F> for Scene<'_, F> {
+    type Hit = SceneHit<F>;
+    #[inline]
+    fn closest_hit_isa(&self, ray: &Ray<F>, t_min: F, t_max: F, n: usize) -> Option<SceneHit<F>> {
+        kernels().scene_closest_hit(self, ray, t_min, t_max, n)
+    }
+    #[inline]
+    fn any_hit_isa(&self, ray: &Ray<F>, t_min: F, t_max: F, n: usize) -> bool {
+        kernels().scene_any_hit(self, ray, t_min, t_max, n)
+    }
+}
+
+impl<F: Float> Dispatch<F> for Bvh<'_, F> {
+    type Hit = Hit<F>;
+    #[inline]
+    fn closest_hit_isa(&self, ray: &Ray<F>, t_min: F, t_max: F, n: usize) -> Option<Hit<F>> {
+        kernels().bvh_closest_hit(self, ray, t_min, t_max, n)
+    }
+    #[inline]
+    fn any_hit_isa(&self, ray: &Ray<F>, t_min: F, t_max: F, n: usize) -> bool {
+        kernels().bvh_any_hit(self, ray, t_min, t_max, n)
+    }
+}
+
+impl<F: Float> Dispatch<F> for Patch<F> {
+    type Hit = Hit<F>;
+    #[inline]
+    fn closest_hit_isa(&self, ray: &Ray<F>, t_min: F, t_max: F, n: usize) -> Option<Hit<F>> {
+        kernels().patch_intersect(self, ray, t_min, t_max, n)
+    }
+    #[inline]
+    fn any_hit_isa(&self, ray: &Ray<F>, t_min: F, t_max: F, n: usize) -> bool {
+        self.closest_hit_isa(ray, t_min, t_max, n).is_some()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_round_trip_and_unknown_names_are_refused() {
+        for isa in Isa::ALL {
+            assert_eq!(Isa::parse(isa.name()), Some(isa));
+            assert_eq!(Isa::parse(&isa.name().to_uppercase()), Some(isa));
+            assert_eq!(isa.c_name().to_str().ok(), Some(isa.name()));
+        }
+        assert_eq!(Isa::parse("baseline"), Some(Isa::Baseline));
+        assert_eq!(Isa::parse("avx"), None);
+        assert_eq!(Isa::parse(""), None);
+    }
+
+    #[test]
+    fn the_best_is_supported_and_unsupported_sets_are_refused() {
+        assert!(Isa::best().supported());
+        assert_eq!(Kernels::best().isa(), Isa::best());
+        for isa in Isa::ALL {
+            match Kernels::new(isa) {
+                Ok(k) => assert!(isa.supported() && k.isa() == isa),
+                Err(e) => assert!(!isa.supported() && e == IsaError::Unsupported(isa)),
+            }
+        }
+        // Wider sets need every feature of the narrower ones.
+        assert!(!Isa::Avx512.supported() || Isa::Avx2.supported());
+    }
+}
