@@ -3,12 +3,12 @@
 //! this file under each one the machine has).
 
 use crate::common::*;
-use smoothtri_isa::Dispatch;
 use glam::{DVec3, Vec3};
 use smoothtri::accuracy::F64_SPHERE_HIT;
 use smoothtri::internal::MAX_LEAF;
 use smoothtri::{Aabb, BVH_EMPTY_SLOT, BVH_WIDTH, MAX_DEPTH};
 use smoothtri::{Bvh, BvhError, BvhNode, DPatch, DRay, Float, Hit, Patch, Ray};
+use smoothtri_isa::Dispatch;
 use smoothtri_testkit::scenes::{icosphere, torus};
 
 #[test]

@@ -6,12 +6,12 @@
 
 use crate::common::pins::*;
 use crate::common::*;
-use smoothtri_isa::{Dispatch, kernels};
 use glam::{DVec3, Vec3};
 use smoothtri::accuracy::*;
 use smoothtri::internal::{EARLY_STOP, WORST_SHRINK};
 use smoothtri::{DEFAULT_SAMPLES, DPatch, DRay, Float, Patch, Ray};
 use smoothtri::{max_height_evals, max_lane_calls};
+use smoothtri_isa::{Dispatch, kernels};
 use smoothtri_testkit::scenes::{cube, icosphere, sphere_root, torus};
 use smoothtri_testkit::{Mesh, patches32};
 
@@ -237,7 +237,13 @@ fn work_per_ray_is_bounded() {
         let (mut max_evals, mut sum, mut tests) = (0u32, 0u64, 0u64);
         for ray in rays {
             for p in ps {
-                let (_, s) = kernels().patch_intersect_stats::<F, K>(p, ray, F::ZERO, F::from_f64(f64::INFINITY), N);
+                let (_, s) = kernels().patch_intersect_stats::<F, K>(
+                    p,
+                    ray,
+                    F::ZERO,
+                    F::from_f64(f64::INFINITY),
+                    N,
+                );
                 assert!(
                     s.height_evals <= bound,
                     "K={K} N={N}: {} evaluations",
@@ -312,7 +318,8 @@ fn t_error_is_within_the_worst_case_bound() {
         ray: &Ray<F>,
         worst: &mut f64,
     ) -> bool {
-        let (h, s) = kernels().patch_intersect_stats::<F, K>(p, ray, F::ZERO, F::from_f64(f64::INFINITY), N);
+        let (h, s) =
+            kernels().patch_intersect_stats::<F, K>(p, ray, F::ZERO, F::from_f64(f64::INFINITY), N);
         let Some(h) = h else { return false };
         let (t, t_error) = (h.t.to_f64(), h.t_error.to_f64());
         let bracket = t_error - s.rounding;
@@ -398,7 +405,10 @@ fn degenerate_rays_give_no_hit_and_no_nan() {
         (Ray::new(o, toward), 0.0, f32::NAN),
         (Ray::new(o, -toward), 0.0, f32::INFINITY),
     ] {
-        assert!(p.closest_hit_isa(&ray, a, b, 8).is_none(), "{ray:?} [{a}, {b}]");
+        assert!(
+            p.closest_hit_isa(&ray, a, b, 8).is_none(),
+            "{ray:?} [{a}, {b}]"
+        );
     }
     // Starting inside the shell, below the surface: hits it from behind.
     let inside = Vec3::splat(0.5);
