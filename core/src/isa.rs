@@ -1,4 +1,5 @@
-//! The kernels per instruction set: the ray queries of [`Scene`], [`Bvh`] and [`Patch`] with
+//! The kernels per instruction set: the ray queries of [`Scene`](crate::Scene),
+//! [`Bvh`](crate::Bvh) and [`Patch`](crate::Patch) with
 //! the kernel's lane code compiled for an instruction set the build's target may lack, for
 //! callers that choose one at run time (docs/METHOD.md §8, "Instruction sets").
 //!
@@ -18,7 +19,7 @@
 //! # Accuracy
 //! The same as the target's queries, bit for bit: the lane code is the same IEEE operations
 //! in the same order at any width (no fused multiply-add: Rust never contracts `a·b + c`), so
-//! every hit, `t_error`, normal and count equals [`Scene::closest_hit`]'s and the others'
+//! every hit, `t_error`, normal and count equals [`Scene::closest_hit`](crate::Scene::closest_hit)'s and the others'
 //! (`tests/suite/isa.rs` checks each instruction set the CPU has against them).
 //!
 //! # Panics

@@ -12,7 +12,7 @@
 //!   `edge_point_normal`, `bounds` and `height_range` are finite, and every unit vector is unit
 //!   within [`smoothtri::accuracy::UNIT_LENGTH_ULPS`] ulps, at any barycentrics (outside the triangle, NaN, ±inf,
 //!   subnormal sums);
-//! - every `intersect::<N>` / `intersect_stats::<K, N>` result is `None` or fully finite, `t`
+//! - every `intersect(…, n)` / `intersect_stats::<K>(…, n)` result is `None` or fully finite, `t`
 //!   inside `[t_min, t_max]` exactly, `t_error ≥ 0`, unit normal, barycentrics in the triangle,
 //!   with at most `max_height_evals(K, N)` height evaluations (`max_lane_calls(K, N)` lane calls of eight and one step of four) and at most one normal evaluation;
 //! - BVH queries on storage made by `Bvh::build` never err and equal brute force exactly

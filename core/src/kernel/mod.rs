@@ -25,10 +25,11 @@
 //! patch is prepared twice for one hit and no prepared patch is copied.
 //!
 //! `f` is evaluated at eight parameters per call, in the lanes of [`Float::L8`]
-//! ([`crate::num::lanes`]). Work per ray is at most [`max_lane_calls`]`(K, N) = ⌈(K + 2)/8⌉ + N`
+//! ([`crate::num::lanes`]). Work per ray is at most [`max_lane_calls`]`(K, n) = ⌈(K + 2)/8⌉ + n`
 //! lane calls, one four-point call and one normal evaluation ([`max_height_evals`] height
-//! evaluations in all), whatever the input: every loop has a compile-time
-//! trip count (a loop may stop early when it has its answer, never run longer). The final
+//! evaluations in all), whatever the input: every loop has a bounded trip count (the
+//! refinement's at most [`MAX_ITERATIONS`] steps; a loop may stop early when it has its answer,
+//! never run longer). The final
 //! bracket's width plus a rounding allowance is returned as [`Hit::t_error`].
 
 //!
