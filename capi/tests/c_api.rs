@@ -17,7 +17,23 @@ use std::path::PathBuf;
 use glam::{DVec3, Vec3};
 use smoothtri::{BuildOptions, LineField, OwnedScene, Ray, SceneHit, Vertices};
 
+/// The C program `tests/c/{name}.c`, compiled once per run of this file: the tests that run
+/// one program share it (compiling it for each, in parallel, would replace the file under a
+/// test that is running it).
 fn c_program(name: &str) -> PathBuf {
+    static BUILT: std::sync::Mutex<Vec<(String, PathBuf)>> = std::sync::Mutex::new(Vec::new());
+    let mut built = BUILT
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner);
+    if let Some((_, exe)) = built.iter().find(|(n, _)| n == name) {
+        return exe.clone();
+    }
+    let exe = compile_program(name);
+    built.push((name.to_string(), exe.clone()));
+    exe
+}
+
+fn compile_program(name: &str) -> PathBuf {
     let dir = common::scratch(name);
     let src = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(format!("tests/c/{name}.c"));
     let exe = dir.join(name);
