@@ -28,11 +28,12 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use glam::DVec3;
-use smoothtri::{LineField, Ray};
+use smoothtri::{BuildOptions, LineField, OwnedScene, Ray, Vertices};
 use smoothtri_gpu::{FlatScene, FrameView, Gpu, GpuFrame, GpuScene};
 use smoothtri_io::{Mesh, angle_weighted_normals};
 use smoothtri_testkit::scenes::{teapot, tilted_normal_sphere, torus};
-use smoothtri_testkit::{Camera, SHADOW_OFFSET_F32, build_scene};
+use smoothtri_testkit::twist::{twist_pose, twisting_torus};
+use smoothtri_testkit::{Camera, RayonExecutor, SHADOW_OFFSET_F32, build_scene};
 
 struct Opts {
     width: u32,
@@ -271,7 +272,8 @@ fn main() -> Result<(), String> {
             );
         }
     }
-    frames(&gpu, &o).map_err(|e| e.to_string())
+    frames(&gpu, &o).map_err(|e| e.to_string())?;
+    animated(&gpu, &o).map_err(|e| e.to_string())
 }
 
 /// The frame table: `render_frame` at the camera of the first table, best of `--repeat` frames
@@ -329,5 +331,104 @@ fn frames(gpu: &Arc<Gpu>, o: &Opts) -> Result<(), Box<dyn std::error::Error>> {
             best.rays as f64 / best.seconds / 1e6
         );
     }
+    Ok(())
+}
+
+/// The twisting torus's grid side in the animated table: 2·224² = 100 352 triangles.
+const TWIST_SIDE: usize = 224;
+/// Frames timed in the animated table (a twentieth of a period apart), after one untimed.
+const TWIST_FRAMES: usize = 12;
+
+/// The animated table: the 100k twisting torus (`smoothtri_testkit::twist`) with seams, each
+/// frame posed, updated on the CPU (`OwnedScene::update` on rayon's pool, every core), moved
+/// into the GPU scene in place (`GpuScene::update`: records packed and written, no allocation)
+/// and rendered as `view --gpu --animate` renders it (1080p with shadows). Medians over
+/// [`TWIST_FRAMES`] frames. The update itself runs on the CPU: no WGSL update exists.
+fn animated(gpu: &Arc<Gpu>, o: &Opts) -> Result<(), Box<dyn std::error::Error>> {
+    let mut mesh = twisting_torus(TWIST_SIDE, 0.0);
+    let flat = |v: &[DVec3]| -> Vec<f64> { v.iter().flat_map(|p| p.to_array()).collect() };
+    let mut options = BuildOptions {
+        field: LineField::Face,
+        seams: true,
+        observer: (),
+        executor: RayonExecutor,
+    };
+    let (p, n) = (flat(&mesh.positions), flat(&mesh.normals));
+    let mut cpu = OwnedScene::<f32>::build(
+        Vertices::packed(&p),
+        Vertices::packed(&n),
+        &mesh.triangles,
+        &mut options,
+    )?;
+    let s = cpu.scene();
+    let mut scene = GpuScene::smooth_seamless(gpu, s.bvh(), s.seams())?;
+    let cam = Camera::for_mesh(&mesh, 30.0, 35.0, o.width, o.height);
+    let basis = [cam.forward, cam.right, cam.up];
+    let eps = mesh.diagonal() * SHADOW_OFFSET_F32;
+    let view = FrameView::pinhole(cam.eye, basis, cam.tan_half, cam.light_dir(), eps);
+    let mut frame = GpuFrame::new(gpu, o.width, o.height)?;
+    scene.render_frame(o.iterations, &view, &mut frame)?;
+    let mut times: [Vec<f64>; 5] = Default::default();
+    let mut refits = 0;
+    for k in 0..=TWIST_FRAMES {
+        let t = 0.05 * k as f64;
+        let t0 = Instant::now();
+        twist_pose(TWIST_SIDE, t, &mut mesh.positions, &mut mesh.normals);
+        let (p, n) = (flat(&mesh.positions), flat(&mesh.normals));
+        let t1 = Instant::now();
+        let report = *cpu.update(Vertices::packed(&p), Vertices::packed(&n), &mut options)?;
+        let t2 = Instant::now();
+        let s = cpu.scene();
+        scene.update(s.bvh(), Some(s.seams()))?;
+        let t3 = Instant::now();
+        let stats = scene.render_frame(o.iterations, &view, &mut frame)?;
+        let t4 = Instant::now();
+        if k == 0 {
+            continue;
+        }
+        refits += usize::from(report.bvh_refitted);
+        for (v, x) in times.iter_mut().zip([
+            (t1 - t0).as_secs_f64(),
+            (t2 - t1).as_secs_f64(),
+            (t3 - t2).as_secs_f64(),
+            stats.seconds,
+            (t4 - t0).as_secs_f64(),
+        ]) {
+            v.push(x * 1e3);
+        }
+    }
+    let med = |v: &mut Vec<f64>| {
+        v.sort_by(f64::total_cmp);
+        v[v.len() / 2]
+    };
+    println!();
+    println!(
+        "animated (view --gpu --animate): the twisting torus, {} triangles, seams, {}x{}, N = {}; \
+         CPU update on {} rayon threads, then GpuScene::update in place; median of {} frames, \
+         {} refitted",
+        mesh.triangles.len(),
+        o.width,
+        o.height,
+        o.iterations,
+        rayon::current_num_threads(),
+        TWIST_FRAMES,
+        refits
+    );
+    println!(
+        "| pose (not the renderer's) ms | CPU update ms | GpuScene::update ms | frame ms | \
+         whole frame ms | frames/s |"
+    );
+    println!("|---|---|---|---|---|---|");
+    let [a, b, c, d, e] = &mut times;
+    let whole = med(e);
+    println!(
+        "| {:.1} | {:.1} | {:.1} | {:.2} | {:.1} | {:.1} |",
+        med(a),
+        med(b),
+        med(c),
+        med(d),
+        whole,
+        1e3 / whole
+    );
     Ok(())
 }

@@ -275,8 +275,29 @@ impl Gpu {
                 .create_buffer_init(&wgpu::util::BufferInitDescriptor {
                     label: Some(what),
                     contents: &bytes,
-                    usage: wgpu::BufferUsages::STORAGE,
+                    usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
                 })
+        })
+    }
+
+    /// Writes `bytes` into `buffer` through the queue when the length is the buffer's
+    /// (no allocation on the device), else replaces `buffer` by a new [`Gpu::storage`] buffer
+    /// of `bytes`. Empty contents keep the one-node minimum of [`Gpu::storage`].
+    pub(crate) fn rewrite(
+        &self,
+        buffer: &mut wgpu::Buffer,
+        what: &'static str,
+        mut bytes: Vec<u8>,
+    ) -> Result<(), GpuError> {
+        if bytes.len() < size_of::<GpuNode>() {
+            bytes.resize(size_of::<GpuNode>(), 0);
+        }
+        if bytes.len() as u64 != buffer.size() {
+            *buffer = self.storage(what, bytes)?;
+            return Ok(());
+        }
+        scoped(&self.device, GpuError::Device, || {
+            self.queue.write_buffer(buffer, 0, &bytes);
         })
     }
 

@@ -29,6 +29,16 @@ pub enum GpuError {
         /// Output slots given.
         out: usize,
     },
+    /// [`GpuScene::update`](crate::GpuScene::update) was given another mesh: `given` patches
+    /// (or seams) for a scene of `scene` patches.
+    SceneMismatch {
+        /// What was counted: `"patch"`, `"seam"`, `"node"` or `"order"`.
+        what: &'static str,
+        /// The scene's patches.
+        scene: usize,
+        /// The count given.
+        given: usize,
+    },
     /// An iteration budget above [`MAX_ITERATIONS`](crate::MAX_ITERATIONS).
     Iterations(usize),
     /// The shader found a node or patch index outside the uploaded buffers, a node reached more
@@ -61,6 +71,10 @@ impl fmt::Display for GpuError {
             GpuError::LengthMismatch { rays, out } => {
                 write!(f, "{rays} rays but {out} output slots")
             }
+            GpuError::SceneMismatch { what, scene, given } => write!(
+                f,
+                "the update gives {given} {what} records for a scene of {scene} patches"
+            ),
             GpuError::Iterations(n) => write!(
                 f,
                 "iteration budget {n} is above the largest supported, {MAX_ITERATIONS}"

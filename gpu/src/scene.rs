@@ -80,12 +80,7 @@ impl GpuScene {
     /// hits and frames carry the Phong normal ([`Shading::Phong`]: the vertex normals
     /// interpolated at the hit's barycentrics, normalised; the face normal where that vanishes).
     pub fn phong(gpu: &Arc<Gpu>, bvh: &Bvh<'_, f32>) -> Result<GpuScene, GpuError> {
-        let data = f32_bytes(
-            bvh.patches()
-                .iter()
-                .flat_map(|p| p.normals().into_iter().flat_map(|n| [n.x, n.y, n.z, 0.0])),
-        );
-        Self::flat(gpu, bvh)?.with_shading(Shading::Phong, data)
+        Self::flat(gpu, bvh)?.with_shading(Shading::Phong, phong_data(bvh))
     }
 
     fn with_shading(mut self, shading: Shading, data: Vec<u8>) -> Result<GpuScene, GpuError> {
@@ -130,25 +125,7 @@ impl GpuScene {
             count("order", order.len())?,
             count("patch", patches.len())?,
         ];
-        let records = match kind {
-            SceneKind::Smooth => f32_bytes(patches.iter().flat_map(smooth_record)),
-            SceneKind::Flat => f32_bytes(patches.iter().flat_map(flat_record)),
-        };
-        let node_bytes: Vec<u8> = nodes
-            .iter()
-            .flat_map(|n| {
-                // The shader's `Node`: lo[3], hi[3], child, count (vec4 each).
-                let mut b = Vec::with_capacity(128);
-                for x in n.lo.iter().chain(&n.hi).flatten() {
-                    b.extend_from_slice(&x.to_ne_bytes());
-                }
-                for x in n.child.iter().chain(&n.count) {
-                    b.extend_from_slice(&x.to_ne_bytes());
-                }
-                b
-            })
-            .collect();
-        let order_bytes: Vec<u8> = order.iter().flat_map(|i| i.to_ne_bytes()).collect();
+        let (records, node_bytes, order_bytes) = pack(kind, patches, nodes, order);
         let bytes = (records.len() + node_bytes.len() + order_bytes.len()) as u64;
         Ok(GpuScene {
             gpu: Arc::clone(gpu),
@@ -158,11 +135,79 @@ impl GpuScene {
             order: gpu.storage("order", order_bytes)?,
             counts,
             bytes,
-            tilted: kind == SceneKind::Smooth
-                && patches.iter().any(|pd| pd.d.iter().any(|d| d[2] != 1.0)),
+            tilted: tilted(kind, patches),
             shading: Shading::Geometric,
             shade_in: gpu.storage("shading", Vec::new())?,
         })
+    }
+
+    /// Moves the scene to `bvh`'s records in place: the patch records, the BVH's nodes and
+    /// order and, for a scene with shading data, that data (`seams` for a
+    /// [`GpuScene::smooth_seamless`] scene, `bvh`'s vertex normals for a [`GpuScene::phong`]
+    /// one) are packed as the constructors pack them and written into the scene's buffers with
+    /// the device queue. Meant for an animated mesh whose CPU scene was updated
+    /// (`smoothtri::OwnedScene::update`): an update that refitted its tree keeps every length,
+    /// so no buffer is allocated; a length that changed (a rebuilt tree with another node
+    /// count) gets a new buffer of that kind. Queries and frames after the call see the new
+    /// records (the queue orders the writes before later submissions); the result equals a
+    /// fresh upload of `bvh` bit for bit.
+    ///
+    /// The scene keeps its kind and shading. Returns [`GpuError::SceneMismatch`] when `bvh`
+    /// has another patch count than the scene, or when `seams` is missing or of another
+    /// length for a seamless scene (`seams` is ignored otherwise); the scene is then unchanged.
+    /// A device error is [`GpuError::Device`], after which the scene's contents are
+    /// unspecified until a later update succeeds.
+    ///
+    /// # Panics
+    ///
+    /// Never.
+    pub fn update(
+        &mut self,
+        bvh: &Bvh<'_, f32>,
+        seams: Option<&[Seam<f32>]>,
+    ) -> Result<(), GpuError> {
+        let n = self.counts[2] as usize;
+        let mismatch = |what, given| GpuError::SceneMismatch {
+            what,
+            scene: n,
+            given,
+        };
+        if bvh.patches().len() != n {
+            return Err(mismatch("patch", bvh.patches().len()));
+        }
+        let shade = match self.shading {
+            Shading::Geometric => None,
+            Shading::Seamless => match seams {
+                Some(s) if s.len() == n => Some(f32_bytes(s.iter().flat_map(seam_record))),
+                other => return Err(mismatch("seam", other.map_or(0, <[_]>::len))),
+            },
+            Shading::Phong => Some(phong_data(bvh)),
+        };
+        let data: Vec<PatchData<f32>> = bvh.patches().iter().map(|p| p.data()).collect();
+        let nodes: Vec<GpuNode> = bvh.nodes().iter().map(GpuNode::from_node).collect();
+        let counts = [
+            u32::try_from(nodes.len()).map_err(|_| mismatch("node", nodes.len()))?,
+            u32::try_from(bvh.order().len()).map_err(|_| mismatch("order", bvh.order().len()))?,
+            self.counts[2],
+        ];
+        let (records, node_bytes, order_bytes) = pack(self.kind, &data, &nodes, bvh.order());
+        let gpu = Arc::clone(&self.gpu);
+        let mut bytes = 0;
+        for (buffer, what, contents) in [
+            (&mut self.patches, "patch", records),
+            (&mut self.nodes, "node", node_bytes),
+            (&mut self.order, "order", order_bytes),
+        ]
+        .into_iter()
+        .chain(shade.map(|d| (&mut self.shade_in, "shading", d)))
+        {
+            bytes += contents.len() as u64;
+            gpu.rewrite(buffer, what, contents)?;
+        }
+        self.bytes = bytes;
+        self.counts = counts;
+        self.tilted = tilted(self.kind, &data);
+        Ok(())
     }
 
     /// The shader's group 0 for this scene with the query's own buffers (the frame pass binds
@@ -218,4 +263,47 @@ impl GpuScene {
     pub fn gpu(&self) -> &Arc<Gpu> {
         &self.gpu
     }
+}
+
+/// The Phong scene's shading data: each patch's three world vertex normals, a `vec4` each.
+fn phong_data(bvh: &Bvh<'_, f32>) -> Vec<u8> {
+    f32_bytes(
+        bvh.patches()
+            .iter()
+            .flat_map(|p| p.normals().into_iter().flat_map(|n| [n.x, n.y, n.z, 0.0])),
+    )
+}
+
+/// Whether some smooth patch has tilted sections (`TILTED` in the shader).
+fn tilted(kind: SceneKind, patches: &[PatchData<f32>]) -> bool {
+    kind == SceneKind::Smooth && patches.iter().any(|pd| pd.d.iter().any(|d| d[2] != 1.0))
+}
+
+/// The bytes of a scene's records, nodes and order, as the shader reads them.
+fn pack(
+    kind: SceneKind,
+    patches: &[PatchData<f32>],
+    nodes: &[GpuNode],
+    order: &[u32],
+) -> (Vec<u8>, Vec<u8>, Vec<u8>) {
+    let records = match kind {
+        SceneKind::Smooth => f32_bytes(patches.iter().flat_map(smooth_record)),
+        SceneKind::Flat => f32_bytes(patches.iter().flat_map(flat_record)),
+    };
+    let node_bytes: Vec<u8> = nodes
+        .iter()
+        .flat_map(|n| {
+            // The shader's `Node`: lo[3], hi[3], child, count (vec4 each).
+            let mut b = Vec::with_capacity(128);
+            for x in n.lo.iter().chain(&n.hi).flatten() {
+                b.extend_from_slice(&x.to_ne_bytes());
+            }
+            for x in n.child.iter().chain(&n.count) {
+                b.extend_from_slice(&x.to_ne_bytes());
+            }
+            b
+        })
+        .collect();
+    let order_bytes: Vec<u8> = order.iter().flat_map(|i| i.to_ne_bytes()).collect();
+    (records, node_bytes, order_bytes)
 }
