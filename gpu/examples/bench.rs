@@ -4,7 +4,7 @@
 //! (`FlatScene`: no smooth code, the rows marked "own flat pipeline"; the fair anchor).
 //!
 //! ```text
-//! cargo run --release -p smoothtri-gpu --example bench [-- --width W --height H --iterations N --repeat R]
+//! cargo run --release -p smoothtri-gpu --example bench [-- --width W --height H --iterations N --repeat R --only rays|frames|animated]
 //! ```
 //!
 //! Scenes: the 8×8 torus (smooth) beside the flat 35×35 torus (the coarsest flat grid of equal
@@ -40,6 +40,22 @@ struct Opts {
     height: u32,
     iterations: usize,
     repeat: usize,
+    /// `--only rays|frames|animated`: one table instead of all three.
+    only: Option<Table>,
+}
+
+/// The bench's tables.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Table {
+    Rays,
+    Frames,
+    Animated,
+}
+
+impl Opts {
+    fn runs(&self, t: Table) -> bool {
+        self.only.is_none_or(|o| o == t)
+    }
 }
 
 fn opts() -> Result<Opts, String> {
@@ -48,11 +64,21 @@ fn opts() -> Result<Opts, String> {
         height: 1080,
         iterations: smoothtri_gpu::DEFAULT_ITERATIONS,
         repeat: 1,
+        only: None,
     };
     let args: Vec<String> = std::env::args().skip(1).collect();
     let mut it = args.iter();
     while let Some(a) = it.next() {
         let v = it.next().ok_or(format!("{a} needs a value"))?;
+        if a == "--only" {
+            o.only = Some(match v.as_str() {
+                "rays" => Table::Rays,
+                "frames" => Table::Frames,
+                "animated" => Table::Animated,
+                _ => return Err(format!("--only {v}: rays, frames or animated")),
+            });
+            continue;
+        }
         let n: usize = v.parse().map_err(|_| format!("{a} {v}: not a number"))?;
         match a.as_str() {
             "--width" => o.width = n as u32,
@@ -180,6 +206,21 @@ fn main() -> Result<(), String> {
              not GPU timings"
         );
     }
+    if o.runs(Table::Rays) {
+        rays(&gpu, &o)?;
+    }
+    if o.runs(Table::Frames) {
+        frames(&gpu, &o).map_err(|e| e.to_string())?;
+    }
+    if o.runs(Table::Animated) {
+        animated(&gpu, &o).map_err(|e| e.to_string())?;
+    }
+    Ok(())
+}
+
+/// The ray table: closest hits of the camera's primary rays, each smooth scene beside its flat
+/// baselines.
+fn rays(gpu: &Arc<Gpu>, o: &Opts) -> Result<(), String> {
     println!(
         "camera {}x{}, closest hit of every primary ray, smooth N = {}, best of {} runs; \
          Mrays/s over the whole call (upload, dispatch, readback) and over the kernel's GPU time \
@@ -272,8 +313,7 @@ fn main() -> Result<(), String> {
             );
         }
     }
-    frames(&gpu, &o).map_err(|e| e.to_string())?;
-    animated(&gpu, &o).map_err(|e| e.to_string())
+    Ok(())
 }
 
 /// The frame table: `render_frame` at the camera of the first table, best of `--repeat` frames
@@ -404,13 +444,14 @@ fn animated(gpu: &Arc<Gpu>, o: &Opts) -> Result<(), Box<dyn std::error::Error>> 
     println!();
     println!(
         "animated (view --gpu --animate): the twisting torus, {} triangles, seams, {}x{}, N = {}; \
-         CPU update on {} rayon threads, then GpuScene::update in place; median of {} frames, \
-         {} refitted",
+         CPU update on {} rayon threads, then GpuScene::update in place (4 buffer writes, \
+         {:.1} MB, no dispatch); median of {} frames, {} refitted",
         mesh.triangles.len(),
         o.width,
         o.height,
         o.iterations,
         rayon::current_num_threads(),
+        scene.memory_bytes() as f64 / 1e6,
         TWIST_FRAMES,
         refits
     );

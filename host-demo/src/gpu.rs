@@ -5,7 +5,7 @@
 
 use std::sync::Arc;
 
-use smoothtri_gpu::{FrameStats, FrameView, Gpu, GpuFrame, GpuScene};
+use smoothtri_gpu::{FrameStats, FrameView, Gpu, GpuFrame, GpuScene, Shading};
 use smoothtri_testkit::{Camera, SHADOW_OFFSET_F32};
 
 use crate::error::{DemoError, Result};
@@ -47,6 +47,14 @@ pub fn gpu_scene(gpu: &Arc<Gpu>, scene: &Scene<f32>, mode: Mode) -> Result<GpuSc
         }
     }
     .map_err(gpu_error)
+}
+
+/// Moves `gs`, uploaded by [`gpu_scene`] from an earlier pose of `scene`'s mesh, to `scene`
+/// in place ([`GpuScene::update`]: the same kind and shading, no buffer allocated where the
+/// lengths stayed).
+pub fn gpu_update(gs: &mut GpuScene, scene: &Scene<f32>) -> Result<()> {
+    let seams = (gs.shading() == Shading::Seamless).then(|| scene.seams());
+    gs.update(&scene.bvh(), seams).map_err(gpu_error)
 }
 
 /// The frame pass's view of `cam`: its camera, its light ([`Camera::light_dir`]), the

@@ -12,7 +12,9 @@
 //!
 //! `--animate` plays the source's animation ([`crate::animate`]: a glTF file's clip, or
 //! `--scene twist`) from `--time` on, looping over the clip, each frame's scene built from the
-//! pose ([`crate::animate::scene_of_pose`]); the camera frames the whole clip. Space pauses.
+//! pose ([`crate::animate::scene_of_pose`]: the previous pose's scene updated in place); with
+//! `--gpu` the uploaded scene is then rewritten in place too ([`gpu_update`]). The camera
+//! frames the whole clip. Space pauses.
 //! Headless, frame `k` shows `--time` + `k ·` [`FRAME_STEP`], so the last of K frames equals
 //! `render --time` at that time.
 
@@ -39,7 +41,7 @@ use super::render::Note;
 use super::source::MeshSource;
 use crate::animate::{Animation, FRAME_STEP, scene_of_pose};
 use crate::error::{DemoError, Result};
-use crate::gpu::{frame_view, gpu_error, gpu_scene, open_gpu, read_frame};
+use crate::gpu::{frame_view, gpu_error, gpu_scene, gpu_update, open_gpu, read_frame};
 use crate::image::{Image, heat};
 use crate::renderer::{PixelHit, Rendered};
 use crate::tracer::{Mode, Normals, Prec, Precision, Scene, tracer};
@@ -215,8 +217,9 @@ struct Frame {
 /// window's swap chain.
 struct GpuView {
     gpu: Arc<Gpu>,
-    /// Per mode and shading normal.
-    scenes: HashMap<(Mode, Normals), Rc<GpuScene>>,
+    /// Per mode and shading normal, each with whether the mesh moved since it was written
+    /// (`--animate`: moved in place by [`gpu_update`] before its next frame).
+    scenes: HashMap<(Mode, Normals), (Rc<GpuScene>, bool)>,
     /// The last frame (its size is the last frame's) and the scene and counters it was
     /// rendered with.
     frame: Option<(GpuFrame, Rc<GpuScene>, FrameStats)>,
@@ -306,7 +309,9 @@ impl Viewer {
         self.diag = self.mesh.diagonal();
         self.scenes.posed();
         if let Some(g) = self.gpu.as_mut() {
-            g.scenes.clear();
+            for (_, stale) in g.scenes.values_mut() {
+                *stale = true;
+            }
         }
         Ok(())
     }
@@ -324,17 +329,28 @@ impl Viewer {
                 return Err(DemoError::Usage("view: no GPU".into()));
             };
             let key = (s.mode, s.normals);
-            let gs = match g.scenes.get(&key) {
-                Some(gs) => Rc::clone(gs),
-                None => {
-                    let gs = Rc::new(gpu_scene(&g.gpu, &scene, s.mode)?);
-                    g.scenes.insert(key, Rc::clone(&gs));
-                    gs
-                }
-            };
+            // The last frame holds its scene: dropped first, so that a moved scene is
+            // written in place rather than uploaded anew.
             let mut frame = match g.frame.take() {
                 Some((f, _, _)) if (f.width(), f.height()) == (w, h) => f,
                 _ => GpuFrame::new(&g.gpu, w, h).map_err(gpu_error)?,
+            };
+            let gs = match g.scenes.get_mut(&key) {
+                Some((gs, stale)) => {
+                    if *stale {
+                        match Rc::get_mut(gs) {
+                            Some(m) => gpu_update(m, &scene)?,
+                            None => *gs = Rc::new(gpu_scene(&g.gpu, &scene, s.mode)?),
+                        }
+                        *stale = false;
+                    }
+                    Rc::clone(gs)
+                }
+                None => {
+                    let gs = Rc::new(gpu_scene(&g.gpu, &scene, s.mode)?);
+                    g.scenes.insert(key, (Rc::clone(&gs), false));
+                    gs
+                }
             };
             let stats = gs
                 .render_frame(s.n, &frame_view(&cam, self.diag, s.heat), &mut frame)
