@@ -271,13 +271,13 @@ fn rays(gpu: &Arc<Gpu>, o: &Opts) -> Result<(), String> {
         // As a renderer builds it: patches, cracks closed, BVH (`build_scene`).
         let owned = build_scene::<f32>(&mesh, field, false).map_err(|e| e.to_string())?;
         let b = owned.scene();
-        let smooth = GpuScene::smooth(&gpu, b.bvh()).map_err(|e| e.to_string())?;
+        let smooth = GpuScene::smooth(gpu, b.bvh()).map_err(|e| e.to_string())?;
         let s = rate(&smooth, o.iterations, &rays, o.repeat).map_err(|e| e.to_string())?;
         for (flat_name, flat_mesh) in flats {
             let flat_owned = build_scene::<f32>(&flat_mesh, LineField::Face, false)
                 .map_err(|e| e.to_string())?;
             let fb = flat_owned.scene();
-            let flat = GpuScene::flat(&gpu, fb.bvh()).map_err(|e| e.to_string())?;
+            let flat = GpuScene::flat(gpu, fb.bvh()).map_err(|e| e.to_string())?;
             let f = rate(&flat, 0, &rays, o.repeat).map_err(|e| e.to_string())?;
             let ratio = match (s.kernel, f.kernel) {
                 (Some(sk), Some(fk)) => format!("{:.1}×", fk / sk),
@@ -298,7 +298,7 @@ fn rays(gpu: &Arc<Gpu>, o: &Opts) -> Result<(), String> {
             let tris: Vec<[glam::Vec3; 3]> = (0..flat_mesh.triangles.len())
                 .map(|t| flat_mesh.triangle(t).0.map(|p| p.as_vec3()))
                 .collect();
-            let own = FlatScene::new(&gpu, &tris).map_err(|e| e.to_string())?;
+            let own = FlatScene::new(gpu, &tris).map_err(|e| e.to_string())?;
             let g = rate_own(&own, &rays, o.repeat).map_err(|e| e.to_string())?;
             let ratio = match (s.kernel, g.kernel) {
                 (Some(sk), Some(gk)) => format!("{:.1}×", gk / sk),

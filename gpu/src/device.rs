@@ -9,7 +9,7 @@ use std::sync::{Arc, Mutex};
 use wgpu::util::DeviceExt;
 
 use crate::error::GpuError;
-use crate::records::GpuNode;
+use crate::records::{GpuNode, Packed, packed_bytes};
 use crate::shader::{HIT_BYTES, MAX_ITERATIONS, SHADER, Shading, WORKGROUP};
 
 /// Largest batch of rays per dispatch.
@@ -58,6 +58,9 @@ fn rank(t: wgpu::DeviceType) -> u8 {
 
 /// Runs `f` inside validation and out-of-memory error scopes; the first captured error is
 /// returned as `wrap(message)`.
+/// Bytes packed at a time by [`Gpu::rewrite`] before they are copied into the staging view.
+const WRITE_CHUNK: usize = 64 * 1024;
+
 pub(crate) fn scoped<T>(
     device: &wgpu::Device,
     wrap: fn(String) -> GpuError,
@@ -280,25 +283,49 @@ impl Gpu {
         })
     }
 
-    /// Writes `bytes` into `buffer` through the queue when the length is the buffer's
-    /// (no allocation on the device), else replaces `buffer` by a new [`Gpu::storage`] buffer
-    /// of `bytes`. Empty contents keep the one-node minimum of [`Gpu::storage`].
-    pub(crate) fn rewrite(
+    /// Writes `records` (back to back, as [`Packed`] packs them) into `buffer`
+    /// through the queue's staging memory when their length is the buffer's (no allocation on
+    /// the device, no copy of the whole on the host: records are packed in chunks of
+    /// [`WRITE_CHUNK`] bytes straight into the staging view), else replaces `buffer` by a new
+    /// [`Gpu::storage`] buffer of them. Empty contents keep the one-node minimum of
+    /// [`Gpu::storage`].
+    pub(crate) fn rewrite<R: Packed>(
         &self,
         buffer: &mut wgpu::Buffer,
         what: &'static str,
-        mut bytes: Vec<u8>,
+        records: impl ExactSizeIterator<Item = R>,
     ) -> Result<(), GpuError> {
-        if bytes.len() < size_of::<GpuNode>() {
-            bytes.resize(size_of::<GpuNode>(), 0);
-        }
-        if bytes.len() as u64 != buffer.size() {
-            *buffer = self.storage(what, bytes)?;
-            return Ok(());
-        }
+        let len = records.len() * R::BYTES;
+        let size = len.max(size_of::<GpuNode>()) as u64;
+        let staged = match wgpu::BufferSize::new(size) {
+            Some(s) if size == buffer.size() && len > 0 => s,
+            _ => {
+                *buffer = self.storage(what, packed_bytes(records))?;
+                return Ok(());
+            }
+        };
         scoped(&self.device, GpuError::Device, || {
-            self.queue.write_buffer(buffer, 0, &bytes);
-        })
+            let Some(mut view) = self.queue.write_buffer_with(buffer, 0, staged) else {
+                return Err(GpuError::Device(format!(
+                    "no staging memory for {size} bytes of {what} records"
+                )));
+            };
+            let mut chunk: Vec<u8> = Vec::with_capacity(WRITE_CHUNK + R::BYTES);
+            let mut at = 0usize;
+            let mut flush = |chunk: &mut Vec<u8>, at: &mut usize| {
+                view.slice(*at..*at + chunk.len()).copy_from_slice(chunk);
+                *at += chunk.len();
+                chunk.clear();
+            };
+            for r in records {
+                r.pack(&mut chunk);
+                if chunk.len() >= WRITE_CHUNK {
+                    flush(&mut chunk, &mut at);
+                }
+            }
+            flush(&mut chunk, &mut at);
+            Ok(())
+        })?
     }
 
     /// Submits `enc`, waits for it, and returns `range` of `read_buf` (a `MAP_READ` buffer the

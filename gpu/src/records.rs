@@ -37,6 +37,55 @@ impl GpuNode {
     }
 }
 
+/// A record as the shader reads it: `BYTES` bytes in native order.
+pub(crate) trait Packed {
+    /// The record's size in bytes.
+    const BYTES: usize;
+    /// Appends the record's bytes to `out`.
+    fn pack(&self, out: &mut Vec<u8>);
+}
+
+impl<const K: usize> Packed for [f32; K] {
+    const BYTES: usize = 4 * K;
+    #[inline]
+    fn pack(&self, out: &mut Vec<u8>) {
+        for x in self {
+            out.extend_from_slice(&x.to_ne_bytes());
+        }
+    }
+}
+
+impl Packed for u32 {
+    const BYTES: usize = 4;
+    #[inline]
+    fn pack(&self, out: &mut Vec<u8>) {
+        out.extend_from_slice(&self.to_ne_bytes());
+    }
+}
+
+impl Packed for GpuNode {
+    const BYTES: usize = size_of::<GpuNode>();
+    /// The shader's `Node`: lo[3], hi[3], child, count (vec4 each).
+    #[inline]
+    fn pack(&self, out: &mut Vec<u8>) {
+        for x in self.lo.iter().chain(&self.hi) {
+            x.pack(out);
+        }
+        for x in self.child.iter().chain(&self.count) {
+            x.pack(out);
+        }
+    }
+}
+
+/// The bytes of `records`, back to back.
+pub(crate) fn packed_bytes<R: Packed>(records: impl ExactSizeIterator<Item = R>) -> Vec<u8> {
+    let mut out = Vec::with_capacity(records.len() * R::BYTES);
+    for r in records {
+        r.pack(&mut out);
+    }
+    out
+}
+
 fn dot(a: [f32; 3], b: [f32; 3]) -> f32 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
@@ -114,10 +163,6 @@ pub fn flat_record(pd: &PatchData<f32>) -> [f32; FLAT_VEC4 * 4] {
         }
     }
     r
-}
-
-pub(crate) fn f32_bytes(v: impl IntoIterator<Item = f32>) -> Vec<u8> {
-    v.into_iter().flat_map(f32::to_ne_bytes).collect()
 }
 
 /// The seam record of one patch as the shader reads it ([`SEAM_VEC4`] vec4s): per edge `j` the

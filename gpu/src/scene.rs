@@ -5,12 +5,12 @@ use std::fmt;
 use std::sync::Arc;
 
 use smoothtri::mesh::Seam;
-use smoothtri::{Bvh, PatchData};
+use smoothtri::{Bvh, Patch, PatchData};
 
 use crate::device::{Gpu, PipelineKey, bind_entry};
 use crate::error::GpuError;
-use crate::records::{GpuNode, f32_bytes, flat_record, seam_record, smooth_record};
-use crate::shader::Shading;
+use crate::records::{GpuNode, flat_record, packed_bytes, seam_record, smooth_record};
+use crate::shader::{FLAT_VEC4, PATCH_VEC4, SEAM_VEC4, Shading};
 
 /// What a scene's records are.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -72,7 +72,7 @@ impl GpuScene {
                 out: seams.len(),
             });
         }
-        let data = f32_bytes(seams.iter().flat_map(seam_record));
+        let data = packed_bytes(seams.iter().map(seam_record));
         Self::smooth(gpu, bvh)?.with_shading(Shading::Seamless, data)
     }
 
@@ -135,7 +135,7 @@ impl GpuScene {
             order: gpu.storage("order", order_bytes)?,
             counts,
             bytes,
-            tilted: tilted(kind, patches),
+            tilted: tilted(kind, patches.iter().map(|pd| pd.d)),
             shading: Shading::Geometric,
             shade_in: gpu.storage("shading", Vec::new())?,
         })
@@ -172,41 +172,60 @@ impl GpuScene {
             scene: n,
             given,
         };
-        if bvh.patches().len() != n {
-            return Err(mismatch("patch", bvh.patches().len()));
+        let patches = bvh.patches();
+        if patches.len() != n {
+            return Err(mismatch("patch", patches.len()));
         }
-        let shade = match self.shading {
-            Shading::Geometric => None,
-            Shading::Seamless => match seams {
-                Some(s) if s.len() == n => Some(f32_bytes(s.iter().flat_map(seam_record))),
-                other => return Err(mismatch("seam", other.map_or(0, <[_]>::len))),
-            },
-            Shading::Phong => Some(phong_data(bvh)),
+        let seams = match (self.shading, seams) {
+            (Shading::Seamless, Some(s)) if s.len() == n => s,
+            (Shading::Seamless, other) => {
+                return Err(mismatch("seam", other.map_or(0, <[_]>::len)));
+            }
+            _ => &[],
         };
-        let data: Vec<PatchData<f32>> = bvh.patches().iter().map(|p| p.data()).collect();
-        let nodes: Vec<GpuNode> = bvh.nodes().iter().map(GpuNode::from_node).collect();
+        let count = |what, k: usize| u32::try_from(k).map_err(|_| mismatch(what, k));
         let counts = [
-            u32::try_from(nodes.len()).map_err(|_| mismatch("node", nodes.len()))?,
-            u32::try_from(bvh.order().len()).map_err(|_| mismatch("order", bvh.order().len()))?,
+            count("node", bvh.nodes().len())?,
+            count("order", bvh.order().len())?,
             self.counts[2],
         ];
-        let (records, node_bytes, order_bytes) = pack(self.kind, &data, &nodes, bvh.order());
         let gpu = Arc::clone(&self.gpu);
-        let mut bytes = 0;
-        for (buffer, what, contents) in [
-            (&mut self.patches, "patch", records),
-            (&mut self.nodes, "node", node_bytes),
-            (&mut self.order, "order", order_bytes),
-        ]
-        .into_iter()
-        .chain(shade.map(|d| (&mut self.shade_in, "shading", d)))
-        {
-            bytes += contents.len() as u64;
-            gpu.rewrite(buffer, what, contents)?;
+        let records = patches.iter().map(|p| p.data());
+        match self.kind {
+            SceneKind::Smooth => gpu.rewrite(
+                &mut self.patches,
+                "patch",
+                records.map(|d| smooth_record(&d)),
+            )?,
+            SceneKind::Flat => {
+                gpu.rewrite(&mut self.patches, "patch", records.map(|d| flat_record(&d)))?
+            }
         }
-        self.bytes = bytes;
+        let nodes = bvh.nodes().iter().map(GpuNode::from_node);
+        gpu.rewrite(&mut self.nodes, "node", nodes)?;
+        gpu.rewrite(&mut self.order, "order", bvh.order().iter().copied())?;
+        let shade = match self.shading {
+            Shading::Geometric => 0,
+            Shading::Seamless => {
+                gpu.rewrite(&mut self.shade_in, "shading", seams.iter().map(seam_record))?;
+                n * SEAM_VEC4 * 16
+            }
+            Shading::Phong => {
+                gpu.rewrite(
+                    &mut self.shade_in,
+                    "shading",
+                    patches.iter().map(phong_record),
+                )?;
+                n * 48
+            }
+        };
+        let record = match self.kind {
+            SceneKind::Smooth => PATCH_VEC4 * 16,
+            SceneKind::Flat => FLAT_VEC4 * 16,
+        };
+        self.bytes = (n * record + bvh.nodes().len() * size_of::<GpuNode>() + n * 4 + shade) as u64;
         self.counts = counts;
-        self.tilted = tilted(self.kind, &data);
+        self.tilted = tilted(self.kind, patches.iter().map(|p| p.data().d));
         Ok(())
     }
 
@@ -267,16 +286,18 @@ impl GpuScene {
 
 /// The Phong scene's shading data: each patch's three world vertex normals, a `vec4` each.
 fn phong_data(bvh: &Bvh<'_, f32>) -> Vec<u8> {
-    f32_bytes(
-        bvh.patches()
-            .iter()
-            .flat_map(|p| p.normals().into_iter().flat_map(|n| [n.x, n.y, n.z, 0.0])),
-    )
+    packed_bytes(bvh.patches().iter().map(phong_record))
+}
+
+/// One patch's Phong shading record: its three world vertex normals, a `vec4` each.
+fn phong_record(p: &Patch<f32>) -> [f32; 12] {
+    let [a, b, c] = p.normals();
+    [a.x, a.y, a.z, 0.0, b.x, b.y, b.z, 0.0, c.x, c.y, c.z, 0.0]
 }
 
 /// Whether some smooth patch has tilted sections (`TILTED` in the shader).
-fn tilted(kind: SceneKind, patches: &[PatchData<f32>]) -> bool {
-    kind == SceneKind::Smooth && patches.iter().any(|pd| pd.d.iter().any(|d| d[2] != 1.0))
+fn tilted(kind: SceneKind, mut ds: impl Iterator<Item = [[f32; 3]; 3]>) -> bool {
+    kind == SceneKind::Smooth && ds.any(|d| d.iter().any(|d| d[2] != 1.0))
 }
 
 /// The bytes of a scene's records, nodes and order, as the shader reads them.
@@ -287,23 +308,10 @@ fn pack(
     order: &[u32],
 ) -> (Vec<u8>, Vec<u8>, Vec<u8>) {
     let records = match kind {
-        SceneKind::Smooth => f32_bytes(patches.iter().flat_map(smooth_record)),
-        SceneKind::Flat => f32_bytes(patches.iter().flat_map(flat_record)),
+        SceneKind::Smooth => packed_bytes(patches.iter().map(smooth_record)),
+        SceneKind::Flat => packed_bytes(patches.iter().map(flat_record)),
     };
-    let node_bytes: Vec<u8> = nodes
-        .iter()
-        .flat_map(|n| {
-            // The shader's `Node`: lo[3], hi[3], child, count (vec4 each).
-            let mut b = Vec::with_capacity(128);
-            for x in n.lo.iter().chain(&n.hi).flatten() {
-                b.extend_from_slice(&x.to_ne_bytes());
-            }
-            for x in n.child.iter().chain(&n.count) {
-                b.extend_from_slice(&x.to_ne_bytes());
-            }
-            b
-        })
-        .collect();
-    let order_bytes: Vec<u8> = order.iter().flat_map(|i| i.to_ne_bytes()).collect();
+    let node_bytes = packed_bytes(nodes.iter().copied());
+    let order_bytes = packed_bytes(order.iter().copied());
     (records, node_bytes, order_bytes)
 }
