@@ -288,20 +288,20 @@ impl Gpu {
     /// the device, no copy of the whole on the host: records are packed in chunks of
     /// [`WRITE_CHUNK`] bytes straight into the staging view), else replaces `buffer` by a new
     /// [`Gpu::storage`] buffer of them. Empty contents keep the one-node minimum of
-    /// [`Gpu::storage`].
+    /// [`Gpu::storage`]. Returns the records' bytes.
     pub(crate) fn rewrite<R: Packed>(
         &self,
         buffer: &mut wgpu::Buffer,
         what: &'static str,
         records: impl ExactSizeIterator<Item = R>,
-    ) -> Result<(), GpuError> {
+    ) -> Result<u64, GpuError> {
         let len = records.len() * R::BYTES;
         let size = len.max(size_of::<GpuNode>()) as u64;
         let staged = match wgpu::BufferSize::new(size) {
             Some(s) if size == buffer.size() && len > 0 => s,
             _ => {
                 *buffer = self.storage(what, packed_bytes(records))?;
-                return Ok(());
+                return Ok(len as u64);
             }
         };
         scoped(&self.device, GpuError::Device, || {
@@ -324,7 +324,7 @@ impl Gpu {
                 }
             }
             flush(&mut chunk, &mut at);
-            Ok(())
+            Ok(len as u64)
         })?
     }
 

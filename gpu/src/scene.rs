@@ -10,7 +10,7 @@ use smoothtri::{Bvh, Patch, PatchData};
 use crate::device::{Gpu, PipelineKey, bind_entry};
 use crate::error::GpuError;
 use crate::records::{GpuNode, flat_record, packed_bytes, seam_record, smooth_record};
-use crate::shader::{FLAT_VEC4, PATCH_VEC4, SEAM_VEC4, Shading};
+use crate::shader::Shading;
 
 /// What a scene's records are.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -191,39 +191,29 @@ impl GpuScene {
         ];
         let gpu = Arc::clone(&self.gpu);
         let records = patches.iter().map(|p| p.data());
-        match self.kind {
-            SceneKind::Smooth => gpu.rewrite(
-                &mut self.patches,
-                "patch",
-                records.map(|d| smooth_record(&d)),
-            )?,
+        let mut bytes = match self.kind {
+            SceneKind::Smooth => {
+                let records = records.map(|d| smooth_record(&d));
+                gpu.rewrite(&mut self.patches, "patch", records)?
+            }
             SceneKind::Flat => {
                 gpu.rewrite(&mut self.patches, "patch", records.map(|d| flat_record(&d)))?
             }
-        }
+        };
         let nodes = bvh.nodes().iter().map(GpuNode::from_node);
-        gpu.rewrite(&mut self.nodes, "node", nodes)?;
-        gpu.rewrite(&mut self.order, "order", bvh.order().iter().copied())?;
-        let shade = match self.shading {
+        bytes += gpu.rewrite(&mut self.nodes, "node", nodes)?;
+        bytes += gpu.rewrite(&mut self.order, "order", bvh.order().iter().copied())?;
+        bytes += match self.shading {
             Shading::Geometric => 0,
             Shading::Seamless => {
-                gpu.rewrite(&mut self.shade_in, "shading", seams.iter().map(seam_record))?;
-                n * SEAM_VEC4 * 16
+                gpu.rewrite(&mut self.shade_in, "shading", seams.iter().map(seam_record))?
             }
             Shading::Phong => {
-                gpu.rewrite(
-                    &mut self.shade_in,
-                    "shading",
-                    patches.iter().map(phong_record),
-                )?;
-                n * 48
+                let normals = patches.iter().map(phong_record);
+                gpu.rewrite(&mut self.shade_in, "shading", normals)?
             }
         };
-        let record = match self.kind {
-            SceneKind::Smooth => PATCH_VEC4 * 16,
-            SceneKind::Flat => FLAT_VEC4 * 16,
-        };
-        self.bytes = (n * record + bvh.nodes().len() * size_of::<GpuNode>() + n * 4 + shade) as u64;
+        self.bytes = bytes;
         self.counts = counts;
         self.tilted = tilted(self.kind, patches.iter().map(|p| p.data().d));
         Ok(())
