@@ -58,6 +58,9 @@ fn rank(t: wgpu::DeviceType) -> u8 {
 
 /// Runs `f` inside validation and out-of-memory error scopes; the first captured error is
 /// returned as `wrap(message)`.
+/// How long a readback waits for its mapping once the device has finished the work.
+const MAP_WAIT: std::time::Duration = std::time::Duration::from_secs(30);
+
 /// Bytes packed at a time by [`Gpu::rewrite`] before they are copied into the staging view.
 const WRITE_CHUNK: usize = 64 * 1024;
 
@@ -337,15 +340,17 @@ impl Gpu {
         range: std::ops::Range<u64>,
     ) -> Result<Vec<u8>, GpuError> {
         self.queue.submit([enc.finish()]);
-        let done = Arc::new(Mutex::new(None));
-        let flag = Arc::clone(&done);
+        let (tx, rx) = std::sync::mpsc::channel();
         read_buf.map_async(wgpu::MapMode::Read, range.clone(), move |r| {
-            if let Ok(mut slot) = flag.lock() {
-                *slot = Some(r);
-            }
+            let _ = tx.send(r);
         });
         let polled = self.device.poll(wgpu::PollType::wait_indefinitely());
-        let mapped = done.lock().ok().and_then(|mut s| s.take());
+        // The poll returns once the work is done, but the callback may run a moment later: a
+        // poll on another thread sharing the device can have taken it from the queue first.
+        let mapped = match polled {
+            Ok(_) => rx.recv_timeout(MAP_WAIT).ok(),
+            Err(_) => None,
+        };
         let out = match (polled, mapped) {
             (Err(e), _) => Err(GpuError::Device(e.to_string())),
             (_, Some(Ok(()))) => {
