@@ -32,6 +32,7 @@ pub use tree::BoxBvh;
 
 use crate::exec::Executor;
 use build::{build_tree, refit, tree_cost};
+use node::SlabRay;
 
 use crate::kernel::heights::Target;
 use crate::kernel::{
@@ -227,25 +228,31 @@ impl<'a, F: Float> Bvh<'a, F> {
         let mut free = 0usize;
         let (id, c) = self
             .tree
-            .traverse(ray, t_min, t_max, false, &mut |id, a, b, beyond| {
-                let p = patches.get(id as usize)?;
-                let slot = if free == 0 { &mut *s0 } else { &mut *s1 };
-                let test = Test {
-                    t_min: a,
-                    t_max: b,
-                    beyond,
-                    n,
-                };
-                let c = kernel::crossing::<F, DEFAULT_SAMPLES>(
-                    p, &world, test, &mut stats, slot, heights,
-                )?;
-                // The traversal keeps a crossing iff it precedes the best so far (`beyond`):
-                // then its slot holds the best, and the next candidate takes the other.
-                if beyond.is_none_or(|t| c.t < t) {
-                    free ^= 1;
-                }
-                Some(c)
-            })
+            .traverse_slab(
+                &SlabRay::of_world(&world),
+                t_min,
+                t_max,
+                false,
+                &mut |id, a, b, beyond| {
+                    let p = patches.get(id as usize)?;
+                    let slot = if free == 0 { &mut *s0 } else { &mut *s1 };
+                    let test = Test {
+                        t_min: a,
+                        t_max: b,
+                        beyond,
+                        n,
+                    };
+                    let c = kernel::crossing::<F, DEFAULT_SAMPLES>(
+                        p, &world, test, &mut stats, slot, heights,
+                    )?;
+                    // The traversal keeps a crossing iff it precedes the best so far (`beyond`):
+                    // then its slot holds the best, and the next candidate takes the other.
+                    if beyond.is_none_or(|t| c.t < t) {
+                        free ^= 1;
+                    }
+                    Some(c)
+                },
+            )
             .ok()??;
         let best = if free == 0 { s1 } else { s0 };
         Some((id, c, best.as_ref()?))
@@ -276,9 +283,12 @@ impl<'a, F: Float> Bvh<'a, F> {
         let n = Budget::new(n);
         let patches = self.patches;
         let mut scratch = None;
-        let first = self
-            .tree
-            .traverse(ray, t_min, t_max, true, &mut |id, a, b, _| {
+        let first = self.tree.traverse_slab(
+            &SlabRay::of_world(&world),
+            t_min,
+            t_max,
+            true,
+            &mut |id, a, b, _| {
                 let p = patches.get(id as usize)?;
                 let test = Test {
                     t_min: a,
@@ -294,7 +304,8 @@ impl<'a, F: Float> Bvh<'a, F> {
                     &mut scratch,
                     heights,
                 )
-            });
+            },
+        );
         matches!(first, Ok(Some(_)))
     }
 

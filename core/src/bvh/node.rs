@@ -2,6 +2,7 @@
 //! and its traversal stack, and the ray's slab test of all four children in one step.
 
 use crate::aabb::Aabb;
+use crate::kernel::WorldRay;
 use crate::num::real::{Float, Lane4, LaneOps};
 use crate::num::vec::V3;
 
@@ -161,8 +162,21 @@ pub(super) struct SlabRay<F: Float> {
 }
 
 impl<F: Float> SlabRay<F> {
+    /// The slab ray of origin `o` and direction `d` (any values).
     pub(super) fn new(o: V3<F>, d: V3<F>) -> Self {
-        let inv = crate::aabb::reciprocal(d);
+        Self::with_reciprocals(o, d, crate::aabb::reciprocal(d))
+    }
+
+    /// The slab ray of a world ray the kernel has prepared: its reciprocals, computed once
+    /// per ray for the traversal and every patch's box test.
+    #[inline(always)]
+    pub(super) fn of_world(ray: &WorldRay<F>) -> Self {
+        Self::with_reciprocals(ray.o, ray.d, ray.inv)
+    }
+
+    /// The slab ray with `inv = reciprocal(d)` given.
+    #[inline(always)]
+    fn with_reciprocals(o: V3<F>, d: V3<F>, inv: V3<F>) -> Self {
         let (o, d, inv) = ([o.x, o.y, o.z], [d.x, d.y, d.z], [inv.x, inv.y, inv.z]);
         let mode = core::array::from_fn(|a| {
             let (c, i) = (d.get(a).copied(), inv.get(a).copied());

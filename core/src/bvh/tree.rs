@@ -182,10 +182,26 @@ impl<'a, F: Float> BoxBvh<'a, F> {
     ) -> Result<Option<(u32, C)>, BvhError> {
         let o = F::from_glam(ray.origin);
         let d = F::from_glam(ray.dir);
-        if !o.all_finite() || !d.all_finite() || t_min.is_nan() || t_max.is_nan() {
+        if !o.all_finite() || !d.all_finite() {
             return Ok(None);
         }
-        let slab = SlabRay::new(o, d);
+        self.traverse_slab(&SlabRay::new(o, d), t_min, t_max, any, test)
+    }
+
+    /// [`BoxBvh::traverse`] for a ray already prepared ([`SlabRay`], finite origin and
+    /// direction): the kernel's queries pass their [`WorldRay`](crate::kernel::WorldRay)'s
+    /// reciprocals instead of computing them again.
+    pub(super) fn traverse_slab<C: Candidate<F>>(
+        &self,
+        slab: &SlabRay<F>,
+        t_min: F,
+        t_max: F,
+        any: bool,
+        test: &mut impl FnMut(u32, F, F, Option<F>) -> Option<C>,
+    ) -> Result<Option<(u32, C)>, BvhError> {
+        if t_min.is_nan() || t_max.is_nan() {
+            return Ok(None);
+        }
         let mut best: Option<(u32, C)> = None;
         let mut tmax = t_max;
         let mut stack: HVec<Pending<F>, BVH_STACK> = HVec::new();
