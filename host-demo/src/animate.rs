@@ -5,17 +5,12 @@
 //! [`scene_of_pose`] is the one place a posed mesh becomes a scene.
 
 use glam::DVec3;
-use smoothtri::LineField;
 use smoothtri_io::{AnimatedMesh, Mesh};
 use smoothtri_testkit::Camera;
 use smoothtri_testkit::twist::{TWIST_DEMO_SIDE, TWIST_PERIOD, twist_pose, twisting_torus};
 
 use crate::commands::MeshSource;
-use crate::commands::render::{
-    Note, RenderOptions, SceneCache, build_scene, render_panel_with, side_by_side,
-};
 use crate::error::{DemoError, Result};
-use crate::tracer::{Prec, Scene};
 use crate::up::Up;
 
 /// The time between two frames of the viewer's headless animation (`view --animate --frames
@@ -177,29 +172,6 @@ pub fn check_time(t: f64) -> Result<f64> {
     }
 }
 
-/// The scene of a posed `mesh` in precision `F` (on `field`, with seams when `seams`), given
-/// the scene of the previous pose of the same animation when there is one (same triangles,
-/// same options): the one place where an animation turns posed vertices into a scene. The
-/// previous scene is updated in place ([`Scene::update`]); without one, or where the update
-/// refuses the vertices, the scene is built afresh (as `render` builds a scene).
-pub fn scene_of_pose<F: Prec>(
-    previous: Option<Scene<F>>,
-    mesh: &Mesh,
-    note: Note,
-    field: LineField,
-    seams: bool,
-) -> Result<Scene<F>> {
-    if let Some(mut scene) = previous
-        && scene.update(mesh, field, seams).is_ok()
-    {
-        if note.timing {
-            eprintln!("update ({}): {}", F::PRECISION, scene.timing_line());
-        }
-        return Ok(scene);
-    }
-    build_scene::<F>(mesh, note, field, seams)
-}
-
 /// One frame of `source`'s animation for `render --time`: the pose at `time` (checked by
 /// [`check_time`]) of clip `clip`, upright, and the camera from `view` (azimuth, elevation)
 /// framing the whole clip ([`Animation::sphere`]) for a `width`×`height` image.
@@ -220,71 +192,4 @@ pub fn frame(
     anim.pose(time, &mut mesh)?;
     let cam = Camera::look_at_sphere(c, r, view.0, view.1, size.0, size.1);
     Ok((mesh, cam))
-}
-
-/// `render --time T1,T2,…`: the animation at each time side by side (smooth, flat or Phong as
-/// `--mode` says, on the CPU), each panel labelled with its time, one camera framing the whole
-/// clip; written to `--out` with a line on stdout (stderr when the PNG goes to stdout).
-///
-/// Returns a usage error with `--compare`, `--gpu` or `--mask` (one time each), and the errors
-/// of [`frame`] and of the renders.
-pub fn render_strip(a: &RenderOptions) -> Result<()> {
-    if a.compare || a.gpu || a.mask.is_some() {
-        return Err(DemoError::Usage(
-            "several --time values render one panel each on the CPU: leave out --compare, \
-             --gpu and --mask"
-                .into(),
-        ));
-    }
-    let times: Vec<f64> = a
-        .time
-        .iter()
-        .map(|&t| check_time(t))
-        .collect::<Result<_>>()?;
-    let mut anim = Animation::open(&a.source, a.up, a.clip)?;
-    let (c, r) = anim.sphere()?;
-    let cam = Camera::look_at_sphere(c, r, a.view.0, a.view.1, a.width, a.height);
-    let mut mesh = anim.rest();
-    let (mut panels, mut rays, mut seconds) = (Vec::new(), 0, 0.0);
-    for (k, &t) in times.iter().enumerate() {
-        anim.pose(t, &mut mesh)?;
-        let note = Note {
-            skipped: k == 0,
-            timing: a.verbose,
-        };
-        let p = render_panel_with(
-            &SceneCache::default(),
-            a.precision,
-            &mesh,
-            &cam,
-            a.mode,
-            a.iterations,
-            note,
-            a.normals,
-            a.field,
-        )?;
-        rays += p.rays;
-        seconds += p.seconds;
-        panels.push((p.image, format!("T={t} S")));
-    }
-    let labelled: Vec<_> = panels.iter().map(|(i, l)| (i, l.clone())).collect();
-    let image = side_by_side(&labelled);
-    image.write_png(&a.out)?;
-    let msg = format!(
-        "wrote {} ({}x{}, {}, {} at {} times, {}, iterations N = {}): {rays} rays in {seconds:.3} s",
-        a.out,
-        image.width,
-        image.height,
-        anim.name,
-        a.mode.name(),
-        times.len(),
-        a.precision,
-        a.iterations
-    );
-    if a.out == "-" {
-        eprintln!("{msg}");
-    } else {
-        println!("{msg}");
-    }
-    Ok(())
 }

@@ -1,6 +1,6 @@
 //! The quadratic triangular patch both peers are: a quadratic Bézier triangle given by its
 //! three vertices and three edge control points, stored in monomial form for evaluation and for
-//! the ray solver ([`crate::ray_quadratic`]).
+//! the ray solver (the module `ray_quadratic`, which adds [`QuadPatch::intersect`]).
 //!
 //! With barycentrics `(w0, w1, w2)`, `w0 = 1 − w1 − w2`, the patch is
 //!
@@ -13,7 +13,7 @@
 //! In `u = w1`, `v = w2`:
 //! `x = a + b_u·u + b_v·v + b_uu·u² + b_uv·uv + b_vv·v²`.
 
-use smoothtri::{Aabb, Hit, Ray};
+use smoothtri::Aabb;
 
 use crate::real::{Real, V3};
 
@@ -229,34 +229,5 @@ impl<F: Real> QuadPatch<F> {
     /// Never.
     pub fn bounds(&self) -> Aabb<F> {
         self.bbox
-    }
-
-    /// The nearest intersection of `ray` with the patch for `t` in `[t_min, t_max]`, exact up
-    /// to rounding ([`crate::ray_quadratic`]): `t`, the point `ray.at(t)`, the geometric
-    /// normal ([`QuadPatch::normal`]), the barycentrics `w1, w2` of the hit on this patch,
-    /// `front_face` (the ray arrives against the geometric normal), `t_error` 0 (the peers
-    /// certify nothing) and `patch` 0.
-    ///
-    /// # Accuracy
-    /// Within a few ulps of the patch's scale of the `f64` reference (dense sampling plus
-    /// Newton's method on the parametric surface; `peers/tests/`); grazing rays and double
-    /// roots included.
-    /// # Panics
-    /// Never.
-    pub fn intersect(&self, ray: &Ray<F>, t_min: F, t_max: F) -> Option<Hit<F>> {
-        let o = F::v3(ray.origin);
-        let d = F::v3(ray.dir);
-        let (t, u, v) = crate::ray_quadratic::intersect(self, o, d, t_min, t_max)?;
-        let n = self.normal_v(u, v);
-        Some(Hit {
-            t,
-            t_error: F::ZERO,
-            point: F::glam(o + d * t),
-            normal: F::glam(n),
-            w1: u,
-            w2: v,
-            front_face: n.dot(d) < F::ZERO,
-            patch: 0,
-        })
     }
 }

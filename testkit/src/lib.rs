@@ -23,6 +23,7 @@ mod assets;
 mod camera;
 mod cracks;
 mod executor;
+mod grid;
 mod patches;
 pub mod random;
 pub mod scenes;

@@ -6,6 +6,8 @@
 use glam::DVec3;
 use smoothtri_io::Mesh;
 
+use crate::grid::grid_triangles;
+
 /// Torus of major radius `big_r` and minor radius `r` around the z axis, on a `nu × nv` grid
 /// split into two triangles per quad, with analytic normals.
 pub fn torus(nu: usize, nv: usize, big_r: f64, r: f64) -> Mesh {
@@ -22,22 +24,6 @@ pub fn torus(nu: usize, nv: usize, big_r: f64, r: f64) -> Mesh {
     }
     m.triangles = grid_triangles(nu, nv);
     m
-}
-
-/// The triangles of a closed `nu × nv` grid (vertex `(i, j)` at index `i·nv + j`, both
-/// directions wrapping), two per quad, counter-clockwise when `u` runs along `i` and `v` along
-/// `j` with `∂u × ∂v` outward: the index buffer of [`torus`] and of the twisting torus.
-pub(crate) fn grid_triangles(nu: usize, nv: usize) -> Vec<[u32; 3]> {
-    let id = |i: usize, j: usize| ((i % nu) * nv + (j % nv)) as u32;
-    let mut out = Vec::with_capacity(2 * nu * nv);
-    for i in 0..nu {
-        for j in 0..nv {
-            let (a, b, c, d) = (id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
-            out.push([a, b, c]);
-            out.push([a, c, d]);
-        }
-    }
-    out
 }
 
 /// Distance of `x` to the torus of [`torus`] (major radius `big_r`, minor `r`).

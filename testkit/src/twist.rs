@@ -2,7 +2,7 @@
 //! `--scene twist`, the update benchmarks), with the exact surface's normals at any time.
 //!
 //! A torus (major radius 1, minor 0.4) on an `n × n` grid, `2n²` triangles with the index
-//! buffer of [`torus`](crate::scenes::torus), whose surface moves with period
+//! buffer of `scenes::torus`, whose surface moves with period
 //! [`TWIST_PERIOD`]: with `s = sin(ωt)`, `ω = 2π / TWIST_PERIOD`,
 //!
 //! - the tube's radius waves, `ρ = 0.4 + 0.03 · sin(7u − ωt) · sin(5v + 1.5 · sin u · s)`: the
@@ -21,7 +21,7 @@ use glam::DVec3;
 use rayon::prelude::*;
 use smoothtri_io::Mesh;
 
-use crate::scenes::grid_triangles;
+use crate::grid::grid_triangles;
 
 /// The period of the twisting torus's motion, seconds: every pose repeats after it.
 pub const TWIST_PERIOD: f64 = 4.0;
@@ -69,7 +69,7 @@ pub fn twist_point(u: f64, v: f64, t: f64) -> (DVec3, DVec3) {
 
 /// The twisting torus on an `n × n` grid at time `t` (seconds): `n²` vertices, `2n²`
 /// triangles counter-clockwise seen from outside (the index buffer of
-/// [`torus`](crate::scenes::torus)`(n, n, …)`).
+/// `scenes::torus``(n, n, …)`).
 pub fn twisting_torus(n: usize, t: f64) -> Mesh {
     let mut m = Mesh {
         positions: vec![DVec3::ZERO; n * n],

@@ -1,5 +1,6 @@
-//! The number layer (private): the scalar traits and their primitive impls ([`real`]), vectors,
-//! dual numbers, jets, intervals, lanes and three-vectors of lanes and the optional `FastF32`. Imports nothing else of the crate.
+//! The number layer (private): the scalar traits ([`real`]) and their `f32`/`f64` impls
+//! ([`primitives`]), vectors, dual numbers, jets, intervals, lanes and three-vectors of lanes
+//! and the optional `FastF32`. Imports nothing else of the crate.
 
 pub(crate) mod dual;
 #[cfg(feature = "micromath")]
@@ -9,5 +10,6 @@ pub(crate) mod jet;
 pub(crate) mod lane_vec;
 pub(crate) mod lanes;
 pub(crate) mod math;
+pub(crate) mod primitives;
 pub(crate) mod real;
 pub(crate) mod vec;

@@ -12,6 +12,7 @@ use smoothtri_gpu::Gpu;
 use smoothtri_io::Mesh;
 use smoothtri_testkit::Camera;
 
+use crate::animate::{Animation, check_time, frame};
 use crate::error::{DemoError, Result};
 use crate::gpu::{open_gpu, render_gpu};
 use crate::image::Image;
@@ -56,7 +57,7 @@ pub struct RenderOptions {
     /// A shadow-terminator fix for `Mode::Phong` ([`crate::peers`]).
     pub terminator: Option<crate::peers::TerminatorFix>,
     /// Render the source's animation at these times, seconds (`--time`; [`crate::animate`]):
-    /// one frame, or several side by side ([`crate::animate::render_strip`]); empty: the static
+    /// one frame, or several side by side ([`render_strip`]); empty: the static
     /// mesh.
     pub time: Vec<f64>,
     /// The animation's clip (`--clip`, with `time`; default the first).
@@ -255,7 +256,7 @@ pub fn run(a: RenderOptions) -> Result<()> {
     }
     tracer::<f32>(Mode::Smooth, a.iterations)?;
     if a.time.len() > 1 {
-        return crate::animate::render_strip(&a);
+        return render_strip(&a);
     }
     if !a.compare && (crate::peers::peer_of(a.mode).is_some() || a.terminator.is_some()) {
         if !a.time.is_empty() {
@@ -276,7 +277,7 @@ pub fn run(a: RenderOptions) -> Result<()> {
         None
     };
     let (mesh, cam) = match a.time.as_slice() {
-        &[t] => crate::animate::frame(&a.source, a.up, a.clip, t, a.view, (a.width, a.height))?,
+        &[t] => frame(&a.source, a.up, a.clip, t, a.view, (a.width, a.height))?,
         _ if a.clip.is_some() => {
             return Err(DemoError::Usage("--clip needs --time SECONDS".into()));
         }
@@ -438,6 +439,73 @@ fn render_peers(a: &RenderOptions) -> Result<()> {
         s.rays,
         s.seconds,
         s.rays as f64 / s.seconds.max(1e-9)
+    );
+    if a.out == "-" {
+        eprintln!("{msg}");
+    } else {
+        println!("{msg}");
+    }
+    Ok(())
+}
+
+/// `render --time T1,T2,…`: the animation at each time side by side (smooth, flat or Phong as
+/// `--mode` says, on the CPU), each panel labelled with its time, one camera framing the whole
+/// clip; written to `--out` with a line on stdout (stderr when the PNG goes to stdout).
+///
+/// Returns a usage error with `--compare`, `--gpu` or `--mask` (one time each), and the errors
+/// of [`frame`] and of the renders.
+pub fn render_strip(a: &RenderOptions) -> Result<()> {
+    if a.compare || a.gpu || a.mask.is_some() {
+        return Err(DemoError::Usage(
+            "several --time values render one panel each on the CPU: leave out --compare, \
+             --gpu and --mask"
+                .into(),
+        ));
+    }
+    let times: Vec<f64> = a
+        .time
+        .iter()
+        .map(|&t| check_time(t))
+        .collect::<Result<_>>()?;
+    let mut anim = Animation::open(&a.source, a.up, a.clip)?;
+    let (c, r) = anim.sphere()?;
+    let cam = Camera::look_at_sphere(c, r, a.view.0, a.view.1, a.width, a.height);
+    let mut mesh = anim.rest();
+    let (mut panels, mut rays, mut seconds) = (Vec::new(), 0, 0.0);
+    for (k, &t) in times.iter().enumerate() {
+        anim.pose(t, &mut mesh)?;
+        let note = Note {
+            skipped: k == 0,
+            timing: a.verbose,
+        };
+        let p = render_panel_with(
+            &SceneCache::default(),
+            a.precision,
+            &mesh,
+            &cam,
+            a.mode,
+            a.iterations,
+            note,
+            a.normals,
+            a.field,
+        )?;
+        rays += p.rays;
+        seconds += p.seconds;
+        panels.push((p.image, format!("T={t} S")));
+    }
+    let labelled: Vec<_> = panels.iter().map(|(i, l)| (i, l.clone())).collect();
+    let image = side_by_side(&labelled);
+    image.write_png(&a.out)?;
+    let msg = format!(
+        "wrote {} ({}x{}, {}, {} at {} times, {}, iterations N = {}): {rays} rays in {seconds:.3} s",
+        a.out,
+        image.width,
+        image.height,
+        anim.name,
+        a.mode.name(),
+        times.len(),
+        a.precision,
+        a.iterations
     );
     if a.out == "-" {
         eprintln!("{msg}");

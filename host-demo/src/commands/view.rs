@@ -12,7 +12,7 @@
 //!
 //! `--animate` plays the source's animation ([`crate::animate`]: a glTF file's clip, or
 //! `--scene twist`) from `--time` on, looping over the clip, each frame's scene built from the
-//! pose ([`crate::animate::scene_of_pose`]: the previous pose's scene updated in place); with
+//! pose ([`scene_of_pose`]: the previous pose's scene updated in place); with
 //! `--gpu` the uploaded scene is then rewritten in place too ([`gpu_update`]). The camera
 //! frames the whole clip. Space pauses.
 //! Headless, frame `k` shows `--time` + `k ·` [`FRAME_STEP`], so the last of K frames equals
@@ -39,7 +39,8 @@ use winit::window::{Window, WindowId};
 
 use super::render::Note;
 use super::source::MeshSource;
-use crate::animate::{Animation, FRAME_STEP, scene_of_pose};
+use crate::animate::{Animation, FRAME_STEP};
+use crate::commands::render::build_scene;
 use crate::error::{DemoError, Result};
 use crate::gpu::{frame_view, gpu_error, gpu_scene, gpu_update, open_gpu, read_frame};
 use crate::image::{Image, heat};
@@ -877,4 +878,27 @@ pub fn run(o: ViewOptions) -> Result<()> {
         Some(e) => Err(e),
         None => Ok(()),
     }
+}
+
+/// The scene of a posed `mesh` in precision `F` (on `field`, with seams when `seams`), given
+/// the scene of the previous pose of the same animation when there is one (same triangles,
+/// same options): the one place where an animation turns posed vertices into a scene. The
+/// previous scene is updated in place ([`Scene::update`]); without one, or where the update
+/// refuses the vertices, the scene is built afresh (as `render` builds a scene).
+pub fn scene_of_pose<F: Prec>(
+    previous: Option<Scene<F>>,
+    mesh: &Mesh,
+    note: Note,
+    field: LineField,
+    seams: bool,
+) -> Result<Scene<F>> {
+    if let Some(mut scene) = previous
+        && scene.update(mesh, field, seams).is_ok()
+    {
+        if note.timing {
+            eprintln!("update ({}): {}", F::PRECISION, scene.timing_line());
+        }
+        return Ok(scene);
+    }
+    build_scene::<F>(mesh, note, field, seams)
 }
