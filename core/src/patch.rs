@@ -290,12 +290,27 @@ impl<F: Float> Patch<F> {
     /// Sets the walls' reach ([`Patch::reach`]) and the bounding box that follows from it (the
     /// box always holds the shell as widened). A placeholder ([`Patch::rejected`]) keeps its
     /// empty box and no reach.
+    #[cfg(test)]
     pub(crate) fn set_reach(&mut self, reach: [F; 3]) {
-        if self.remedy & REJECTED != 0 {
-            return;
+        self.set_reach_only(reach);
+        self.fit_box();
+    }
+
+    /// Sets the walls' reach alone, leaving the box as it was until [`Patch::fit_box`]: for the
+    /// edge pass, which sets each patch's three reaches one shared edge at a time and fits each
+    /// box once at its end. A placeholder keeps its reach of 0.
+    pub(crate) fn set_reach_only(&mut self, reach: [F; 3]) {
+        if self.remedy & REJECTED == 0 {
+            self.reach = reach;
         }
-        self.reach = reach;
-        self.bbox = shell::aabb(&self.shape, self.sigma, &self.frame, reach);
+    }
+
+    /// Fits the bounding box to the shell as widened by the reach (what [`Patch::set_reach`]
+    /// does after setting it). A placeholder keeps its empty box.
+    pub(crate) fn fit_box(&mut self) {
+        if self.remedy & REJECTED == 0 {
+            self.bbox = shell::aabb(&self.shape, self.sigma, &self.frame, self.reach);
+        }
     }
 
     /// Whether this patch's surface is proven not to jump: `true` when every sphere root of its

@@ -393,7 +393,7 @@ pub(crate) fn run<T: Float, F: Float, O: BuildObserver, E: Executor>(
         Some(b) if refit_serves(ps, parts.order.get(..b.kept).ok_or(cut)?) => {
             let order = parts.order.get(..b.kept).ok_or(cut)?;
             let nodes = parts.nodes.get_mut(..b.nodes).ok_or(cut)?;
-            let cost = Bvh::refit_in(ps, nodes, order)?;
+            let cost = Bvh::refit_in(ps, nodes, order, executor)?;
             if cost <= REBUILD_COST_RATIO * b.cost_built {
                 report.bvh_refitted = true;
                 report.bvh_cost = cost;

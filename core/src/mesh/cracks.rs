@@ -105,7 +105,8 @@ pub(crate) fn edge_gap<F: Float>(
 
 /// Sets the reach of `patch`'s wall over edge `j` (from `Pj` to `Pj+1`, the wall opposite
 /// vertex `j + 2`) to `CRACK_REACH · gap` over that wall's altitude; a reach that is not
-/// finite (an unbounded gap) is left at 0.
+/// finite (an unbounded gap) is left at 0. The box is fitted by the edge pass once every
+/// reach is set ([`Patch::fit_box`]).
 fn widen_wall<F: Float>(patch: &mut Patch<F>, j: usize, gap: f64) {
     let [p0, p1, p2] = patch.shape.p;
     let (a, b) = match j % 3 {
@@ -123,6 +124,6 @@ fn widen_wall<F: Float>(patch: &mut Patch<F>, j: usize, gap: f64) {
         && r >= F::ZERO
     {
         *slot = r;
-        patch.set_reach(reach);
+        patch.set_reach_only(reach);
     }
 }

@@ -53,7 +53,8 @@ impl<F: Float> Patches<'_, F> {
 /// of `work.len()` edges (at least one) on `executor`, calling `progress(done, total)` after
 /// each block. Edges with a placeholder on either side ([`Patch::rejected`]) are not shared
 /// edges: nothing is measured or fitted there. Reaches are reset to 0 first (where `close`),
-/// seams to zeros.
+/// seams to zeros; each widened patch's box is fitted once, after the last block, on
+/// `executor`.
 ///
 /// [`pair_shared_edges`]: super::topology::pair_shared_edges
 pub(crate) fn edge_pass<F: Float>(
@@ -63,9 +64,10 @@ pub(crate) fn edge_pass<F: Float>(
     executor: &impl Executor,
     mut progress: impl FnMut(usize, usize),
 ) {
+    // Reaches are set edge by edge below and each patch's box fitted once at the end.
     if let Patches::Close(p) = &mut sink.patches {
         for patch in p.iter_mut() {
-            patch.set_reach([F::ZERO; 3]);
+            patch.set_reach_only([F::ZERO; 3]);
         }
     }
     if let Some(seams) = sink.seams.as_deref_mut() {
@@ -83,7 +85,7 @@ pub(crate) fn edge_pass<F: Float>(
     while start < n {
         let len = step.min(n - start);
         let Some(block) = work.get_mut(..len) else {
-            return;
+            break;
         };
         let view = sink.patches.view();
         executor.run_chunks(block, 64, &|first, chunk| {
@@ -118,6 +120,14 @@ pub(crate) fn edge_pass<F: Float>(
         }
         start += len;
         progress(start, n);
+    }
+    // Each box once, from its three final reaches (a pure function of the patch: any order).
+    if let Patches::Close(p) = &mut sink.patches {
+        executor.run_chunks(p, 256, &|_, chunk| {
+            for patch in chunk.iter_mut() {
+                patch.fit_box();
+            }
+        });
     }
 }
 
