@@ -3,6 +3,8 @@
 //! its largest child until it has four, depth at most [`MAX_DEPTH`]; caller storage, no
 //! allocation, deterministic.
 
+use core::sync::atomic::{AtomicBool, Ordering};
+
 use heapless::Vec as HVec;
 
 use super::error::BvhError;
@@ -416,40 +418,44 @@ fn grow<F: Float, B: Boxes<F> + ?Sized>(
 }
 
 /// Recomputes the child boxes of every node in use from the boxes of `patches` (the tree's
-/// structure and `order` unchanged: a refit), children before parents (a node's children
-/// follow it); returns the tree's cost ([`tree_cost`]). Work: one box union per index of
-/// `order` and per node slot.
-pub(super) fn refit<F: Float, B: Boxes<F> + ?Sized>(
+/// structure and `order` unchanged: a refit); returns the tree's cost ([`tree_cost`]). The
+/// leaf slots first, on `executor` in ranges of nodes (each slot's box a union of its
+/// patches' boxes: the bulk of the work), then the inner slots children before parents (a
+/// node's children follow it) on the calling thread. Work: one box union per index of `order`
+/// and per node slot; the boxes are the same whatever the executor (unions are exact).
+pub(super) fn refit<F: Float, B: Boxes<F> + Sync + ?Sized>(
     patches: &B,
     nodes: &mut [BvhNode<F>],
     order: &[u32],
+    executor: &impl Executor,
 ) -> Result<f64, BvhError> {
+    let corrupt = AtomicBool::new(false);
+    executor.run_chunks(nodes, 64, &|_, chunk| {
+        for node in chunk.iter_mut() {
+            if refit_leaves(patches, node, order).is_err() {
+                corrupt.store(true, Ordering::Relaxed);
+            }
+        }
+    });
+    if corrupt.load(Ordering::Relaxed) {
+        return Err(BvhError::CorruptTree);
+    }
     for i in (0..nodes.len()).rev() {
         let mut node = *nodes.get(i).ok_or(BvhError::Internal)?;
         for k in 0..BVH_WIDTH {
             let (child, count) = (node.child(k), node.count(k));
-            if child == BVH_EMPTY_SLOT {
+            if child == BVH_EMPTY_SLOT || count > 0 {
                 continue;
             }
+            let c = child as usize;
+            if c <= i {
+                return Err(BvhError::CorruptTree);
+            }
+            let sub = nodes.get(c).ok_or(BvhError::CorruptTree)?;
             let mut b = Aabb::EMPTY;
-            if count > 0 {
-                let first = child as usize;
-                let ids = order
-                    .get(first..first + count as usize)
-                    .ok_or(BvhError::CorruptTree)?;
-                for &id in ids {
-                    b = b.union(&patches.box_of(id)?);
-                }
-            } else {
-                let c = child as usize;
-                if c <= i {
-                    return Err(BvhError::CorruptTree);
-                }
-                let sub = nodes.get(c).ok_or(BvhError::CorruptTree)?;
-                for s in 0..BVH_WIDTH {
-                    if sub.child(s) != BVH_EMPTY_SLOT {
-                        b = b.union(&sub.bounds(s));
-                    }
+            for s in 0..BVH_WIDTH {
+                if sub.child(s) != BVH_EMPTY_SLOT {
+                    b = b.union(&sub.bounds(s));
                 }
             }
             node.set_box(k, &b);
@@ -457,6 +463,32 @@ pub(super) fn refit<F: Float, B: Boxes<F> + ?Sized>(
         *nodes.get_mut(i).ok_or(BvhError::Internal)? = node;
     }
     Ok(tree_cost(nodes))
+}
+
+/// Sets the box of each leaf slot of `node` (a slot with patches) to the union of its
+/// patches' boxes; inner slots are left as they are.
+#[inline]
+fn refit_leaves<F: Float, B: Boxes<F> + ?Sized>(
+    patches: &B,
+    node: &mut BvhNode<F>,
+    order: &[u32],
+) -> Result<(), BvhError> {
+    for k in 0..BVH_WIDTH {
+        let (child, count) = (node.child(k), node.count(k));
+        if child == BVH_EMPTY_SLOT || count == 0 {
+            continue;
+        }
+        let first = child as usize;
+        let ids = order
+            .get(first..first + count as usize)
+            .ok_or(BvhError::CorruptTree)?;
+        let mut b = Aabb::EMPTY;
+        for &id in ids {
+            b = b.union(&patches.box_of(id)?);
+        }
+        node.set_box(k, &b);
+    }
+    Ok(())
 }
 
 /// The tree's cost by the surface area heuristic, relative to its root's box: each slot's

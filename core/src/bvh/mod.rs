@@ -92,13 +92,15 @@ impl<'a, F: Float> Bvh<'a, F> {
     }
 
     /// Refits the tree in `nodes` (in use) over `order` (its patches) to the patches' boxes
-    /// now: the same structure, every box recomputed. Returns the tree's cost.
+    /// now: the same structure, every box recomputed, the leaves' on `executor`. Returns the
+    /// tree's cost.
     pub(crate) fn refit_in(
         patches: &[Patch<F>],
         nodes: &mut [BvhNode<F>],
         order: &[u32],
+        executor: &impl Executor,
     ) -> Result<f64, BvhError> {
-        refit(patches, nodes, order)
+        refit(patches, nodes, order, executor)
     }
 
     /// Re-wraps storage filled by an earlier [`Bvh::build`] over the same patches (for owners
