@@ -56,14 +56,14 @@ fn rank(t: wgpu::DeviceType) -> u8 {
     }
 }
 
-/// Runs `f` inside validation and out-of-memory error scopes; the first captured error is
-/// returned as `wrap(message)`.
 /// How long a readback waits for its mapping once the device has finished the work.
 const MAP_WAIT: std::time::Duration = std::time::Duration::from_secs(30);
 
 /// Bytes packed at a time by [`Gpu::rewrite`] before they are copied into the staging view.
 const WRITE_CHUNK: usize = 64 * 1024;
 
+/// Runs `f` inside validation and out-of-memory error scopes; the first captured error is
+/// returned as `wrap(message)`.
 pub(crate) fn scoped<T>(
     device: &wgpu::Device,
     wrap: fn(String) -> GpuError,
