@@ -287,26 +287,18 @@ impl<F: Float> Patch<F> {
         self.reach
     }
 
-    /// Sets the walls' reach ([`Patch::reach`]) and the bounding box that follows from it (the
-    /// box always holds the shell as widened). A placeholder ([`Patch::rejected`]) keeps its
-    /// empty box and no reach.
-    #[cfg(test)]
+    /// Sets the walls' reach ([`Patch::reach`]), leaving the box as it was until
+    /// [`Patch::fit_box`]: the edge pass sets each patch's three reaches one shared edge at a
+    /// time and fits each box once at its end. A placeholder ([`Patch::rejected`]) keeps its
+    /// reach of 0.
     pub(crate) fn set_reach(&mut self, reach: [F; 3]) {
-        self.set_reach_only(reach);
-        self.fit_box();
-    }
-
-    /// Sets the walls' reach alone, leaving the box as it was until [`Patch::fit_box`]: for the
-    /// edge pass, which sets each patch's three reaches one shared edge at a time and fits each
-    /// box once at its end. A placeholder keeps its reach of 0.
-    pub(crate) fn set_reach_only(&mut self, reach: [F; 3]) {
         if self.remedy & REJECTED == 0 {
             self.reach = reach;
         }
     }
 
-    /// Fits the bounding box to the shell as widened by the reach (what [`Patch::set_reach`]
-    /// does after setting it). A placeholder keeps its empty box.
+    /// Fits the bounding box to the shell as widened by the reach, so that the box holds every
+    /// point the kernel may hit. A placeholder keeps its empty box.
     pub(crate) fn fit_box(&mut self) {
         if self.remedy & REJECTED == 0 {
             self.bbox = shell::aabb(&self.shape, self.sigma, &self.frame, self.reach);

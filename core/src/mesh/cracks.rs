@@ -124,6 +124,6 @@ fn widen_wall<F: Float>(patch: &mut Patch<F>, j: usize, gap: f64) {
         && r >= F::ZERO
     {
         *slot = r;
-        patch.set_reach_only(reach);
+        patch.set_reach(reach);
     }
 }

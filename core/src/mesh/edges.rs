@@ -67,7 +67,7 @@ pub(crate) fn edge_pass<F: Float>(
     // Reaches are set edge by edge below and each patch's box fitted once at the end.
     if let Patches::Close(p) = &mut sink.patches {
         for patch in p.iter_mut() {
-            patch.set_reach_only([F::ZERO; 3]);
+            patch.set_reach([F::ZERO; 3]);
         }
     }
     if let Some(seams) = sink.seams.as_deref_mut() {

@@ -241,6 +241,7 @@ mod tests {
             };
             let reach = [0; 3].map(|_| F::from_f64(cap * rng.unit()));
             patch.set_reach(reach);
+            patch.fit_box();
             bounded += usize::from(patch.band.hi < F::MAX);
             let unbounded = Patch {
                 band: Band::UNBOUNDED,
