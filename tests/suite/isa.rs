@@ -191,3 +191,55 @@ fn a_budget_above_the_largest_runs_the_largest() {
         }
     }
 }
+
+/// The sixteen-lane probe of the lane call (two rays' eight samples in one call, the
+/// measurement of `benches/kernel.rs`' "Lane call widths") gives, on every instruction set this
+/// CPU has, the values of two eight-lane calls, and those the baseline's, bit for bit: the
+/// comparison of the two widths times the same arithmetic.
+#[test]
+fn the_sixteen_lane_probe_equals_two_eight_lane_calls() {
+    use smoothtri::internal::LaneProbe;
+    let m = scenes::torus(8, 8, 1.0, 0.4);
+    let mut checked = 0;
+    for tri in m.triangles.iter().take(16) {
+        let p = tri.map(|i| m.positions[i as usize].as_vec3());
+        let n = tri.map(|i| m.normals[i as usize].as_vec3());
+        let patch = Patch::<f32>::new(p, n).expect("torus patch");
+        let probe = LaneProbe::new(&patch);
+        let [p0, p1, p2] = patch.data().p;
+        let ray = |u: f32, v: f32| {
+            let x = [0, 1].map(|c| p0[c] + u * (p1[c] - p0[c]) + v * (p2[c] - p0[c]));
+            ([x[0], x[1], 1.0], [0.1 * u - 0.03, 0.05 - 0.1 * v, -1.0])
+        };
+        let ((o0, r0), (o1, r1)) = (ray(0.2, 0.3), ray(0.5, 0.1));
+        let taus: [[f32; 8]; 2] = [
+            std::array::from_fn(|k| 0.6 + 0.1 * k as f32),
+            std::array::from_fn(|k| 0.55 + 0.12 * k as f32),
+        ];
+        let base = Kernels::new(Isa::Baseline).expect("the baseline");
+        let want = [
+            base.probe_f8(&probe, o0, r0, taus[0]),
+            base.probe_f8(&probe, o1, r1, taus[1]),
+        ];
+        assert!(want.iter().flatten().all(|f| f.is_finite()));
+        for k in std::iter::once(base).chain(wider()) {
+            let pair = k.probe_f16(&probe, [o0, o1], [r0, r1], taus);
+            let eight = [
+                k.probe_f8(&probe, o0, r0, taus[0]),
+                k.probe_f8(&probe, o1, r1, taus[1]),
+            ];
+            assert!(
+                same(&pair, &want),
+                "{}: sixteen lanes {pair:?}, baseline {want:?}",
+                k.isa()
+            );
+            assert!(
+                same(&eight, &want),
+                "{}: eight lanes {eight:?}, baseline {want:?}",
+                k.isa()
+            );
+            checked += 1;
+        }
+    }
+    assert!(checked >= 16);
+}

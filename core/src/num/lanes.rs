@@ -537,3 +537,97 @@ impl<F: Float> LaneOps for One<F> {
         m
     }
 }
+
+/// Two lane vectors side by side (`Two<F32x8>`: sixteen `f32` lanes as two eight-lane halves,
+/// each operation on both): two rays' eight samples in one lane call
+/// (`crate::internal::LaneProbe`, which measures whether that pays). Halves rather than one
+/// sixteen-element array: out of line for the build's target each half runs as the kernel's
+/// own eight-lane code; inlined into an instruction set's probe (`crate::isa`) neither form
+/// vectorises fully (docs/MEASUREMENTS.md, "The sixteen-lane call").
+///
+/// # Panics
+/// No method panics.
+#[derive(Clone, Copy, Debug)]
+pub struct Two<L>(pub(crate) L, pub(crate) L);
+
+macro_rules! two_op {
+    ($tr:ident, $f:ident) => {
+        impl<L: LaneOps> core::ops::$tr for Two<L> {
+            type Output = Self;
+            #[inline(always)]
+            fn $f(self, o: Self) -> Self {
+                Two(self.0.$f(o.0), self.1.$f(o.1))
+            }
+        }
+    };
+}
+two_op!(Add, add);
+two_op!(Sub, sub);
+two_op!(Mul, mul);
+two_op!(Div, div);
+
+impl<L: LaneOps> core::ops::Neg for Two<L> {
+    type Output = Self;
+    #[inline(always)]
+    fn neg(self) -> Self {
+        Two(-self.0, -self.1)
+    }
+}
+
+impl<L: LaneOps> LaneOps for Two<L> {
+    type F = L::F;
+    type Mask = (L::Mask, L::Mask);
+    crate::num::real::plain_lanes!();
+    #[inline(always)]
+    fn splat(x: L::F) -> Self {
+        Two(L::splat(x), L::splat(x))
+    }
+    #[inline(always)]
+    fn sqrt(self) -> Self {
+        Two(self.0.sqrt(), self.1.sqrt())
+    }
+    #[inline(always)]
+    fn abs(self) -> Self {
+        Two(self.0.abs(), self.1.abs())
+    }
+    #[inline(always)]
+    fn lt(self, o: Self) -> Self::Mask {
+        (self.0.lt(o.0), self.1.lt(o.1))
+    }
+    #[inline(always)]
+    fn le(self, o: Self) -> Self::Mask {
+        (self.0.le(o.0), self.1.le(o.1))
+    }
+    #[inline(always)]
+    fn gt(self, o: Self) -> Self::Mask {
+        (self.0.gt(o.0), self.1.gt(o.1))
+    }
+    #[inline(always)]
+    fn eq(self, o: Self) -> Self::Mask {
+        (self.0.eq(o.0), self.1.eq(o.1))
+    }
+    #[inline(always)]
+    fn finite(self) -> Self::Mask {
+        (self.0.finite(), self.1.finite())
+    }
+    #[inline(always)]
+    fn select(m: Self::Mask, a: Self, b: Self) -> Self {
+        Two(L::select(m.0, a.0, b.0), L::select(m.1, a.1, b.1))
+    }
+    #[inline(always)]
+    fn and(a: Self::Mask, b: Self::Mask) -> Self::Mask {
+        (L::and(a.0, b.0), L::and(a.1, b.1))
+    }
+    #[inline(always)]
+    fn or(a: Self::Mask, b: Self::Mask) -> Self::Mask {
+        (L::or(a.0, b.0), L::or(a.1, b.1))
+    }
+    #[inline(always)]
+    fn not(a: Self::Mask) -> Self::Mask {
+        (L::not(a.0), L::not(a.1))
+    }
+    #[inline(always)]
+    fn any_set(m: Self::Mask) -> bool {
+        L::any_set(m.0) || L::any_set(m.1)
+    }
+}
