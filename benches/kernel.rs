@@ -262,8 +262,6 @@ fn summary() {
     calls!(8);
     calls!(16);
 
-    lane_widths(&s.p32);
-
     let mesh = torus(8, 8, 1.0, 0.4);
     let tris = triangles32(&mesh);
     let t = Instant::now();
@@ -321,73 +319,6 @@ fn summary() {
         rays.len() as f64 / tf / 1e6,
         mem(&flat) / 1024
     );
-}
-
-/// The kernel's lane call at two widths on each instruction set the CPU has: one ray's eight
-/// samples (the kernel's call) against two rays' eight samples each in one sixteen-lane call
-/// (the width of one AVX-512 register), on the summary's torus patch, per ray. The two give
-/// the same values bit for bit (`tests/suite/isa.rs`).
-fn lane_widths(patch: &Patch) {
-    use smoothtri::internal::LaneProbe;
-    use smoothtri_isa::{Isa, Kernels};
-    let probe = LaneProbe::new(patch);
-    let [p0, p1, p2] = patch.data().p;
-    let longest = [(p1, p0), (p2, p1), (p0, p2)]
-        .iter()
-        .map(|(a, b)| ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2)).sqrt())
-        .fold(0.0f32, f32::max);
-    let h = 2.0 * longest;
-    // 1024 local rays from above the triangle, slightly tilted, each sampled at eight
-    // parameters around the patch (a deterministic low-discrepancy spread).
-    let rays: Vec<([f32; 3], [f32; 3], [f32; 8])> = (0..1024)
-        .map(|i| {
-            let (u, v) = (
-                (i as f32 * 0.618_034).fract(),
-                (i as f32 * 0.754_877_7).fract(),
-            );
-            let (u, v) = if u + v > 1.0 {
-                (1.0 - u, 1.0 - v)
-            } else {
-                (u, v)
-            };
-            let x = p0[0] + u * (p1[0] - p0[0]) + v * (p2[0] - p0[0]);
-            let y = p0[1] + u * (p1[1] - p0[1]) + v * (p2[1] - p0[1]);
-            let r = [0.05 * (u - 0.5), 0.05 * (v - 0.5), -1.0];
-            let taus = std::array::from_fn(|k| h * (0.5 + k as f32 / 7.0));
-            ([x, y, h], r, taus)
-        })
-        .collect();
-    println!(
-        "\n| lane call (f32, per ray: eight samples) | 8 lanes, ns | 16 lanes (two rays), ns | 16 / 8 |"
-    );
-    println!("|---|---|---|---|");
-    for isa in Isa::ALL {
-        let Ok(k) = Kernels::new(isa) else {
-            continue;
-        };
-        let eight = |k: Kernels| {
-            rays.iter()
-                .map(|(o, r, t)| k.probe_f8(&probe, *o, *r, *t)[0].to_bits() as usize & 1)
-                .sum::<usize>()
-        };
-        let sixteen = |k: Kernels| {
-            rays.chunks_exact(2)
-                .map(|p| {
-                    let f =
-                        k.probe_f16(&probe, [p[0].0, p[1].0], [p[0].1, p[1].1], [p[0].2, p[1].2]);
-                    (f[0][0].to_bits() ^ f[1][0].to_bits()) as usize & 1
-                })
-                .sum::<usize>()
-        };
-        let (t8, t16) = interleaved(|| eight(k), || sixteen(k), 400);
-        let per = |t: f64| t / rays.len() as f64 * 1e9;
-        println!(
-            "| {isa} | {:.1} | {:.1} | {:.2} |",
-            per(t8),
-            per(t16),
-            t16 / t8
-        );
-    }
 }
 
 /// The largest mesh at hand: the 121k-triangle CAD model of Debian's `assimp-testmodels`

@@ -30,7 +30,6 @@ macro_rules! kernels {
     ($name:ident, $features:literal, $doc:literal) => {
         #[doc = $doc]
         pub mod $name {
-            use crate::internal::LaneProbe;
             use crate::kernel::heights::{self, Calls};
             use crate::kernel::refine::ESTIMATE_POINTS;
             use crate::kernel::{Heights, KernelStats, intersect_stats};
@@ -192,44 +191,6 @@ macro_rules! kernels {
                 n: usize,
             ) -> (Option<Hit<F>>, KernelStats) {
                 intersect_stats::<F, K>(patch, ray, [t_min, t_max], n, &lanes())
-            }
-
-            /// [`LaneProbe`]'s eight-lane call compiled with [`FEATURES`] (the kernel's lane
-            /// call, as [`f8`]). Not part of the API: for `benches/kernel.rs`.
-            ///
-            /// # Safety
-            /// As every function of this module: the CPU must have [`FEATURES`].
-            /// # Panics
-            /// Never.
-            #[doc(hidden)]
-            #[target_feature(enable = $features)]
-            #[inline(never)]
-            pub fn probe_f8(
-                probe: &LaneProbe,
-                o: [f32; 3],
-                r: [f32; 3],
-                taus: [f32; LANES],
-            ) -> [f32; LANES] {
-                probe.f8_inline(o, r, taus)
-            }
-
-            /// [`LaneProbe`]'s sixteen-lane call (two rays) compiled with [`FEATURES`]. Not
-            /// part of the API: for `benches/kernel.rs`.
-            ///
-            /// # Safety
-            /// As every function of this module: the CPU must have [`FEATURES`].
-            /// # Panics
-            /// Never.
-            #[doc(hidden)]
-            #[target_feature(enable = $features)]
-            #[inline(never)]
-            pub fn probe_f16(
-                probe: &LaneProbe,
-                o: [[f32; 3]; 2],
-                r: [[f32; 3]; 2],
-                taus: [[f32; LANES]; 2],
-            ) -> [[f32; LANES]; 2] {
-                probe.two::<<f32 as Float>::A8>(o, r, taus, true)
             }
         }
     };

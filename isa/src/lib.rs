@@ -24,7 +24,6 @@ use std::ffi::CStr;
 use std::fmt;
 use std::sync::OnceLock;
 
-use smoothtri::internal::LaneProbe;
 use smoothtri::{Bvh, Float, Hit, KernelStats, Patch, Ray, Scene, SceneHit};
 
 /// The environment variable that overrides the choice of [`kernels`]: `sse2`, `avx2` or
@@ -323,29 +322,6 @@ impl Kernels {
             patch.intersect_stats::<K>(ray, t_min, t_max, n),
             patch_intersect_stats::<K>(patch, ray, t_min, t_max, n)
         )
-    }
-
-    /// The kernel's eight-lane call on `probe` on this instruction set (one ray's eight
-    /// samples). Not part of the API: `benches/kernel.rs` times it against
-    /// [`Kernels::probe_f16`].
-    #[doc(hidden)]
-    #[inline]
-    pub fn probe_f8(self, probe: &LaneProbe, o: [f32; 3], r: [f32; 3], taus: [f32; 8]) -> [f32; 8] {
-        dispatch!(self, probe.f8(o, r, taus), probe_f8(probe, o, r, taus))
-    }
-
-    /// Two rays' eight samples each in one sixteen-lane call on this instruction set: the same
-    /// values as two [`Kernels::probe_f8`] calls. Not part of the API: for `benches/kernel.rs`.
-    #[doc(hidden)]
-    #[inline]
-    pub fn probe_f16(
-        self,
-        probe: &LaneProbe,
-        o: [[f32; 3]; 2],
-        r: [[f32; 3]; 2],
-        taus: [[f32; 8]; 2],
-    ) -> [[f32; 8]; 2] {
-        dispatch!(self, probe.f16(o, r, taus), probe_f16(probe, o, r, taus))
     }
 }
 
