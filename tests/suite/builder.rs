@@ -537,3 +537,26 @@ fn parallel_builds_are_bit_identical() {
         check::<f64>(&m, field);
     }
 }
+
+/// A scene large enough that the top of its tree is bounded and binned in parts on the
+/// executor (ranges of at least 4 Ki boxes): the tree is bit for bit the same on one thread,
+/// on rayon's pool and with the parts run last first.
+#[test]
+fn large_trees_are_bit_identical_on_any_executor() {
+    let m = smoothtri_testkit::twist::twisting_torus(130, 0.3);
+    assert!(m.triangles.len() >= 2 * 16 * 1024);
+    let (p, n) = (flat(&m.positions), flat(&m.normals));
+    let (pv, nv) = (Vertices::packed(&p), Vertices::packed(&n));
+    let options = BuildOptions::default();
+    let serial = OwnedScene::<f32>::build(pv, nv, &m.triangles, &mut { options }).unwrap();
+    let mut pool_options = options.with_executor(smoothtri_testkit::RayonExecutor);
+    let pool = OwnedScene::<f32>::build(pv, nv, &m.triangles, &mut pool_options).unwrap();
+    let mut back_options = options.with_executor(Backwards);
+    let back = OwnedScene::<f32>::build(pv, nv, &m.triangles, &mut back_options).unwrap();
+    for other in [&pool, &back] {
+        let (a, b) = (serial.scene(), other.scene());
+        assert_eq!(a.bvh().nodes(), b.bvh().nodes());
+        assert_eq!(a.bvh().order(), b.bvh().order());
+        assert_eq!(a.report(), b.report());
+    }
+}

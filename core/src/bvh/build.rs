@@ -66,33 +66,130 @@ pub(super) struct Task<F: Float> {
     pub(super) range: Range<F>,
 }
 
+/// Boxes below which a range is bounded, binned and partitioned on the calling thread (see
+/// [`examine`]). Four times [`SUBTREE_MIN`]: the top of the tree stops at ranges of
+/// `max(n / 32, SUBTREE_MIN)` boxes, so at most one level of it runs on one thread, while a
+/// part (a sixteenth of the range, 256 boxes or more) stays large beside a task's dispatch.
+pub(super) const PARALLEL_MIN: usize = 4 * SUBTREE_MIN;
+/// Parts of a range of at least [`PARALLEL_MIN`] boxes, each bounded, binned or partitioned as
+/// one task; a fixed count, so that the parts (and the order their results merge in) do not
+/// depend on the executor. Sixteen cover a sixteen-core machine; their SAH bins take
+/// `16 × 3 × BINS` count-and-box pairs of stack (about 18 KiB for `f32`) while the top is built.
+pub(super) const PARTS: usize = 16;
+
+/// A range's box and its centroids' box.
+#[derive(Clone, Copy)]
+struct Extent<F: Float> {
+    bounds: Aabb<F>,
+    centroids: Aabb<F>,
+}
+
+impl<F: Float> Default for Extent<F> {
+    fn default() -> Self {
+        Extent {
+            bounds: Aabb::EMPTY,
+            centroids: Aabb::EMPTY,
+        }
+    }
+}
+
+/// What can be accumulated over parts of a range and merged exactly.
+pub(super) trait Merge: Copy + Send {
+    /// `self` extended by `other` (a later part's).
+    fn merge(&mut self, other: &Self);
+}
+
+impl<F: Float> Merge for Extent<F> {
+    fn merge(&mut self, other: &Self) {
+        self.bounds = self.bounds.union(&other.bounds);
+        self.centroids = self.centroids.union(&other.centroids);
+    }
+}
+
+/// One axis's SAH bins: each bin's count and the union of its boxes.
+type Bins<F> = [[(usize, Aabb<F>); BINS]; 3];
+
+impl<F: Float> Merge for Bins<F> {
+    fn merge(&mut self, other: &Self) {
+        for (axis, theirs) in self.iter_mut().zip(other.iter()) {
+            for ((c, b), (oc, ob)) in axis.iter_mut().zip(theirs.iter()) {
+                *c += oc;
+                *b = b.union(ob);
+            }
+        }
+    }
+}
+
+/// What [`in_parts`] runs over each part: the accumulator and the part's indices.
+type Fold<'f, A> = dyn Fn(&mut A, &[u32]) -> Result<(), BvhError> + Sync + 'f;
+
+/// `fold` over `range` from `init()`: in one piece on the calling thread below
+/// [`PARALLEL_MIN`] boxes, otherwise over [`PARTS`] consecutive parts on `executor`, merged in
+/// order. The first error of a part, in part order, is returned.
+fn in_parts<A: Merge>(
+    range: &[u32],
+    executor: &impl Executor,
+    init: impl Fn() -> A,
+    fold: &Fold<'_, A>,
+) -> Result<A, BvhError> {
+    let mut acc = init();
+    if range.len() < PARALLEL_MIN {
+        fold(&mut acc, range)?;
+        return Ok(acc);
+    }
+    let size = range.len().div_ceil(PARTS);
+    let mut parts: [(usize, A, Result<(), BvhError>); PARTS] =
+        core::array::from_fn(|k| (k, init(), Ok(())));
+    executor.run_chunks(&mut parts, 1, &|_, chunk| {
+        for (k, a, result) in chunk.iter_mut() {
+            let lo = (*k * size).min(range.len());
+            let hi = (lo + size).min(range.len());
+            *result = match range.get(lo..hi) {
+                Some(part) => fold(a, part),
+                None => Err(BvhError::Internal),
+            };
+        }
+    });
+    for (_, a, result) in parts.iter() {
+        (*result)?;
+        acc.merge(a);
+    }
+    Ok(acc)
+}
+
 /// Bounds `order[start..end]` (absolute positions; `order` holds the positions from `base`) and
 /// decides its split (partitioning it in place): SAH, or the midpoint for ranges too large for
 /// a leaf; none for single patches and at the depth limit.
-pub(super) fn examine<F: Float, B: Boxes<F> + ?Sized>(
+///
+/// A range of at least [`PARALLEL_MIN`] boxes is bounded and binned in [`PARTS`] parts on
+/// `executor` (the top of the tree; subtrees pass `&()`); unions of boxes and counts are exact,
+/// so the result is the one-thread result bit for bit.
+pub(super) fn examine<F: Float, B: Boxes<F> + Sync + ?Sized>(
     patches: &B,
     order: &mut [u32],
     base: usize,
-    start: usize,
-    end: usize,
+    (start, end): (usize, usize),
     depth: usize,
+    executor: &impl Executor,
 ) -> Result<Range<F>, BvhError> {
     // Ranges cover `base ≤ start < end ≤ base + order.len()` by construction (splits are
     // strictly inside).
     let local = start.checked_sub(base).ok_or(BvhError::Internal)?;
     let range = order.get_mut(local..end - base).ok_or(BvhError::Internal)?;
-    let mut bounds = Aabb::EMPTY;
-    let mut centroids = Aabb::EMPTY;
-    for &i in range.iter() {
-        let b = patches.box_of(i)?;
-        bounds = bounds.union(&b);
-        centroids = centroids.grow(b.center());
-    }
+    let (bounds, centroids) = in_parts(range, executor, Extent::default, &|acc, part| {
+        for &i in part {
+            let b = patches.box_of(i)?;
+            acc.bounds = acc.bounds.union(&b);
+            acc.centroids = acc.centroids.grow(b.center());
+        }
+        Ok(())
+    })
+    .map(|e| (e.bounds, e.centroids))?;
     let count = end - start;
     let split = if count <= 1 || depth + 1 >= MAX_DEPTH {
         None
     } else {
-        match sah_split(patches, range, &bounds, &centroids)? {
+        match sah_split(patches, range, &bounds, &centroids, executor)? {
             Some(m) => Some(m),
             None if count > MAX_LEAF => Some(midpoint_split(patches, range, &centroids)?),
             None => None,
@@ -150,7 +247,9 @@ struct Subtree<'s, F: Float> {
 ///
 /// In three phases, the same tree for any `executor`: the top of the tree is built on the
 /// calling thread down to child ranges of at most `max(m / 32, SUBTREE_MIN)` boxes, which are
-/// left for subtrees (at most [`MAX_SUBTREES`]); the executor builds the subtrees, each in its
+/// left for subtrees (at most [`MAX_SUBTREES`]), its ranges of at least [`PARALLEL_MIN`] boxes
+/// bounded and binned in [`PARTS`] parts on the executor (their partitions stay on the calling
+/// thread); the executor builds the subtrees, each in its
 /// own region of `nodes` and its own part of `order`; the regions are then moved together.
 /// Every node is split as a build on one thread splits it, so the tree is that build's up to
 /// the numbering of its nodes (top first, then each subtree in turn).
@@ -188,7 +287,7 @@ pub(super) fn build_tree<F: Float, B: Boxes<F> + Sync + ?Sized>(
         });
     }
     let order = order.get_mut(..n).ok_or(BvhError::Internal)?;
-    let root = examine(patches, order, 0, 0, n, 0)?;
+    let root = examine(patches, order, 0, (0, n), 0, executor)?;
     // The top, with its subtrees deferred (none for small trees: one phase).
     let limit = if n > 2 * SUBTREE_MIN {
         (n / 32).max(SUBTREE_MIN)
@@ -210,6 +309,7 @@ pub(super) fn build_tree<F: Float, B: Boxes<F> + Sync + ?Sized>(
         0,
         top,
         (limit, &mut deferred),
+        executor,
     )?;
     if deferred.is_empty() {
         return Ok((used, n));
@@ -295,6 +395,7 @@ pub(super) fn build_tree<F: Float, B: Boxes<F> + Sync + ?Sized>(
                 start,
                 root,
                 (0, &mut HVec::new()),
+                &(),
             );
         }
     });
@@ -339,9 +440,10 @@ pub(super) fn build_tree<F: Float, B: Boxes<F> + Sync + ?Sized>(
 /// leaf holds it. `nodes` is the region of node indices from `base` (node `base + j` at `j`),
 /// `*used` the region's nodes in use; `order` holds the positions from `order_base`. With
 /// `limit > 0`, a child node of at most `limit` boxes is left to `deferred` (its slot to be
-/// pointed at its subtree's root), while the list has room.
+/// pointed at its subtree's root), while the list has room. Large ranges are bounded and
+/// binned on `executor` ([`examine`]).
 #[allow(clippy::too_many_arguments)]
-fn grow<F: Float, B: Boxes<F> + ?Sized>(
+fn grow<F: Float, B: Boxes<F> + Sync + ?Sized>(
     patches: &B,
     nodes: &mut [BvhNode<F>],
     base: usize,
@@ -350,6 +452,7 @@ fn grow<F: Float, B: Boxes<F> + ?Sized>(
     order_base: usize,
     root: Task<F>,
     (limit, deferred): (usize, &mut HVec<Deferred<F>, MAX_SUBTREES>),
+    executor: &impl Executor,
 ) -> Result<(), BvhError> {
     // Depth first; each node leaves at most three pending siblings per level. A root that
     // does not split becomes one leaf, like any range that does not.
@@ -371,8 +474,9 @@ fn grow<F: Float, B: Boxes<F> + ?Sized>(
             let Some((k, ..)) = pick else { break };
             let c = *kids.get(k).ok_or(BvhError::Internal)?;
             let mid = c.split.ok_or(BvhError::Internal)?;
-            let left = examine(patches, order, order_base, c.start, mid, c.depth + 1)?;
-            let right = examine(patches, order, order_base, mid, c.end, c.depth + 1)?;
+            let depth = c.depth + 1;
+            let left = examine(patches, order, order_base, (c.start, mid), depth, executor)?;
+            let right = examine(patches, order, order_base, (mid, c.end), depth, executor)?;
             *kids.get_mut(k).ok_or(BvhError::Internal)? = left;
             kids.insert(k + 1, right).map_err(|_| BvhError::Internal)?;
         }
@@ -536,11 +640,12 @@ pub(super) fn bin_of<F: Float>(c: F, cmin: F, scale: F) -> usize {
 
 /// Binned SAH split of `range` (reordered in place); returns the split position, or `None` when
 /// a leaf is cheaper or no binning separates the centroids.
-pub(super) fn sah_split<F: Float, B: Boxes<F> + ?Sized>(
+pub(super) fn sah_split<F: Float, B: Boxes<F> + Sync + ?Sized>(
     patches: &B,
     range: &mut [u32],
     bounds: &Aabb<F>,
     centroids: &Aabb<F>,
+    executor: &impl Executor,
 ) -> Result<Option<usize>, BvhError> {
     let count = range.len();
     // Per axis with extent: the centroids' minimum and the bins per unit.
@@ -550,20 +655,23 @@ pub(super) fn sah_split<F: Float, B: Boxes<F> + ?Sized>(
         (ext > F::ZERO).then(|| (cmin, F::from_f64(BINS as f64) / ext))
     });
     // All three axes' bins in one pass over the patches' boxes.
-    let mut bins = [[(0usize, Aabb::<F>::EMPTY); BINS]; 3];
-    for &i in range.iter() {
-        let b = patches.box_of(i)?;
-        let center = b.center();
-        for (k, (frame, bins)) in frames.iter().zip(bins.iter_mut()).enumerate() {
-            if let Some((cmin, scale)) = *frame {
-                let (c, bb) = bins
-                    .get_mut(bin_of(axis(center, k), cmin, scale))
-                    .ok_or(BvhError::Internal)?;
-                *c += 1;
-                *bb = bb.union(&b);
+    let empty: fn() -> Bins<F> = || [[(0usize, Aabb::<F>::EMPTY); BINS]; 3];
+    let bins = in_parts(range, executor, empty, &|bins, part| {
+        for &i in part {
+            let b = patches.box_of(i)?;
+            let center = b.center();
+            for (k, (frame, bins)) in frames.iter().zip(bins.iter_mut()).enumerate() {
+                if let Some((cmin, scale)) = *frame {
+                    let (c, bb) = bins
+                        .get_mut(bin_of(axis(center, k), cmin, scale))
+                        .ok_or(BvhError::Internal)?;
+                    *c += 1;
+                    *bb = bb.union(&b);
+                }
             }
         }
-    }
+        Ok(())
+    })?;
     // (cost, axis, first bin of the right side, cmin, scale)
     let mut best: Option<(F, usize, usize, F, F)> = None;
     for (k, (frame, bins)) in frames.iter().zip(bins.iter()).enumerate() {
@@ -602,7 +710,7 @@ pub(super) fn sah_split<F: Float, B: Boxes<F> + ?Sized>(
     if count <= MAX_LEAF && !(cost < leaf) {
         return Ok(None);
     }
-    partition(range, |i| {
+    partition_in_parts(range, executor, &|i| {
         Ok(bin_of(axis(patches.box_of(i)?.center(), k), cmin, scale) < s)
     })
     .map(Some)
@@ -633,6 +741,97 @@ pub(super) fn midpoint_split<F: Float, B: Boxes<F> + ?Sized>(
     })
 }
 
+/// [`partition`] of `range` by `pred`, below [`PARALLEL_MIN`] elements on the calling thread;
+/// otherwise each of [`PARTS`] consecutive parts is partitioned in place on `executor`, then
+/// neighbouring groups of parts are merged in four rounds (each merge rotates the left group's
+/// rejected elements past the right group's accepted ones, by three reversals; the merges of a
+/// round touch disjoint ranges and run on `executor`). Returns the number of elements
+/// satisfying `pred`, moved to the front. The order within each side depends on the range and
+/// `pred` alone, never on the executor; work `O(n log PARTS)` moves.
+pub(super) fn partition_in_parts<P: Fn(u32) -> Result<bool, BvhError> + Sync>(
+    range: &mut [u32],
+    executor: &impl Executor,
+    pred: &P,
+) -> Result<usize, BvhError> {
+    if range.len() < PARALLEL_MIN {
+        return partition(range, pred);
+    }
+    let size = range.len().div_ceil(PARTS);
+    // Each group's length and how many of its elements (at its front) satisfy `pred`.
+    let mut groups: HVec<(usize, usize), PARTS> = HVec::new();
+    let mut parts: HVec<(&mut [u32], Result<usize, BvhError>), PARTS> = HVec::new();
+    for part in range.chunks_mut(size) {
+        parts.push((part, Ok(0))).map_err(|_| BvhError::Internal)?;
+    }
+    executor.run_chunks(&mut parts, 1, &|_, chunk| {
+        for (part, m) in chunk.iter_mut() {
+            *m = partition(part, pred);
+        }
+    });
+    for (part, m) in parts {
+        groups
+            .push((part.len(), m?))
+            .map_err(|_| BvhError::Internal)?;
+    }
+    while groups.len() > 1 {
+        // Neighbouring groups merged in pairs (an odd last group carried over).
+        let mut merges: HVec<Merging<'_>, PARTS> = HVec::new();
+        let mut next: HVec<(usize, usize), PARTS> = HVec::new();
+        let mut rest: &mut [u32] = &mut *range;
+        for pair in groups.chunks(2) {
+            let (len, accepted) = match *pair {
+                [(ll, ml), (rl, mr)] => {
+                    let (slice, tail) = rest
+                        .split_at_mut_checked(ll + rl)
+                        .ok_or(BvhError::Internal)?;
+                    rest = tail;
+                    merges
+                        .push((slice, [ll, ml, mr], Ok(())))
+                        .map_err(|_| BvhError::Internal)?;
+                    (ll + rl, ml + mr)
+                }
+                [(l, m)] => {
+                    let (_, tail) = rest.split_at_mut_checked(l).ok_or(BvhError::Internal)?;
+                    rest = tail;
+                    (l, m)
+                }
+                _ => return Err(BvhError::Internal),
+            };
+            next.push((len, accepted)).map_err(|_| BvhError::Internal)?;
+        }
+        executor.run_chunks(&mut merges, 1, &|_, chunk| {
+            for (slice, [ll, ml, mr], result) in chunk.iter_mut() {
+                *result = merge_sides(slice, *ll, *ml, *mr);
+            }
+        });
+        for (.., result) in merges {
+            result?;
+        }
+        groups = next;
+    }
+    groups.first().map(|&(_, m)| m).ok_or(BvhError::Internal)
+}
+
+/// Two neighbouring groups' slice, the left one's length and both groups' accepted counts,
+/// and the merge's outcome ([`merge_sides`]).
+type Merging<'s> = (&'s mut [u32], [usize; 3], Result<(), BvhError>);
+
+/// Merges two partitioned neighbours in `slice`: the first `left` elements are the left
+/// group (its first `ml` satisfy the predicate), the rest the right group (its first `mr`).
+/// Rotates the left group's rejected elements past the right group's accepted ones (three
+/// reversals), so that the `ml + mr` accepted elements come first, each side in its order.
+fn merge_sides(slice: &mut [u32], left: usize, ml: usize, mr: usize) -> Result<(), BvhError> {
+    let rejected = left.checked_sub(ml).ok_or(BvhError::Internal)?;
+    let middle = slice.get_mut(ml..left + mr).ok_or(BvhError::Internal)?;
+    let (a, b) = middle
+        .split_at_mut_checked(rejected)
+        .ok_or(BvhError::Internal)?;
+    a.reverse();
+    b.reverse();
+    middle.reverse();
+    Ok(())
+}
+
 /// In-place partition; returns the number of elements satisfying `pred` (moved to the front).
 pub(super) fn partition(
     range: &mut [u32],
@@ -653,4 +852,66 @@ pub(super) fn partition(
         }
     }
     Ok(m)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Runs chunks of one item each, last first: the most different order from one call that
+    /// a thread pool could produce.
+    struct Backwards;
+
+    impl Executor for Backwards {
+        fn run_chunks<T: Send>(
+            &self,
+            items: &mut [T],
+            _grain: usize,
+            work: &(dyn Fn(usize, &mut [T]) + Sync),
+        ) {
+            for k in (0..items.len()).rev() {
+                if let Some(chunk) = items.get_mut(k..k + 1) {
+                    work(k, chunk);
+                }
+            }
+        }
+    }
+
+    const N: usize = 2 * PARALLEL_MIN + 7;
+
+    /// [`partition_in_parts`] moves exactly the elements satisfying the predicate to the front,
+    /// keeps every element, keeps the accepted side in its order, and gives the same result on
+    /// any executor; below [`PARALLEL_MIN`] it is [`partition`] itself. (It fails when a merge
+    /// rotates by the wrong amount or a part's count is dropped.)
+    #[test]
+    fn partition_in_parts_splits_by_the_predicate_on_any_executor() -> Result<(), BvhError> {
+        for len in [PARALLEL_MIN - 1, PARALLEL_MIN, PARALLEL_MIN + 1, N] {
+            for modulus in [1u32, 2, 3, 7, 1000, u32::MAX] {
+                let pred = |i: u32| Ok(i.wrapping_mul(2_654_435_761).is_multiple_of(modulus));
+                let accepted = |i: &u32| pred(*i) == Ok(true);
+                let mut all: [[u32; N]; 3] = [core::array::from_fn(|k| k as u32); 3];
+                let [a, b, c] = &mut all;
+                fn cut(x: &mut [u32; N], len: usize) -> Result<&mut [u32], BvhError> {
+                    x.get_mut(..len).ok_or(BvhError::Internal)
+                }
+                let (a, b, c) = (cut(a, len)?, cut(b, len)?, cut(c, len)?);
+                let m = partition_in_parts(a, &(), &pred)?;
+                let m_back = partition_in_parts(b, &Backwards, &pred)?;
+                assert_eq!((m, &*a), (m_back, &*b));
+                let want = (0..len as u32).filter(accepted).count();
+                assert_eq!(m, want, "len {len} modulus {modulus}");
+                let (front, back) = a.split_at_mut_checked(m).ok_or(BvhError::Internal)?;
+                assert!(front.iter().all(accepted));
+                assert!(!back.iter().any(accepted));
+                assert!(front.windows(2).all(|w| w.first() < w.get(1)));
+                if len < PARALLEL_MIN {
+                    assert_eq!(partition(c, pred)?, m);
+                    assert_eq!(&*c, &*a);
+                }
+                a.sort_unstable();
+                assert!(a.iter().enumerate().all(|(k, &i)| i == k as u32));
+            }
+        }
+        Ok(())
+    }
 }

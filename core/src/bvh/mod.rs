@@ -77,7 +77,8 @@ impl<'a, F: Float> Bvh<'a, F> {
     }
 
     /// Builds the tree over `patches` into `nodes` and `order` as [`Bvh::build`] does, its
-    /// subtrees on `executor` (the same tree whatever the executor); placeholders
+    /// subtrees and the binning of its top's large ranges on `executor` (the same tree
+    /// whatever the executor); placeholders
     /// ([`Patch::rejected`]) are left out. Returns the nodes used, the patches in the tree and
     /// the tree's cost (`tree_cost`).
     pub(crate) fn build_in(
