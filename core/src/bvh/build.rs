@@ -106,7 +106,7 @@ impl<F: Float> Merge for Extent<F> {
     }
 }
 
-/// One axis's SAH bins: each bin's count and the union of its boxes.
+/// The three axes' SAH bins: each bin's count and the union of its boxes.
 type Bins<F> = [[(usize, Aabb<F>); BINS]; 3];
 
 impl<F: Float> Merge for Bins<F> {
@@ -161,9 +161,10 @@ fn in_parts<A: Merge>(
 /// decides its split (partitioning it in place): SAH, or the midpoint for ranges too large for
 /// a leaf; none for single patches and at the depth limit.
 ///
-/// A range of at least [`PARALLEL_MIN`] boxes is bounded and binned in [`PARTS`] parts on
-/// `executor` (the top of the tree; subtrees pass `&()`); unions of boxes and counts are exact,
-/// so the result is the one-thread result bit for bit.
+/// A range of at least [`PARALLEL_MIN`] boxes is bounded, binned and partitioned in [`PARTS`]
+/// parts on `executor` (the top of the tree; subtrees pass `&()`); unions of boxes and counts are
+/// exact and the partition's order does not depend on the executor, so the result is the
+/// one-thread result bit for bit.
 pub(super) fn examine<F: Float, B: Boxes<F> + Sync + ?Sized>(
     patches: &B,
     order: &mut [u32],
@@ -248,8 +249,8 @@ struct Subtree<'s, F: Float> {
 /// In three phases, the same tree for any `executor`: the top of the tree is built on the
 /// calling thread down to child ranges of at most `max(m / 32, SUBTREE_MIN)` boxes, which are
 /// left for subtrees (at most [`MAX_SUBTREES`]), its ranges of at least [`PARALLEL_MIN`] boxes
-/// bounded and binned in [`PARTS`] parts on the executor (their partitions stay on the calling
-/// thread); the executor builds the subtrees, each in its
+/// bounded, binned and partitioned in [`PARTS`] parts on the executor; the executor builds the
+/// subtrees, each in its
 /// own region of `nodes` and its own part of `order`; the regions are then moved together.
 /// Every node is split as a build on one thread splits it, so the tree is that build's up to
 /// the numbering of its nodes (top first, then each subtree in turn).
@@ -440,8 +441,8 @@ pub(super) fn build_tree<F: Float, B: Boxes<F> + Sync + ?Sized>(
 /// leaf holds it. `nodes` is the region of node indices from `base` (node `base + j` at `j`),
 /// `*used` the region's nodes in use; `order` holds the positions from `order_base`. With
 /// `limit > 0`, a child node of at most `limit` boxes is left to `deferred` (its slot to be
-/// pointed at its subtree's root), while the list has room. Large ranges are bounded and
-/// binned on `executor` ([`examine`]).
+/// pointed at its subtree's root), while the list has room. Large ranges are bounded, binned
+/// and partitioned on `executor` ([`examine`]).
 #[allow(clippy::too_many_arguments)]
 fn grow<F: Float, B: Boxes<F> + Sync + ?Sized>(
     patches: &B,
