@@ -24,6 +24,7 @@
 mod build;
 mod error;
 mod node;
+mod parts;
 mod tree;
 
 pub use error::BvhError;
