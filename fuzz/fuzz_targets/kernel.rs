@@ -4,7 +4,7 @@
 //! (`point`, `point_normal`, `height`, `derivatives`, `edge_point_normal`, `bounds`,
 //! `height_range`) must be finite with unit normals, and every kernel answer must be `None` or a
 //! fully finite hit (`t` in range, `t_error ≥ 0`, finite point, unit normal, barycentrics in
-//! `[0, 1]`) computed with at most `max_height_evals(K, N)` height evaluations (`max_lane_calls(K, N)` lane calls of eight and one step of four). Any panic is a bug.
+//! `[0, 1]`) computed with at most `max_height_evals(K, N)` height evaluations (`max_lane_calls(K, N)` lane calls of eight and two steps of four). Any panic is a bug.
 //!
 //! Two input modes per precision: raw coordinates (anything, including NaN and ±inf), and
 //! "structured" coordinates that map the fuzzer's floats onto a triangle of bounded shape and

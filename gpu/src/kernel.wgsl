@@ -2,14 +2,14 @@
 // BVH traversal with a fixed-size stack. The mathematics is the CPU kernel's (docs/METHOD.md
 // §2–§8; core/src/kernel/): clip to the patch's box, re-base the ray at the box interval's
 // middle, local ray, slab and shell clip (exact wall quadratics), bracketing at 8 points,
-// at most ITERATIONS refinement steps of 8 points each and one estimate step of 4 (early stop at
+// at most ITERATIONS refinement steps of 8 points each and ESTIMATE_STEPS estimate steps of 4 (early stop at
 // rounding), the rounding allowance 16 ε L / |f′|,
 // then the exact surface normal once for the closest hit (forward-mode derivatives written out
 // below: value and two partials for the surface, value and two t-derivatives for the edge
 // curves; no finite differences).
 //
 // Work per patch test is fixed by WGSL constants: 8 + 8·ITERATIONS height evaluations at most
-// (+ 4 when ITERATIONS ≥ 1), every loop of the kernel has a constant trip count (a loop may stop early, never run longer).
+// (+ 4·ESTIMATE_STEPS when ITERATIONS ≥ 1), every loop of the kernel has a constant trip count (a loop may stop early, never run longer).
 // The traversal visits each node at most once (a budget of node_count visits), tests each index
 // of `order` at most once (a budget of order_count tests) and keeps at most STACK pending nodes;
 // anything else is reported through `status`, never a loop without end. Every buffer index is
@@ -54,6 +54,9 @@ const INNER_OF_STOP: f32 = 0.4;
 const OUTER_OF_SPREAD: f32 = 2.0;
 const OUTER_OF_INNER: f32 = 8.0;
 const OUTER_OF_WIDTH: f32 = 0.0625;
+// Estimate steps of 4 points per patch test at most, on top of the ITERATIONS steps of 8 (the
+// CPU's `refine::ESTIMATE_STEPS`).
+const ESTIMATE_STEPS: u32 = 2u;
 // Rounding allowance of t_error, in ulps of the patch's extent L (`pt.scale`; the CPU's
 // `smoothtri::kernel::ROUNDING_ULPS`); also the snap of f at the shell interval's ends.
 const ROUNDING_ULPS: f32 = 16.0;
@@ -936,12 +939,12 @@ fn smooth_crossing(id: u32, o: vec3<f32>, d: vec3<f32>, inv: vec3<f32>, t_min: f
         }
     }
     // Refinement: at most ITERATIONS steps of 8 points (fewer once the bracket has collapsed
-    // onto an exact zero or is within `stop`) and at most one estimate step of the 4 points
-    // around a trusted estimate (the CPU's `refine::refine`, "Estimate steps").
+    // onto an exact zero or is within `stop`) and at most ESTIMATE_STEPS estimate steps of the
+    // 4 points around a trusted estimate (the CPU's `refine::refine`, "Estimate steps").
     var x = start_estimate(br, before, after);
-    var estimate_step = true;
+    var estimate_steps = ESTIMATE_STEPS;
     var steps = 0u;
-    for (var it = 0u; it < ITERATIONS + 1u; it++) {
+    for (var it = 0u; it < ITERATIONS + ESTIMATE_STEPS; it++) {
         if (br.fa == 0.0 || br.fb == 0.0 || !(br.b - br.a > stop)) {
             break;
         }
@@ -955,10 +958,11 @@ fn smooth_crossing(id: u32, o: vec3<f32>, d: vec3<f32>, inv: vec3<f32>, t_min: f
         }
         let r_out = max(max(e * OUTER_OF_SPREAD, r_in * OUTER_OF_INNER), wd * OUTER_OF_WIDTH);
         // Trusted: a root caught within r_in ends the refinement; then only the 4 points
-        // around the estimate (once), else a uniform step (at most ITERATIONS of them).
+        // around the estimate (at most ESTIMATE_STEPS times), else a uniform step (at most
+        // ITERATIONS of them).
         var first_k = 0u;
-        if (ITERATIONS > 0u && estimate_step && e > 0.0 && r_in + r_in <= stop) {
-            estimate_step = false;
+        if (ITERATIONS > 0u && estimate_steps > 0u && e > 0.0 && r_in + r_in <= stop) {
+            estimate_steps -= 1u;
             first_k = 4u;
         } else {
             if (steps == ITERATIONS) {

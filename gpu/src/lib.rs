@@ -26,8 +26,8 @@
 //! panics on bad input.
 //!
 //! # Bounded work
-//! Per patch test at most `8 + 8·N + 4` height evaluations ([`SAMPLES`]` + 2` bracketing
-//! points, `N` steps of 8 and, for `N ≥ 1`, one estimate step of 4, as the CPU's
+//! Per patch test at most `8 + 8·N + 8` height evaluations ([`SAMPLES`]` + 2` bracketing
+//! points, `N` steps of 8 and, for `N ≥ 1`, two estimate steps of 4, as the CPU's
 //! `smoothtri::max_height_evals`), every loop of the kernel with a constant trip count; per ray at most one
 //! visit per BVH node, one test per index of the tree's order, and [`STACK`] pending nodes; per
 //! pixel of a frame two such rays (the camera ray and at most one shadow ray) and at most four

@@ -386,6 +386,7 @@ fn shader_constants_match_the_cpu_kernel() {
             .parse()
             .expect("a number")
     };
+    assert_eq!(count("ESTIMATE_STEPS"), smoothtri::internal::ESTIMATE_STEPS);
     assert_eq!(
         count("SECTION_NEWTON_STEPS"),
         smoothtri::internal::SECTION_NEWTON_STEPS

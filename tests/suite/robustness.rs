@@ -14,7 +14,7 @@
 //!   subnormal sums);
 //! - every `intersect(…, n)` / `intersect_stats::<K>(…, n)` result is `None` or fully finite, `t`
 //!   inside `[t_min, t_max]` exactly, `t_error ≥ 0`, unit normal, barycentrics in the triangle,
-//!   with at most `max_height_evals(K, N)` height evaluations (`max_lane_calls(K, N)` lane calls of eight and one step of four) and at most one normal evaluation;
+//!   with at most `max_height_evals(K, N)` height evaluations (`max_lane_calls(K, N)` lane calls of eight and two steps of four) and at most one normal evaluation;
 //! - BVH queries on storage made by `Bvh::build` never err and equal brute force exactly
 //!   (`closest_hit` returns the brute-force closest hit bit for bit, `any_hit` its hit/miss);
 //! - inside the method's domain (well-shaped triangles, normals ≤ 50°) the surface stays inside

@@ -3,7 +3,7 @@
 //! interval end and every wall margin is measured in (docs/METHOD.md §8).
 
 use crate::geometry::Patch;
-use crate::kernel::refine::{Bracket, ESTIMATE_POINTS};
+use crate::kernel::refine::{Bracket, ESTIMATE_POINTS, ESTIMATE_STEPS};
 use crate::num::lanes::LANES;
 use crate::num::real::Float;
 use crate::surface::shell::longest_edge;
@@ -126,8 +126,8 @@ impl Budget {
 /// The most lane calls (eight height evaluations each) that one patch test
 /// with `k` bracketing samples and a refinement budget `n` makes: `⌈(k + 2)/8⌉ + min(n,`
 /// [`MAX_ITERATIONS`]`)` (the budget a query runs, [`iterations`]). Besides these, a test
-/// makes at most one call of `ESTIMATE_POINTS` = 4 evaluations (the estimate step around a
-/// trusted root estimate); [`max_height_evals`] counts both.
+/// makes at most `ESTIMATE_STEPS` = 2 calls of `ESTIMATE_POINTS` = 4 evaluations (the
+/// estimate steps around a trusted root estimate); [`max_height_evals`] counts both.
 ///
 /// # Panics
 /// Never.
@@ -137,13 +137,17 @@ pub const fn max_lane_calls(k: usize, n: usize) -> usize {
 
 /// The most height evaluations `σS` that one patch test with `k` bracketing samples and a
 /// refinement budget `n` makes: eight per lane call of [`max_lane_calls`]`(k, n)` plus, for
-/// `n ≥ 1`, the four of the estimate step (`ESTIMATE_POINTS` = 4; `n = 0` brackets
-/// only). [`KernelStats::height_evals`](crate::KernelStats::height_evals) never exceeds it.
+/// `n ≥ 1`, the four of each estimate step (`ESTIMATE_STEPS · ESTIMATE_POINTS` = 2 · 4;
+/// `n = 0` brackets only). [`KernelStats::height_evals`](crate::KernelStats::height_evals) never exceeds it.
 ///
 /// # Panics
 /// Never.
 pub const fn max_height_evals(k: usize, n: usize) -> usize {
-    let estimate = if n > 0 { ESTIMATE_POINTS } else { 0 };
+    let estimate = if n > 0 {
+        ESTIMATE_STEPS * ESTIMATE_POINTS
+    } else {
+        0
+    };
     LANES
         .saturating_mul(max_lane_calls(k, n))
         .saturating_add(estimate)

@@ -26,7 +26,7 @@
 //!
 //! `f` is evaluated at eight parameters per call, in the lanes of [`Float::L8`]
 //! ([`crate::num::lanes`]). Work per ray is at most [`max_lane_calls`]`(K, n) = ⌈(K + 2)/8⌉ + n`
-//! lane calls, one four-point call and one normal evaluation ([`max_height_evals`] height
+//! lane calls, two four-point calls and one normal evaluation ([`max_height_evals`] height
 //! evaluations in all), whatever the input: every loop has a bounded trip count (the
 //! refinement's at most [`MAX_ITERATIONS`] steps; a loop may stop early when it has its answer,
 //! never run longer). The final
@@ -62,7 +62,7 @@ use refine::{ESTIMATE_POINTS, first_sign_change, refine};
 /// Statistics of one kernel call, for tests and studies.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct KernelStats {
-    /// Number of height evaluations `σS` performed, eight per lane call and four in the
+    /// Number of height evaluations `σS` performed, eight per lane call and four per
     /// estimate step (at most [`max_height_evals`]`(K, N)`).
     pub height_evals: u32,
     /// Number of full point-and-normal evaluations (0 or 1).
@@ -131,7 +131,7 @@ pub(crate) struct Test<F> {
 }
 
 /// Where `ray` crosses `patch` in `[t_min, t_max]` (clip, bracket, refine; no normal yet),
-/// or `None`. At most [`max_lane_calls`]`(K, n)` lane calls and one four-point call
+/// or `None`. At most [`max_lane_calls`]`(K, n)` lane calls and two four-point calls
 /// ([`max_height_evals`]), made by `heights`. The patch's height evaluation is prepared into
 /// `prepared` (once the ray reaches its shell; otherwise the slot is left alone), where it
 /// stays for completing the crossing into a hit ([`Crossing::hit`]) without preparing the

@@ -41,10 +41,14 @@
 //! call's work with SSE2 or NEON halves, and on the GPU four evaluations instead of eight).
 //! When the root is caught the result is the bracket the eight-point step would have left
 //! (unless one of its uniform points fell inside `x̂ ± r_in`); when it is not, the step has
-//! still narrowed the bracket or left it as it was, and the eight-point steps go on. At most
-//! one such step per test, on top of the `n` (none at `n = 0`, which brackets only), so the
-//! bound below is unchanged and the work bound grows by four evaluations
-//! (`crate::kernel::max_height_evals`).
+//! still narrowed the bracket (usually to the gap between `x̂ ± r_in` and `x̂ ± r_out`) or
+//! left it as it was, and the next step starts from the estimate through the new bracket's
+//! samples: another estimate step where that is trusted, otherwise eight-point steps. At most
+//! [`ESTIMATE_STEPS`] = 2 such steps per test, on top of the `n` (none at `n = 0`, which
+//! brackets only), so the bound below is unchanged and the work bound grows by eight
+//! evaluations (`crate::kernel::max_height_evals`). The second step pays where a four-point
+//! call costs half an eight-point one (SSE2 and NEON halves, the GPU); with AVX2 or AVX-512
+//! the two calls cost about the same.
 //!
 //! Bound: after bracketing and `n` steps the bracket is at most
 //! `max((b − a) / ((K + 1)·5^n), EARLY_STOP · allowance)` for the shell interval `[a, b]` (up
@@ -58,8 +62,13 @@ pub const UNIFORM_POINTS: usize = 4;
 /// The guaranteed shrink factor of the bracket per refinement step: `UNIFORM_POINTS + 1`.
 pub const WORST_SHRINK: usize = UNIFORM_POINTS + 1;
 /// Points of the estimate step (module docs, "Estimate steps"): `x̂ ± r_in` and `x̂ ± r_out`,
-/// without the uniform points; at most one per patch test, on top of the `n` steps.
+/// without the uniform points; at most [`ESTIMATE_STEPS`] per patch test, on top of the `n`
+/// steps.
 pub const ESTIMATE_POINTS: usize = 4;
+/// Estimate steps per patch test at most (module docs, "Estimate steps"), on top of the `n`
+/// eight-point steps: a second one where the first's four points missed the root but left a
+/// bracket whose new estimate is trusted again.
+pub const ESTIMATE_STEPS: usize = 2;
 /// The inner radius around a step's estimate, as a fraction of its distance `e` to regula
 /// falsi's (at least [`INNER_OF_STOP`] times the early-stop width, so a caught root ends the
 /// refinement).
@@ -283,11 +292,11 @@ pub(crate) fn refine<F: Float>(
     let fifth = F::ONE / F::from_f64(WORST_SHRINK as f64);
     let inner_of_stop = F::from_f64(INNER_OF_STOP);
     let mut x = start;
-    let mut estimate_step = true;
+    let mut estimate_steps = ESTIMATE_STEPS;
     let mut steps = 0usize;
-    // `n` uniform steps and at most one estimate step (`n + 1` cannot overflow: the caller
-    // passes `iterations(n)`, at most `MAX_ITERATIONS`).
-    for _ in 0..n + 1 {
+    // `n` uniform steps and at most `ESTIMATE_STEPS` estimate steps (the sum cannot
+    // overflow: the caller passes `iterations(n)`, at most `MAX_ITERATIONS`).
+    for _ in 0..n + ESTIMATE_STEPS {
         if br.fa == F::ZERO || br.fb == F::ZERO || !(br.b - br.a > stop) {
             break;
         }
@@ -315,8 +324,8 @@ pub(crate) fn refine<F: Float>(
         // Trusted: a root caught within `r_in` of the estimate ends the refinement (the
         // bracket `2·r_in` is within `stop`), where the uniform points would not be needed.
         let trusted = e > F::ZERO && r_in + r_in <= stop;
-        let (next, before, after) = if n > 0 && estimate_step && trusted {
-            estimate_step = false;
+        let (next, before, after) = if n > 0 && estimate_steps > 0 && trusted {
+            estimate_steps -= 1;
             narrow(&br, &around, &f4(around))
         } else {
             if steps == n {
@@ -478,5 +487,30 @@ mod tests {
         assert_eq!((calls.get(), fours.get()), (5, 0));
         assert!(fin.b - fin.a <= w0 / 625.0 * (1.0 + 1e-12), "{fin:?}");
         assert!(fin.a < 0.6180339887 && 0.6180339887 <= fin.b, "{fin:?}");
+    }
+    #[test]
+    fn a_second_estimate_step_catches_a_root_the_first_missed() {
+        // Steep and curved at the bracketing's scale: the first estimate's four points miss
+        // the root but leave a bracket whose next estimate is trusted and caught.
+        let f = |x: f64| libm::exp(3.0 * x) - 2.0;
+        let root = core::f64::consts::LN_2 / 3.0;
+        let stop = 6e-4;
+        let (calls, fours) = (Cell::new(0), Cell::new(0));
+        let mut f8 = lanes(f, &calls);
+        let mut f4 = lanes::<ESTIMATE_POINTS>(f, &fours);
+        let found = first_sign_change::<f64, 6>(0.0, 1.0, 0.0, &mut f8);
+        assert!(found.is_some(), "a sign change in [0, 1]");
+        let Some((br, start)) = found else { return };
+        let (fin, x) = refine(br, start, stop, 8, &mut f8, &mut f4);
+        assert!(fin.a <= x && x <= fin.b);
+        assert!(
+            fin.a <= root && root <= fin.b && fin.b - fin.a <= stop,
+            "{fin:?}"
+        );
+        assert_eq!(
+            (calls.get(), fours.get()),
+            (1, ESTIMATE_STEPS),
+            "bracketing and two estimate steps of four points, no eight-point step"
+        );
     }
 }

@@ -275,7 +275,7 @@ pub fn check_hit<F: Float>(
 }
 
 /// The work bound: at most `max_height_evals(K, N)` height evaluations (`max_lane_calls(K, N)`
-/// lane calls of eight and one estimate step of four) and one normal evaluation.
+/// lane calls of eight and two estimate steps of four) and one normal evaluation.
 pub fn check_stats(s: KernelStats, k: u32, n: u32) -> Result<(), TestCaseError> {
     let bound = smoothtri::max_height_evals(k as usize, n as usize) as u32;
     prop_assert!(
