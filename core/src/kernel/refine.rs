@@ -449,67 +449,69 @@ mod tests {
         assert_eq!(start_estimate(&z, Some((x(-3.0), -3.0)), None), z.a);
     }
 
+    /// Brackets `f` on `[a, b]` with six interior samples and refines with a budget of `n`
+    /// steps and early-stop width `stop`: the first sign change's bracket, the final bracket
+    /// and estimate, and the lane calls and four-point calls made in all.
+    fn bracket_and_refine(
+        f: impl Fn(f64) -> f64 + Copy,
+        [a, b]: [f64; 2],
+        stop: f64,
+        n: usize,
+    ) -> (Bracket<f64>, Bracket<f64>, f64, [usize; 2]) {
+        let (calls, fours) = (Cell::new(0), Cell::new(0));
+        let mut f8 = lanes(f, &calls);
+        let mut f4 = lanes::<ESTIMATE_POINTS>(f, &fours);
+        let found = first_sign_change::<f64, 6>(a, b, 0.0, &mut f8);
+        assert!(found.is_some(), "a sign change in [{a}, {b}]");
+        let (br, start) = found.unwrap_or((Bracket::at(a, 0.0), a));
+        let (fin, x) = refine(br, start, stop, n, &mut f8, &mut f4);
+        assert!(fin.a <= x && x <= fin.b);
+        (br, fin, x, [calls.get(), fours.get()])
+    }
+
     #[test]
     fn a_smooth_root_takes_one_estimate_step_and_a_step_never_shrinks_less_than_five_times() {
         // Smooth: the bracketing samples' cubic lands within the early stop (at a ratio of
         // stop to bracket like the kernel's in f32, 1e-4 to 1e-3).
-        let f = |x: f64| x * x * x + x - 0.3;
         let root = 0.2784179903218099; // x³ + x = 0.3
         let stop = 1e-5;
-        let (calls, fours) = (Cell::new(0), Cell::new(0));
-        let mut f8 = lanes(f, &calls);
-        let mut f4 = lanes::<ESTIMATE_POINTS>(f, &fours);
-        let found = first_sign_change::<f64, 6>(0.2, 0.4, 0.0, &mut f8);
-        assert!(found.is_some(), "a sign change in [0.2, 0.4]");
-        let Some((br, start)) = found else { return };
-        let (fin, x) = refine(br, start, stop, 8, &mut f8, &mut f4);
-        assert!(fin.a <= x && x <= fin.b);
+        let (_, fin, _, calls) = bracket_and_refine(|x| x * x * x + x - 0.3, [0.2, 0.4], stop, 8);
         assert!(
             fin.a <= root && root <= fin.b && fin.b - fin.a <= stop,
             "{fin:?}"
         );
         assert_eq!(
-            (calls.get(), fours.get()),
-            (1, 1),
+            calls,
+            [1, 1],
             "bracketing and one estimate step of four points"
         );
 
         // A jump: the estimates are useless, the uniform points still shrink 5× per step.
         let jump = |x: f64| if x < 0.6180339887 { -1.0 } else { 1.0 };
-        let (calls, fours) = (Cell::new(0), Cell::new(0));
-        let mut f8 = lanes(jump, &calls);
-        let mut f4 = lanes::<ESTIMATE_POINTS>(jump, &fours);
-        let found = first_sign_change::<f64, 6>(0.0, 1.0, 0.0, &mut f8);
-        assert!(found.is_some(), "a sign change in [0.0, 1.0]");
-        let Some((br, start)) = found else { return };
-        let w0 = br.b - br.a;
-        let (fin, _) = refine(br, start, 0.0, 4, &mut f8, &mut f4);
-        assert_eq!((calls.get(), fours.get()), (5, 0));
-        assert!(fin.b - fin.a <= w0 / 625.0 * (1.0 + 1e-12), "{fin:?}");
+        let (br, fin, _, calls) = bracket_and_refine(jump, [0.0, 1.0], 0.0, 4);
+        assert_eq!(calls, [5, 0]);
+        assert!(
+            fin.b - fin.a <= (br.b - br.a) / 625.0 * (1.0 + 1e-12),
+            "{fin:?}"
+        );
         assert!(fin.a < 0.6180339887 && 0.6180339887 <= fin.b, "{fin:?}");
     }
+
     #[test]
     fn a_second_estimate_step_catches_a_root_the_first_missed() {
         // Steep and curved at the bracketing's scale: the first estimate's four points miss
         // the root but leave a bracket whose next estimate is trusted and caught.
-        let f = |x: f64| libm::exp(3.0 * x) - 2.0;
         let root = core::f64::consts::LN_2 / 3.0;
         let stop = 6e-4;
-        let (calls, fours) = (Cell::new(0), Cell::new(0));
-        let mut f8 = lanes(f, &calls);
-        let mut f4 = lanes::<ESTIMATE_POINTS>(f, &fours);
-        let found = first_sign_change::<f64, 6>(0.0, 1.0, 0.0, &mut f8);
-        assert!(found.is_some(), "a sign change in [0, 1]");
-        let Some((br, start)) = found else { return };
-        let (fin, x) = refine(br, start, stop, 8, &mut f8, &mut f4);
-        assert!(fin.a <= x && x <= fin.b);
+        let (_, fin, _, calls) =
+            bracket_and_refine(|x| libm::exp(3.0 * x) - 2.0, [0.0, 1.0], stop, 8);
         assert!(
             fin.a <= root && root <= fin.b && fin.b - fin.a <= stop,
             "{fin:?}"
         );
         assert_eq!(
-            (calls.get(), fours.get()),
-            (1, ESTIMATE_STEPS),
+            calls,
+            [1, ESTIMATE_STEPS],
             "bracketing and two estimate steps of four points, no eight-point step"
         );
     }
