@@ -9,7 +9,7 @@ use heapless::Vec as HVec;
 
 use super::error::BvhError;
 use super::node::{BVH_EMPTY_SLOT, BVH_STACK, BVH_WIDTH, BvhNode, MAX_DEPTH, MAX_LEAF, axis};
-use super::parts::{Merge, in_parts, partition, partition_in_parts};
+use super::parts::{Merge, SUBTREE_MIN, in_parts, partition, partition_in_parts};
 use crate::aabb::Aabb;
 use crate::exec::Executor;
 use crate::num::real::Float;
@@ -162,8 +162,6 @@ pub(super) const fn nodes_needed(n: usize) -> usize {
     }
 }
 
-/// The smallest range of boxes built as a subtree of its own (see [`build_tree`]).
-pub(super) const SUBTREE_MIN: usize = 1024;
 /// The most subtrees of one build: a range that would be one more is built with the top of
 /// the tree instead. Bounds the task list the builder keeps on its stack.
 pub(super) const MAX_SUBTREES: usize = 64;

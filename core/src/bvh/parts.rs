@@ -5,10 +5,12 @@
 
 use heapless::Vec as HVec;
 
-use super::build::SUBTREE_MIN;
 use super::error::BvhError;
 use crate::exec::Executor;
 
+/// The smallest range of boxes built as a subtree of its own, one task of the executor (see
+/// [`build_tree`](super::build::build_tree)).
+pub(super) const SUBTREE_MIN: usize = 1024;
 /// Boxes below which a range is bounded, binned and partitioned on the calling thread (see
 /// [`examine`](super::build::examine)). Four times [`SUBTREE_MIN`]: the top of the tree stops
 /// at ranges of `max(n / 32, SUBTREE_MIN)` boxes, so at most one level of it runs on one
