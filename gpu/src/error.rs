@@ -50,6 +50,16 @@ pub enum GpuError {
     StackOverflow,
     /// A device error while tracing (validation, out of memory, lost device, mapping).
     Device(String),
+    /// The device cannot do what was asked for this input (for example, build patches on a line
+    /// field whose remedy runs on the CPU).
+    Unsupported(&'static str),
+    /// A vertex buffer of `given` values where `expected` (three per vertex) were needed.
+    VertexCount {
+        /// Values needed.
+        expected: usize,
+        /// Values given.
+        given: usize,
+    },
     /// The device cannot present to the window (no surface for it, no format in common, a
     /// surface lost for good).
     Surface(String),
@@ -85,6 +95,11 @@ impl fmt::Display for GpuError {
             ),
             GpuError::StackOverflow => f.write_str("GPU BVH traversal stack overflow"),
             GpuError::Device(m) => write!(f, "GPU device error: {m}"),
+            GpuError::Unsupported(m) => write!(f, "not supported on the GPU: {m}"),
+            GpuError::VertexCount { expected, given } => write!(
+                f,
+                "a vertex buffer of {given} values where {expected} (three per vertex) are needed"
+            ),
             GpuError::Surface(m) => write!(f, "cannot present to the window on the GPU: {m}"),
         }
     }

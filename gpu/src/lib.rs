@@ -54,6 +54,7 @@
 #![forbid(unsafe_code)]
 #![deny(missing_docs)]
 
+mod build;
 mod device;
 mod dispatch;
 mod error;
@@ -64,6 +65,7 @@ mod records;
 mod scene;
 mod shader;
 
+pub use build::GpuPatchBuild;
 pub use device::Gpu;
 pub use error::GpuError;
 pub use flat_tris::{FLAT_SHADER, FlatHit, FlatScene};
