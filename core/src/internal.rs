@@ -3,6 +3,7 @@
 //! may change in any release.
 
 pub use crate::bvh::MAX_LEAF;
+pub use crate::kernel::budget::EXTENT_EDGES;
 pub use crate::kernel::refine::{
     EARLY_STOP, ESTIMATE_STEPS, INNER_OF_SPREAD, INNER_OF_STOP, OUTER_OF_INNER, OUTER_OF_SPREAD,
     OUTER_OF_WIDTH, WORST_SHRINK,
@@ -13,6 +14,7 @@ pub use crate::mesh::seams::{FIT_SAMPLES, TWIST_TERMS};
 pub use crate::num::real::LANES;
 pub use crate::surface::band::BAND_MIN_NORMAL_COS;
 pub use crate::surface::field::SECTION_NEWTON_STEPS;
+pub use crate::surface::shell::{EDGE_T, MARGIN_ABS, MARGIN_REL, SAMPLES as SHELL_SAMPLES};
 
 /// `patch` with an unbounded band (`core/src/surface/band.rs`): the kernel then samples every ray
 /// that enters its shell. For tests that compare the cull with no cull.

@@ -1,191 +1,320 @@
-//! The scene builder's patch step on the device ([`GpuPatchBuild`], `build.wgsl`): one compute
-//! invocation per triangle builds its patch record from vertex buffers that live on the GPU,
-//! so a deforming mesh's patches are re-made without a round trip through the host.
+//! The scene update on the device ([`GpuUpdate`], `build.wgsl`): a deforming mesh's patches,
+//! crack closure and BVH refit re-made by compute passes from vertex buffers that live on the
+//! GPU, into an uploaded [`GpuScene`]'s own buffers, with nothing read back per frame.
 
 use std::sync::{Arc, LazyLock};
 
-use smoothtri::{LineField, NORMAL_CLAMP_DEG};
+use smoothtri::internal::CRACK_SAMPLES;
+use smoothtri::mesh::{SharedEdge, shared_edges};
+use smoothtri::{BVH_EMPTY_SLOT, Bvh, NORMAL_CLAMP_DEG};
 use wgpu::util::DeviceExt;
 
 use crate::device::{Gpu, bind_entry, scoped};
 use crate::error::GpuError;
-use crate::shader::{PATCH_VEC4, SHADER, WORKGROUP};
+use crate::records::GpuNode;
+use crate::scene::{GpuScene, SceneKind};
+use crate::shader::{SHADER, Shading, UPDATE_SHADER, WORKGROUP};
 
-/// The builder's shader: the kernel's (whose height evaluation samples the shell) with its
-/// patch records writable, then `build.wgsl`.
+/// The update's shader: the kernel's (whose height evaluation the passes sample the surface
+/// with) with its patch records and nodes writable, then `build.wgsl`.
 pub(crate) static BUILD_SHADER: LazyLock<String> = LazyLock::new(|| {
-    let kernel = SHADER.replace(
-        "var<storage, read> patches:",
-        "var<storage, read_write> patches:",
-    );
-    format!("{kernel}\n{}", include_str!("build.wgsl"))
+    let kernel = SHADER
+        .replace(
+            "var<storage, read> patches:",
+            "var<storage, read_write> patches:",
+        )
+        .replace(
+            "var<storage, read> nodes:",
+            "var<storage, read_write> nodes:",
+        );
+    format!("{kernel}\n{UPDATE_SHADER}")
 });
 
-/// Bytes of the build pass's uniform (`BuildParams` in `build.wgsl`).
-const PARAMS_BYTES: usize = 16 + 16 * NORMAL_CLAMP_DEG.len();
+/// The update's four compute pipelines (compiled once per [`Gpu`]).
+pub(crate) struct UpdatePipelines {
+    patches: wgpu::ComputePipeline,
+    edges: wgpu::ComputePipeline,
+    boxes: wgpu::ComputePipeline,
+    refit: wgpu::ComputePipeline,
+}
 
-/// A mesh's patch construction on the GPU: its triangles, its vertex buffers (positions and
-/// normals, three `f32` each, written by the caller or by [`GpuPatchBuild::write_vertices`])
-/// and the patch records the pass writes, in the layout the kernel reads
-/// ([`smooth_record`](crate::smooth_record)).
+impl UpdatePipelines {
+    pub(crate) fn new(gpu: &Gpu) -> Result<UpdatePipelines, GpuError> {
+        let device = &gpu.device;
+        scoped(device, GpuError::Shader, || {
+            let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some("smoothtri update"),
+                source: wgpu::ShaderSource::Wgsl(BUILD_SHADER.as_str().into()),
+            });
+            let make = |entry: &str| {
+                device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                    label: Some(entry),
+                    layout: None,
+                    module: &module,
+                    entry_point: Some(entry),
+                    compilation_options: wgpu::PipelineCompilationOptions {
+                        // Every line field's sections: the records carry their own di.z.
+                        constants: &[("TILTED", 1.0)],
+                        zero_initialize_workgroup_memory: false,
+                    },
+                    cache: None,
+                })
+            };
+            UpdatePipelines {
+                patches: make("build_patches"),
+                edges: make("close_edges"),
+                boxes: make("fit_boxes"),
+                refit: make("refit_nodes"),
+            }
+        })
+    }
+}
+
+/// The per-frame update of a smooth [`GpuScene`] on the device: given the mesh's triangles
+/// (in the scene's patch order) and its vertices in device buffers, [`GpuUpdate::encode`]
+/// re-makes what the CPU's `OwnedScene::update` re-makes, as compute passes that write the
+/// scene's own buffers:
 ///
-/// Each [`GpuPatchBuild::run`] builds every triangle's patch as the CPU's
-/// `Patch::new_or_tilted_with` on the [`LineField::Face`] field does, in `f32` with the same
-/// operations (within rounding: the shell's heights come from the kernel's height evaluation,
-/// which matches the CPU's to rounding, `tests/parity.rs`), including the per-patch remedy
-/// (the clamps of [`NORMAL_CLAMP_DEG`]) and the placeholder record (an empty box, no surface)
-/// of a triangle the CPU rejects, with the CPU's `remedy` byte per triangle. Reaches are 0:
-/// crack closure is not part of this pass.
-pub struct GpuPatchBuild {
+/// 1. every triangle's patch (`build_patches`: the CPU's `Patch::new_or_tilted_with` on the
+///    face field, in `f32` with the same operations, the per-patch remedy, and the CPU's
+///    placeholder for a triangle that degenerates: an empty box that no ray reaches, the layout
+///    unchanged);
+/// 2. crack closure (`close_edges`: the gap of every shared edge at the CPU's 16 nodes and
+///    both walls' reach) and each patch's box from its reaches (`fit_boxes`);
+/// 3. a refit of the scene's tree (`refit_nodes`, one dispatch per depth, deepest first).
+///
+/// The records equal the CPU's within rounding (`tests/update.rs`: the shell's heights come
+/// from the kernel's height evaluation, equal to the CPU's to rounding; gaps are measured in
+/// `f32` relative to the patches' origins where the CPU places its points in `f64`). The tree
+/// is always refitted: the CPU's update rebuilds it once a refit's cost passes
+/// `smoothtri::REBUILD_COST_RATIO`; on the device, upload a CPU build for that
+/// ([`GpuScene::update`]).
+///
+/// Not on the device yet: the seamless normal's fits (a [`Shading::Seamless`] scene is
+/// [`GpuError::Unsupported`]) and the per-vertex remedy of `smoothtri::LineField::Vertex`
+/// (which runs in triangle order).
+pub struct GpuUpdate {
     gpu: Arc<Gpu>,
-    pipeline: wgpu::ComputePipeline,
-    bind: wgpu::BindGroup,
+    pipelines: Arc<UpdatePipelines>,
     positions: wgpu::Buffer,
     normals: wgpu::Buffer,
-    patches: wgpu::Buffer,
     remedy: wgpu::Buffer,
+    binds: [wgpu::BindGroup; 3],
+    levels: Vec<(u32, wgpu::BindGroup)>,
+    /// The scene buffers the passes write, to refuse another scene.
+    targets: [wgpu::Buffer; 3],
     slots: u32,
+    edges: u32,
     vertices: u32,
 }
 
-impl std::fmt::Debug for GpuPatchBuild {
+impl std::fmt::Debug for GpuUpdate {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("GpuPatchBuild")
+        f.debug_struct("GpuUpdate")
             .field("triangles", &self.slots)
+            .field("shared_edges", &self.edges)
             .field("vertices", &self.vertices)
+            .field("tree_depth", &self.levels.len())
             .finish()
     }
 }
 
-impl GpuPatchBuild {
-    /// The build of `triangles` (vertex indices) over `vertex_count` vertices, on the
-    /// [`LineField::Face`] field, with the vertex buffers zeroed.
+impl GpuUpdate {
+    /// The update of `scene`, a [`GpuScene::smooth`] upload of `bvh` (the tree the passes
+    /// refit), for `triangles` (`triangles[i]` the vertex indices of the scene's patch `i`, in
+    /// its vertex order: the CPU scene's triangles in slot order) over `vertex_count` vertices,
+    /// with the vertex buffers zeroed.
     ///
-    /// Returns [`GpuError::Unsupported`] for [`LineField::Vertex`] (its per-vertex remedy
-    /// runs in triangle order on the CPU), [`GpuError::TooLarge`] beyond the device's buffer
-    /// or dispatch limits, and [`GpuError::Shader`] / [`GpuError::Device`] for device errors.
-    /// Indices out of range are not an error here: their triangles get the placeholder
-    /// record, as on the CPU.
+    /// Errors: [`GpuError::Unsupported`] for a flat, Phong or seamless scene;
+    /// [`GpuError::SceneMismatch`] when `bvh` or `triangles` does not match the scene;
+    /// [`GpuError::Mesh`] for a vertex index at or above `vertex_count` or repeated in a
+    /// triangle; [`GpuError::TooLarge`] beyond the device's limits; [`GpuError::Shader`] or
+    /// [`GpuError::Device`] for device errors.
     ///
     /// # Panics
     /// Never.
     pub fn new(
-        gpu: &Arc<Gpu>,
-        vertex_count: usize,
+        scene: &GpuScene,
+        bvh: &Bvh<'_, f32>,
         triangles: &[[u32; 3]],
-        field: LineField,
-    ) -> Result<GpuPatchBuild, GpuError> {
-        if field != LineField::Face {
+        vertex_count: usize,
+    ) -> Result<GpuUpdate, GpuError> {
+        if scene.kind != SceneKind::Smooth || scene.shading != Shading::Geometric {
             return Err(GpuError::Unsupported(
-                "the device builds patches on LineField::Face only",
+                "the device updates smooth scenes with the geometric normal only",
             ));
+        }
+        let gpu = Arc::clone(&scene.gpu);
+        let n = scene.counts[2] as usize;
+        let mismatch = |what, given| GpuError::SceneMismatch {
+            what,
+            scene: n,
+            given,
+        };
+        if bvh.patches().len() != n {
+            return Err(mismatch("patch", bvh.patches().len()));
+        }
+        if triangles.len() != n {
+            return Err(mismatch("triangle", triangles.len()));
+        }
+        if bvh.nodes().len() != scene.counts[0] as usize {
+            return Err(mismatch("node", bvh.nodes().len()));
         }
         let too_large = |what: &'static str, bytes: usize| GpuError::TooLarge {
             what,
             bytes: bytes as u64,
             limit: gpu.buffer_limit(),
         };
-        let slots = u32::try_from(triangles.len()).map_err(|_| too_large("triangle", 0))?;
-        let vertices = u32::try_from(vertex_count).map_err(|_| too_large("vertex", 0))?;
-        let groups = triangles.len().div_ceil(WORKGROUP as usize);
-        if groups > gpu.limits.max_compute_workgroups_per_dimension as usize {
-            return Err(too_large("triangle", triangles.len() * 12));
+        let vertices = u32::try_from(vertex_count).map_err(|_| too_large("vertex", usize::MAX))?;
+        if 12 * vertex_count as u64 > gpu.buffer_limit() {
+            return Err(too_large("vertex", 12 * vertex_count));
         }
-        let tri_bytes: Vec<u8> = triangles
-            .iter()
-            .flatten()
-            .flat_map(|i| i.to_ne_bytes())
-            .collect();
-        let mut params = Vec::with_capacity(PARAMS_BYTES);
+        let mut scratch = vec![SharedEdge::default(); 3 * n];
+        let pairs = shared_edges(triangles, vertex_count, &mut scratch).map_err(GpuError::Mesh)?;
+        let max_groups = gpu.limits.max_compute_workgroups_per_dimension as usize;
+        if n.max(pairs.len()).div_ceil(WORKGROUP as usize) > max_groups {
+            return Err(too_large("triangle", 12 * n));
+        }
+        let pipelines = gpu.update_pipelines()?;
+        let device = &gpu.device;
+        let slots = n as u32;
+        let edges = pairs.len() as u32;
+        let mut bparams = Vec::new();
         for w in [slots, 0, vertices, 0] {
-            params.extend_from_slice(&w.to_ne_bytes());
+            bparams.extend_from_slice(&w.to_ne_bytes());
         }
         for deg in NORMAL_CLAMP_DEG {
             // As the CPU: sine and cosine in f64, rounded once.
             let (s, c) = deg.to_radians().sin_cos();
             for x in [c as f32, s as f32, 0.0, 0.0] {
-                params.extend_from_slice(&x.to_ne_bytes());
+                bparams.extend_from_slice(&x.to_ne_bytes());
             }
         }
-        let module_source = BUILD_SHADER.as_str();
-        let device = &gpu.device;
-        let (pipeline, bind, positions, normals, patches, remedy) =
-            scoped(device, GpuError::Shader, || {
-                let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-                    label: Some("smoothtri build"),
-                    source: wgpu::ShaderSource::Wgsl(module_source.into()),
-                });
-                let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                    label: Some("smoothtri build_patches"),
-                    layout: None,
-                    module: &module,
-                    entry_point: Some("build_patches"),
-                    compilation_options: wgpu::PipelineCompilationOptions {
-                        constants: &[("TILTED", 1.0)],
-                        zero_initialize_workgroup_memory: false,
-                    },
-                    cache: None,
-                });
-                use wgpu::BufferUsages as U;
-                let zeroed = |what: &'static str, bytes: usize, usage: U| {
-                    device.create_buffer(&wgpu::BufferDescriptor {
-                        label: Some(what),
-                        size: bytes.max(16) as u64,
-                        usage,
-                        mapped_at_creation: false,
-                    })
-                };
-                let v_bytes = 12 * vertex_count;
-                let positions = zeroed("positions", v_bytes, U::STORAGE | U::COPY_DST);
-                let normals = zeroed("normals", v_bytes, U::STORAGE | U::COPY_DST);
-                let patches = zeroed(
-                    "patch",
-                    16 * PATCH_VEC4 * triangles.len(),
-                    U::STORAGE | U::COPY_SRC | U::COPY_DST,
-                );
-                let remedy = zeroed("remedy", 4 * triangles.len(), U::STORAGE | U::COPY_SRC);
-                let tris = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                    label: Some("triangles"),
-                    contents: if tri_bytes.is_empty() { &[0; 16] } else { &tri_bytes },
-                    usage: U::STORAGE,
-                });
-                let uniform = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                    label: Some("build params"),
-                    contents: &params,
-                    usage: U::UNIFORM,
-                });
-                let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
-                    label: Some("smoothtri build"),
-                    layout: &pipeline.get_bind_group_layout(0),
-                    entries: &[
-                        bind_entry(1, &patches),
-                        bind_entry(8, &uniform),
+        let mut eparams = Vec::new();
+        for w in [edges, 0, 0, 0] {
+            eparams.extend_from_slice(&w.to_ne_bytes());
+        }
+        for s in 0..CRACK_SAMPLES {
+            // The CPU's nodes (core/src/mesh/sampling.rs `Nodes`) and the barycentrics of both
+            // sides, in f64 and rounded once.
+            let a = (2 * s + 1) as f64 * std::f64::consts::PI / (2 * CRACK_SAMPLES) as f64;
+            let t = 0.5 * (1.0 - a.cos());
+            for x in [t as f32, (1.0 - t) as f32, (1.0 - (1.0 - t)) as f32, 0.0] {
+                eparams.extend_from_slice(&x.to_ne_bytes());
+            }
+        }
+        let pair_bytes: Vec<u8> = pairs
+            .iter()
+            .flat_map(|e| e.sides())
+            .flat_map(u32::to_ne_bytes)
+            .collect();
+        let tri_bytes: Vec<u8> = triangles
+            .iter()
+            .flatten()
+            .flat_map(|i| i.to_ne_bytes())
+            .collect();
+        let (order, ranges) = levels(bvh);
+        let order_bytes: Vec<u8> = order.iter().flat_map(|i| i.to_ne_bytes()).collect();
+        scoped(device, GpuError::Device, || {
+            use wgpu::BufferUsages as U;
+            let zeroed = |what: &'static str, bytes: usize, usage: U| {
+                device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some(what),
+                    size: bytes.max(16) as u64,
+                    usage,
+                    mapped_at_creation: false,
+                })
+            };
+            let init = |what: &'static str, bytes: &[u8], usage: U| {
+                device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some(what),
+                    contents: if bytes.is_empty() { &[0; 16] } else { bytes },
+                    usage,
+                })
+            };
+            let positions = zeroed("positions", 12 * vertex_count, U::STORAGE | U::COPY_DST);
+            let normals = zeroed("normals", 12 * vertex_count, U::STORAGE | U::COPY_DST);
+            let remedy = zeroed("remedy", 4 * n, U::STORAGE | U::COPY_SRC);
+            let tris = init("triangles", &tri_bytes, U::STORAGE);
+            let pairs = init("shared edges", &pair_bytes, U::STORAGE);
+            let bparams = init("build params", &bparams, U::UNIFORM);
+            let eparams = init("edge params", &eparams, U::UNIFORM);
+            let level_nodes = init("tree levels", &order_bytes, U::STORAGE);
+            let group = |p: &wgpu::ComputePipeline, entries: &[wgpu::BindGroupEntry<'_>]| {
+                device.create_bind_group(&wgpu::BindGroupDescriptor {
+                    label: Some("smoothtri update"),
+                    layout: &p.get_bind_group_layout(0),
+                    entries,
+                })
+            };
+            let binds = [
+                group(
+                    &pipelines.patches,
+                    &[
+                        bind_entry(1, &scene.patches),
+                        bind_entry(8, &bparams),
                         bind_entry(9, &positions),
                         bind_entry(10, &normals),
                         bind_entry(11, &tris),
                         bind_entry(12, &remedy),
                     ],
-                });
-                (pipeline, bind, positions, normals, patches, remedy)
-            })?;
-        for (what, bytes) in [
-            ("positions", 12 * vertex_count),
-            ("patch", 16 * PATCH_VEC4 * triangles.len()),
-        ] {
-            if bytes as u64 > gpu.buffer_limit() {
-                return Err(too_large(what, bytes));
+                ),
+                group(
+                    &pipelines.edges,
+                    &[
+                        bind_entry(1, &scene.patches),
+                        bind_entry(12, &remedy),
+                        bind_entry(13, &eparams),
+                        bind_entry(14, &pairs),
+                    ],
+                ),
+                group(
+                    &pipelines.boxes,
+                    &[
+                        bind_entry(1, &scene.patches),
+                        bind_entry(8, &bparams),
+                        bind_entry(12, &remedy),
+                    ],
+                ),
+            ];
+            let levels = ranges
+                .iter()
+                .map(|&(start, count)| {
+                    let mut b = Vec::new();
+                    for w in [start, count, 0, 0] {
+                        b.extend_from_slice(&w.to_ne_bytes());
+                    }
+                    let level = init("tree level", &b, U::UNIFORM);
+                    let bind = group(
+                        &pipelines.refit,
+                        &[
+                            bind_entry(1, &scene.patches),
+                            bind_entry(2, &scene.nodes),
+                            bind_entry(3, &scene.order),
+                            bind_entry(15, &level),
+                            bind_entry(16, &level_nodes),
+                        ],
+                    );
+                    (count, bind)
+                })
+                .collect();
+            GpuUpdate {
+                gpu: Arc::clone(&gpu),
+                pipelines: Arc::clone(&pipelines),
+                positions,
+                normals,
+                remedy,
+                binds,
+                levels,
+                targets: [
+                    scene.patches.clone(),
+                    scene.nodes.clone(),
+                    scene.order.clone(),
+                ],
+                slots,
+                edges,
+                vertices,
             }
-        }
-        Ok(GpuPatchBuild {
-            gpu: Arc::clone(gpu),
-            pipeline,
-            bind,
-            positions,
-            normals,
-            patches,
-            remedy,
-            slots,
-            vertices,
         })
     }
 
@@ -195,111 +324,142 @@ impl GpuPatchBuild {
         &self.positions
     }
 
-    /// The vertex normals on the device, laid out as [`GpuPatchBuild::positions`] (any
-    /// positive length: the pass normalises them).
+    /// The vertex normals on the device, laid out as [`GpuUpdate::positions`] (any positive
+    /// length: the passes normalise them).
     pub fn normals(&self) -> &wgpu::Buffer {
         &self.normals
     }
 
-    /// The patch records the pass writes: [`PATCH_VEC4`] `vec4<f32>` per triangle.
-    pub fn patches(&self) -> &wgpu::Buffer {
-        &self.patches
-    }
-
-    /// Writes the vertices from the host (`positions` and `normals`: three `f32` per
-    /// vertex). Returns [`GpuError::VertexCount`] when a length is not three per vertex.
+    /// Writes the vertices from the host through the queue (`positions` and `normals`: three
+    /// `f32` per vertex). Returns [`GpuError::VertexCount`] when a length is not three per
+    /// vertex; the buffers are then unchanged.
     ///
     /// # Panics
     /// Never.
     pub fn write_vertices(&self, positions: &[f32], normals: &[f32]) -> Result<(), GpuError> {
-        let want = 3 * self.vertices as usize;
+        let expected = 3 * self.vertices as usize;
         for given in [positions.len(), normals.len()] {
-            if given != want {
-                return Err(GpuError::VertexCount {
-                    expected: want,
-                    given,
-                });
+            if given != expected {
+                return Err(GpuError::VertexCount { expected, given });
             }
         }
-        if want == 0 {
+        if expected == 0 {
             return Ok(());
         }
         let bytes = |v: &[f32]| v.iter().flat_map(|x| x.to_ne_bytes()).collect::<Vec<u8>>();
-        self.gpu
-            .queue
-            .write_buffer(&self.positions, 0, &bytes(positions));
-        self.gpu.queue.write_buffer(&self.normals, 0, &bytes(normals));
+        let queue = &self.gpu.queue;
+        queue.write_buffer(&self.positions, 0, &bytes(positions));
+        queue.write_buffer(&self.normals, 0, &bytes(normals));
         Ok(())
     }
 
-    /// Records the pass into `enc` (one dispatch over the triangles).
-    pub fn encode(&self, enc: &mut wgpu::CommandEncoder) {
-        if self.slots == 0 {
-            return;
+    /// Records the update's passes into `enc`: `3 + depth` dispatches (patches, edges, boxes,
+    /// then one per depth of the tree), in that order, so that commands recorded after them
+    /// (a frame, a query) see the updated scene. Returns [`GpuError::SceneMismatch`] when
+    /// `scene` is not the scene this update was made for, or no longer holds the same buffers
+    /// (after a [`GpuScene::update`] that re-allocated one); nothing is recorded then.
+    ///
+    /// Work: one invocation per triangle (at most 7 patch constructions, 19 height
+    /// evaluations each), one per shared edge (32 height evaluations), one per triangle for
+    /// the box, one per node.
+    ///
+    /// # Panics
+    /// Never.
+    pub fn encode(&self, scene: &GpuScene, enc: &mut wgpu::CommandEncoder) -> Result<(), GpuError> {
+        if [&scene.patches, &scene.nodes, &scene.order]
+            != [&self.targets[0], &self.targets[1], &self.targets[2]]
+        {
+            return Err(GpuError::SceneMismatch {
+                what: "buffer",
+                scene: scene.counts[2] as usize,
+                given: self.slots as usize,
+            });
         }
         let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("smoothtri build_patches"),
+            label: Some("smoothtri update"),
             timestamp_writes: None,
         });
-        pass.set_pipeline(&self.pipeline);
-        pass.set_bind_group(0, &self.bind, &[]);
-        pass.dispatch_workgroups(self.slots.div_ceil(WORKGROUP), 1, 1);
+        let p = &self.pipelines;
+        for (pipeline, bind, count) in [
+            (&p.patches, &self.binds[0], self.slots),
+            (&p.edges, &self.binds[1], self.edges),
+            (&p.boxes, &self.binds[2], self.slots),
+        ] {
+            if count > 0 {
+                pass.set_pipeline(pipeline);
+                pass.set_bind_group(0, bind, &[]);
+                pass.dispatch_workgroups(count.div_ceil(WORKGROUP), 1, 1);
+            }
+        }
+        pass.set_pipeline(&p.refit);
+        for (count, bind) in &self.levels {
+            pass.set_bind_group(0, bind, &[]);
+            pass.dispatch_workgroups(count.div_ceil(WORKGROUP), 1, 1);
+        }
+        Ok(())
     }
 
-    /// Builds the patches from the vertex buffers' current contents and waits for the device.
+    /// Updates `scene` from the vertex buffers' current contents ([`GpuUpdate::encode`]),
+    /// submits and waits for the device.
     ///
     /// # Panics
     /// Never.
-    pub fn run(&self) -> Result<(), GpuError> {
-        self.read(false).map(|_| ())
-    }
-
-    /// Runs the pass and reads back the records ([`PATCH_VEC4`] `vec4<f32>` per triangle, as
-    /// `f32`) and the `remedy` byte of each triangle (the CPU's `Patch::remedy`: 0, the clamp
-    /// index + 1, or `0x80 |` the rejection's code). For tests and tools: a frame's update
-    /// reads nothing back.
-    ///
-    /// # Panics
-    /// Never.
-    pub fn run_and_read(&self) -> Result<(Vec<f32>, Vec<u32>), GpuError> {
-        self.read(true)
-            .map(|o| o.unwrap_or_default())
-    }
-
-    fn read(&self, back: bool) -> Result<Option<(Vec<f32>, Vec<u32>)>, GpuError> {
-        let gpu = &self.gpu;
-        let device = &gpu.device;
-        let n = self.slots as u64;
-        let (p_bytes, r_bytes) = (16 * PATCH_VEC4 as u64 * n, 4 * n);
+    pub fn run(&self, scene: &GpuScene) -> Result<(), GpuError> {
+        let device = &self.gpu.device;
         scoped(device, GpuError::Device, || {
             let mut enc = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                label: Some("smoothtri build"),
+                label: Some("smoothtri update"),
             });
-            self.encode(&mut enc);
-            if !back || n == 0 {
-                gpu.queue.submit([enc.finish()]);
-                let _ = device.poll(wgpu::PollType::wait_indefinitely());
-                return Ok(None);
-            }
-            let read_buf = device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("build readback"),
-                size: p_bytes + r_bytes,
-                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            });
-            enc.copy_buffer_to_buffer(&self.patches, 0, &read_buf, 0, p_bytes);
-            enc.copy_buffer_to_buffer(&self.remedy, 0, &read_buf, p_bytes, r_bytes);
-            let bytes = gpu.submit_and_read(enc, &read_buf, 0..p_bytes + r_bytes)?;
-            let words: Vec<[u8; 4]> = bytes
-                .chunks_exact(4)
-                .map(|c| [c[0], c[1], c[2], c[3]])
-                .collect();
-            let split = (p_bytes / 4) as usize;
-            let (p, r) = words.split_at(split.min(words.len()));
-            Ok(Some((
-                p.iter().map(|w| f32::from_ne_bytes(*w)).collect(),
-                r.iter().map(|w| u32::from_ne_bytes(*w)).collect(),
-            )))
+            self.encode(scene, &mut enc)?;
+            self.gpu.queue.submit([enc.finish()]);
+            device
+                .poll(wgpu::PollType::wait_indefinitely())
+                .map(|_| ())
+                .map_err(|e| GpuError::Device(e.to_string()))
         })?
     }
+
+    /// Reads back each triangle's `remedy` byte of the last update (the CPU's
+    /// `Patch::remedy`: 0 for the normals as given, the clamp index + 1, or `0x80 |` the
+    /// rejection's code for a placeholder). For tests and tools: an update reads nothing back.
+    ///
+    /// # Panics
+    /// Never.
+    pub fn read_remedies(&self) -> Result<Vec<u32>, GpuError> {
+        let bytes = self
+            .gpu
+            .read_buffer(&self.remedy, 4 * u64::from(self.slots))?;
+        Ok(bytes
+            .chunks_exact(4)
+            .map(|c| u32::from_ne_bytes([c[0], c[1], c[2], c[3]]))
+            .collect())
+    }
+}
+
+/// The tree's nodes by depth, deepest first, and each depth's `(start, count)` in that list.
+fn levels(bvh: &Bvh<'_, f32>) -> (Vec<u32>, Vec<(u32, u32)>) {
+    let nodes = bvh.nodes();
+    let mut depth = vec![0u32; nodes.len()];
+    // Children follow their parents in the storage (Bvh::build): one pass in order.
+    for (i, node) in nodes.iter().enumerate() {
+        let GpuNode { child, count, .. } = GpuNode::from_node(node);
+        for (c, k) in child.into_iter().zip(count) {
+            let c = c as usize;
+            if c != BVH_EMPTY_SLOT as usize && k == 0 && c > i && c < nodes.len() {
+                depth[c] = depth[i] + 1;
+            }
+        }
+    }
+    let deepest = depth.iter().copied().max().unwrap_or(0);
+    let mut order = Vec::with_capacity(nodes.len());
+    let mut ranges = Vec::new();
+    for d in (0..=deepest).rev() {
+        let start = order.len() as u32;
+        order.extend((0..nodes.len() as u32).filter(|&i| depth[i as usize] == d));
+        let count = order.len() as u32 - start;
+        if count > 0 {
+            ranges.push((start, count));
+        }
+    }
+    (order, ranges)
 }

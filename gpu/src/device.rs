@@ -8,6 +8,7 @@ use std::sync::{Arc, Mutex};
 
 use wgpu::util::DeviceExt;
 
+use crate::build::UpdatePipelines;
 use crate::error::GpuError;
 use crate::records::{GpuNode, Packed, packed_bytes};
 use crate::shader::{HIT_BYTES, MAX_ITERATIONS, SHADER, Shading, WORKGROUP};
@@ -34,6 +35,8 @@ pub struct Gpu {
     pub(crate) uncaptured: Arc<Mutex<Option<String>>>,
     /// The device was created with timestamp queries (kernel timings for benchmarks).
     pub(crate) timestamps: bool,
+    /// The scene update's pipelines ([`crate::GpuUpdate`]), compiled on first use.
+    pub(crate) update: Mutex<Option<Arc<UpdatePipelines>>>,
 }
 
 impl fmt::Debug for Gpu {
@@ -197,6 +200,7 @@ impl Gpu {
             pipelines: Mutex::new(HashMap::new()),
             uncaptured,
             timestamps,
+            update: Mutex::new(None),
         }))
     }
 
@@ -281,7 +285,9 @@ impl Gpu {
                 .create_buffer_init(&wgpu::util::BufferInitDescriptor {
                     label: Some(what),
                     contents: &bytes,
-                    usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+                    usage: wgpu::BufferUsages::STORAGE
+                        | wgpu::BufferUsages::COPY_DST
+                        | wgpu::BufferUsages::COPY_SRC,
                 })
         })
     }
@@ -371,6 +377,47 @@ impl Gpu {
             return Err(GpuError::Device(msg));
         }
         out
+    }
+
+    /// The scene update's pipelines, compiled once per device.
+    pub(crate) fn update_pipelines(&self) -> Result<Arc<UpdatePipelines>, GpuError> {
+        let mut slot = self
+            .update
+            .lock()
+            .map_err(|_| GpuError::Device("pipeline cache poisoned".into()))?;
+        if let Some(p) = slot.as_ref() {
+            return Ok(Arc::clone(p));
+        }
+        let p = Arc::new(UpdatePipelines::new(self)?);
+        *slot = Some(Arc::clone(&p));
+        Ok(p)
+    }
+
+    /// The first `bytes` of `buffer` (a `COPY_SRC` buffer), copied out and read back.
+    pub(crate) fn read_buffer(
+        &self,
+        buffer: &wgpu::Buffer,
+        bytes: u64,
+    ) -> Result<Vec<u8>, GpuError> {
+        let bytes = bytes.min(buffer.size()) & !3;
+        if bytes == 0 {
+            return Ok(Vec::new());
+        }
+        scoped(&self.device, GpuError::Device, || {
+            let read_buf = self.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("readback"),
+                size: bytes,
+                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+            let mut enc = self
+                .device
+                .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                    label: Some("readback"),
+                });
+            enc.copy_buffer_to_buffer(buffer, 0, &read_buf, 0, bytes);
+            self.submit_and_read(enc, &read_buf, 0..bytes)
+        })?
     }
 
     /// The largest storage buffer the device binds, in bytes.

@@ -50,6 +50,9 @@ pub enum GpuError {
     StackOverflow,
     /// A device error while tracing (validation, out of memory, lost device, mapping).
     Device(String),
+    /// The mesh given to a [`GpuUpdate`](crate::GpuUpdate) has a vertex index at or above the
+    /// vertex count, or repeated in a triangle.
+    Mesh(smoothtri::mesh::MeshError),
     /// The device cannot do what was asked for this input (for example, build patches on a line
     /// field whose remedy runs on the CPU).
     Unsupported(&'static str),
@@ -95,6 +98,7 @@ impl fmt::Display for GpuError {
             ),
             GpuError::StackOverflow => f.write_str("GPU BVH traversal stack overflow"),
             GpuError::Device(m) => write!(f, "GPU device error: {m}"),
+            GpuError::Mesh(e) => write!(f, "the mesh cannot be updated on the GPU: {e}"),
             GpuError::Unsupported(m) => write!(f, "not supported on the GPU: {m}"),
             GpuError::VertexCount { expected, given } => write!(
                 f,

@@ -65,7 +65,7 @@ mod records;
 mod scene;
 mod shader;
 
-pub use build::GpuPatchBuild;
+pub use build::GpuUpdate;
 pub use device::Gpu;
 pub use error::GpuError;
 pub use flat_tris::{FLAT_SHADER, FlatHit, FlatScene};
@@ -74,5 +74,5 @@ pub use records::{GpuNode, flat_record, seam_record, smooth_record};
 pub use scene::{GpuScene, SceneKind};
 pub use shader::{
     DEFAULT_ITERATIONS, FLAT_VEC4, HIT_BYTES, MAX_ITERATIONS, PATCH_VEC4, RAY_BYTES, SAMPLES,
-    SEAM_VEC4, SHADER, STACK, Shading,
+    SEAM_VEC4, SHADER, STACK, Shading, UPDATE_SHADER,
 };

@@ -219,6 +219,49 @@ impl GpuScene {
         Ok(())
     }
 
+    /// Reads back the scene's patch records ([`PATCH_VEC4`](crate::PATCH_VEC4) `vec4<f32>`
+    /// per patch, as `f32`; [`FLAT_VEC4`](crate::FLAT_VEC4) for a flat scene) and its BVH
+    /// nodes, as the shader sees them. For tests and tools (a [`GpuUpdate`](crate::GpuUpdate)
+    /// checked against the CPU's records); a frame reads nothing back.
+    ///
+    /// # Panics
+    ///
+    /// Never.
+    pub fn read_back(&self) -> Result<(Vec<f32>, Vec<GpuNode>), GpuError> {
+        let vec4 = match self.kind {
+            SceneKind::Smooth => crate::PATCH_VEC4,
+            SceneKind::Flat => crate::FLAT_VEC4,
+        } as u64;
+        let words = |b: Vec<u8>| -> Vec<[u8; 4]> {
+            b.chunks_exact(4)
+                .map(|c| [c[0], c[1], c[2], c[3]])
+                .collect()
+        };
+        let records = self
+            .gpu
+            .read_buffer(&self.patches, 16 * vec4 * u64::from(self.counts[2]))?;
+        let records = words(records).into_iter().map(f32::from_ne_bytes).collect();
+        let node_bytes = size_of::<GpuNode>() as u64;
+        let raw = self
+            .gpu
+            .read_buffer(&self.nodes, node_bytes * u64::from(self.counts[0]))?;
+        let nodes = raw
+            .chunks_exact(node_bytes as usize)
+            .map(|n| {
+                let w: Vec<[u8; 4]> = words(n.to_vec());
+                let f = |k: usize| f32::from_ne_bytes(w[k]);
+                let u = |k: usize| u32::from_ne_bytes(w[k]);
+                GpuNode {
+                    lo: std::array::from_fn(|a| std::array::from_fn(|s| f(4 * a + s))),
+                    hi: std::array::from_fn(|a| std::array::from_fn(|s| f(12 + 4 * a + s))),
+                    child: std::array::from_fn(|s| u(24 + s)),
+                    count: std::array::from_fn(|s| u(28 + s)),
+                }
+            })
+            .collect();
+        Ok((records, nodes))
+    }
+
     /// The shader's group 0 for this scene with the query's own buffers (the frame pass binds
     /// unused ones for `rays` and `hits`). Call inside [`scoped`].
     pub(crate) fn bind_group(

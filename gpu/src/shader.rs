@@ -5,6 +5,10 @@
 /// The shader (WGSL), as compiled by [`Gpu::new`](crate::Gpu::new).
 pub const SHADER: &str = include_str!("kernel.wgsl");
 
+/// The scene update's passes (WGSL), compiled after [`SHADER`] with its patch records and
+/// nodes writable ([`GpuUpdate`](crate::GpuUpdate)).
+pub const UPDATE_SHADER: &str = include_str!("build.wgsl");
+
 /// Interior bracketing samples `K` of the shader (the CPU's `DEFAULT_SAMPLES`): `K + 2 = 8`
 /// points.
 pub const SAMPLES: usize = 6;

@@ -655,3 +655,54 @@ fn shading_normals_match_the_cpu() {
         );
     }
 }
+
+/// The constants the update's passes (`build.wgsl`) repeat from the CPU's builder, equal to
+/// the CPU's: a change on either side fails here.
+#[test]
+fn update_shader_constants_match_the_cpu_builder() {
+    use smoothtri::internal::{
+        BAND_MIN_NORMAL_COS, CRACK_REACH, CRACK_SAMPLES, EDGE_T, EXTENT_EDGES, MARGIN_ABS,
+        MARGIN_REL, MAX_CRACK_REACH, SHELL_SAMPLES,
+    };
+    let source = smoothtri_gpu::UPDATE_SHADER;
+    let declared = |decl: &str| -> &str {
+        let at = source
+            .find(decl)
+            .unwrap_or_else(|| panic!("{decl} not declared in the update shader"));
+        let rest = &source[at + decl.len()..];
+        rest[..rest.find(';').expect("declaration ends")].trim()
+    };
+    let f32_of = |name: &str| -> f32 {
+        declared(&format!("const {name}: f32 = "))
+            .parse()
+            .expect("a number")
+    };
+    for (name, cpu) in [
+        ("MIN_NORMAL_COS", smoothtri::MIN_NORMAL_COS),
+        ("MARGIN_REL", MARGIN_REL),
+        ("MARGIN_ABS", MARGIN_ABS),
+        ("EXTENT_EDGES", EXTENT_EDGES),
+        ("MAX_CRACK_REACH", MAX_CRACK_REACH),
+        ("BAND_MIN_NORMAL_COS", BAND_MIN_NORMAL_COS),
+        ("CRACK_REACH", CRACK_REACH),
+    ] {
+        assert_eq!(f32_of(name), cpu as f32, "{name}");
+    }
+    assert_eq!(f32_of("DEGENERATE_RATIO"), f32::EPSILON.sqrt());
+    assert_eq!(f32_of("MIN_POSITIVE"), f32::MIN_POSITIVE);
+    assert_eq!(f32_of("F32_MAX"), f32::MAX);
+    let u32_of = |name: &str| -> usize {
+        declared(&format!("const {name}: u32 = "))
+            .trim_end_matches('u')
+            .parse()
+            .expect("a number")
+    };
+    assert_eq!(u32_of("CRACK_SAMPLES"), CRACK_SAMPLES);
+    assert_eq!(u32_of("SHELL_SAMPLES"), SHELL_SAMPLES);
+    let edge_t: Vec<f32> = declared("const EDGE_T = array<f32, 5>(")
+        .trim_end_matches(')')
+        .split(',')
+        .map(|x| x.trim().parse().expect("a number"))
+        .collect();
+    assert_eq!(edge_t, EDGE_T.map(|t| t as f32));
+}

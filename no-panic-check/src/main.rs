@@ -18,6 +18,7 @@ use core::hint::black_box;
 
 use smoothtri::mesh::{
     MeshError, Seam, SharedEdge, VertexClamp, clamp_vertex_normals, close_cracks, fit_seams,
+    shared_edges,
 };
 use smoothtri::{
     Aabb, BoxBvh, BuildError, BuildOptions, Bvh, BvhError, BvhNode, DEFAULT_SAMPLES, DynamicScene,
@@ -289,6 +290,14 @@ fn seams<F: Float>(patches: &[Patch<F>], ray: &Ray<F>) -> u32 {
         }
     }
     acc += display_len(&black_box(MeshError::TooManyTriangles));
+    // The pairing a port of the edge pass reads, and its errors.
+    match shared_edges(&tris, black_box(9), &mut scratch) {
+        Ok(pairs) => acc += pairs.iter().map(|e| e.sides()[0] ^ e.sides()[1]).sum::<u32>(),
+        Err(e) => acc += display_len(&e),
+    }
+    if let Err(e) = shared_edges(&tris, 9, &mut scratch[..5]) {
+        acc += display_len(&e);
+    }
     // Crack closing on a copy (it widens the patches' walls and boxes), and its errors.
     let mut sealed = [ps[0]; COUNT];
     sealed.copy_from_slice(ps);

@@ -89,5 +89,5 @@ pub use edges::{close_cracks, fit_seams};
 pub use owned::OwnedScene;
 pub use parallel::{EDGE_WORK_BLOCK, EdgeWork, Executor};
 pub use seams::Seam;
-pub use topology::{MeshError, SharedEdge};
+pub use topology::{MeshError, SharedEdge, shared_edges};
 pub use vertex_normals::{VertexClamp, VertexClampReport, clamp_vertex_normals};

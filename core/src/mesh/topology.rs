@@ -166,6 +166,42 @@ pub(crate) fn pair_shared_edges(
     Ok(written)
 }
 
+/// The edges of a mesh that two triangles share, as the builder pairs them for crack closure
+/// and seams: every edge shared by exactly two triangles that traverse it in opposite
+/// directions. Writes them into the first entries of `scratch` (at least `3 × triangles.len()`
+/// entries, contents on entry ignored) in the order of their sorted vertex indices, and returns
+/// that prefix; read each with [`SharedEdge::sides`]. For a port of the edge pass (the GPU's),
+/// which must pair exactly the edges the CPU pairs.
+///
+/// Errors: [`MeshError::TooManyTriangles`], [`MeshError::ScratchTooSmall`] and
+/// [`MeshError::BadIndex`] (an index at or above `vertex_count`, or repeated in a triangle).
+///
+/// Work: one heapsort of the `3 × triangles.len()` edges (`O(n log n)`, in place, no
+/// allocation).
+/// # Panics
+/// Never.
+pub fn shared_edges<'s>(
+    triangles: &[[u32; 3]],
+    vertex_count: usize,
+    scratch: &'s mut [SharedEdge],
+) -> Result<&'s [SharedEdge], MeshError> {
+    let n = pair_shared_edges(triangles, vertex_count, scratch)?;
+    Ok(scratch.get(..n).unwrap_or(&[]))
+}
+
+impl SharedEdge {
+    /// The two sides of a shared edge returned by [`shared_edges`]: `3 × triangle + local
+    /// edge` of each (local edge `j` runs from the triangle's vertex `j` to `j + 1`; the two
+    /// triangles run the edge in opposite directions). Meaningless for entries not returned by
+    /// [`shared_edges`].
+    ///
+    /// # Panics
+    /// Never.
+    pub fn sides(&self) -> [u32; 2] {
+        [self.slot, self.key as u32]
+    }
+}
+
 /// The pair stored at `scratch[k]` by [`pair_shared_edges`] (`k` below its count).
 #[inline(always)]
 pub(crate) fn edge_pair(pairs: &[SharedEdge], k: usize) -> Option<EdgePair> {

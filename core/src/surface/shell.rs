@@ -36,7 +36,7 @@ pub const MARGIN_REL: f64 = 0.5;
 pub const MARGIN_ABS: f64 = 1e-4;
 
 /// Edge parameters `t` of the edge samples (on each of the three edges).
-const EDGE_T: [f64; EDGE_SAMPLES] = [0.1, 0.25, 0.5, 0.75, 0.9];
+pub const EDGE_T: [f64; EDGE_SAMPLES] = [0.1, 0.25, 0.5, 0.75, 0.9];
 /// Samples per edge: [`samples`]' first `3 · EDGE_SAMPLES` are on the edges.
 pub(crate) const EDGE_SAMPLES: usize = 5;
 /// Barycentrics of the interior samples: towards each vertex, and the centroid.

@@ -1,0 +1,384 @@
+//! `GpuUpdate`: a smooth scene updated on the device from device vertex buffers holds the CPU
+//! update's records within rounding (patches with their reaches and boxes, the remedy byte,
+//! the placeholders) and the CPU's refitted tree, on the built-in scenes, a deforming mesh at
+//! several times, steep normals that need the remedy and a triangle that degenerates
+//! mid-animation; bad input is a typed error.
+//! `cargo test -p smoothtri-gpu --test device_update`.
+
+mod common;
+use common::*;
+use glam::DVec3;
+use smoothtri::{BuildOptions, LineField, NORMAL_CLAMP_DEG, OwnedScene, Patch, Vertices};
+use smoothtri_gpu::{GpuError, GpuNode, GpuScene, GpuUpdate, PATCH_VEC4, smooth_record};
+use smoothtri_testkit::Mesh;
+use smoothtri_testkit::scenes::{builtin, tilted_normal_sphere};
+use smoothtri_testkit::twist::{twist_pose, twisting_torus};
+
+/// The largest difference allowed between a device record's value and the CPU's, scaled by
+/// the larger of the patch's length scale (4 × longest edge + |origin|), the value and 1: the
+/// two differ by the rounding of the sampled heights (the kernel's height evaluation against
+/// the CPU's lanes, `tests/parity.rs`) and of single operations.
+const RECORD_TOL: f32 = 4e-6;
+
+/// The largest difference allowed between the gap a wall's reach stands for on the device and
+/// on the CPU (the reach is `CRACK_REACH` = 4 gaps over the wall's altitude), in units of
+/// `f32::EPSILON` times the patch's length scale: on meshes whose neighbours share their curves
+/// the gap is rounding, of the heights on both and of the points' placement, in `f32` relative
+/// to the patches' origins on the device and in `f64` on the CPU.
+const GAP_TOL_EPS: f32 = 4.0;
+
+/// Where a record's reaches ride: value 3 of each edge's fourth `vec4` (`smooth_record`).
+const REACH_SLOTS: [usize; 3] = [4 * 13 + 3, 4 * 18 + 3, 4 * 23 + 3];
+
+fn packed(v: &[DVec3]) -> Vec<f64> {
+    v.iter().flat_map(|p| p.to_array()).collect()
+}
+
+fn f32s(v: &[DVec3]) -> Vec<f32> {
+    v.iter().flat_map(|p| p.as_vec3().to_array()).collect()
+}
+
+fn options() -> BuildOptions<(), ()> {
+    BuildOptions {
+        field: LineField::Face,
+        seams: false,
+        observer: (),
+        executor: (),
+    }
+}
+
+fn cpu_build(m: &Mesh) -> OwnedScene<f32> {
+    let (p, n) = (packed(&m.positions), packed(&m.normals));
+    OwnedScene::<f32>::build(
+        Vertices::packed(&p),
+        Vertices::packed(&n),
+        &m.triangles,
+        &mut options(),
+    )
+    .expect("the CPU build")
+}
+
+/// The CPU's `remedy` byte of `p` (as the device reports it; `rejected` placeholders by
+/// their code).
+fn cpu_remedy(p: &Patch) -> u32 {
+    if let Some(e) = p.rejected() {
+        use smoothtri::PatchError as E;
+        return 0x80
+            | match e {
+                E::NonFinite => 1,
+                E::DegenerateTriangle => 2,
+                E::ZeroNormal { vertex } => 3 + u32::from(vertex),
+                E::BackFacingNormal { vertex } => 6 + u32::from(vertex),
+                E::InvalidShell => 9,
+                E::OutOfRange => 10,
+            };
+    }
+    p.normal_clamp().map_or(0, |deg| {
+        1 + NORMAL_CLAMP_DEG
+            .iter()
+            .position(|&d| d == deg)
+            .expect("a listed clamp") as u32
+    })
+}
+
+/// The scene's triangles in patch order.
+fn slot_triangles(m: &Mesh, cpu: &OwnedScene<f32>) -> Vec<[u32; 3]> {
+    let s = cpu.scene();
+    s.triangle_ids()
+        .iter()
+        .map(|&t| m.triangles[t as usize])
+        .collect()
+}
+
+/// What one comparison saw.
+#[derive(Debug, Default)]
+struct Seen {
+    worst: f32,
+    /// In units of ε times the patch's scale ([`GAP_TOL_EPS`]).
+    worst_reach: f32,
+    /// Barycentric.
+    widest_reach_difference: f32,
+    largest_scale: f32,
+    clamped: usize,
+    placeholders: usize,
+    reaches: usize,
+}
+
+/// Compares the device scene `gs` (updated by `up`) with the CPU scene `cpu`: records,
+/// remedy bytes and, where `nodes`, the tree.
+fn compare(name: &str, gs: &GpuScene, up: &GpuUpdate, cpu: &OwnedScene<f32>, nodes: bool) -> Seen {
+    let s = cpu.scene();
+    let (records, gpu_nodes) = gs.read_back().expect("read back");
+    let remedy = up.read_remedies().expect("remedies");
+    let patches = s.patches();
+    assert_eq!(records.len(), patches.len() * PATCH_VEC4 * 4, "{name}");
+    let mut seen = Seen::default();
+    for (t, p) in patches.iter().enumerate() {
+        let want = smooth_record(&p.data());
+        let got = &records[t * PATCH_VEC4 * 4..(t + 1) * PATCH_VEC4 * 4];
+        // A box's corners are the shell's over the triangle widened by the reaches: two
+        // reaches that differ by `dr` (barycentric) move them by at most `2·dr` times the
+        // patch's extent, which its length scale bounds.
+        let dr = REACH_SLOTS
+            .iter()
+            .map(|&k| (got[k] - want[k]).abs())
+            .fold(0.0f32, f32::max);
+        seen.widest_reach_difference = seen.widest_reach_difference.max(dr);
+        seen.largest_scale = seen.largest_scale.max(want[3]);
+        let want_remedy = cpu_remedy(p);
+        assert_eq!(
+            remedy[t], want_remedy,
+            "{name}: patch {t}: remedy {:#x}",
+            remedy[t]
+        );
+        seen.clamped += usize::from((1..0x80).contains(&want_remedy));
+        seen.placeholders += usize::from(want_remedy >= 0x80);
+        let scale = want[3].max(1.0);
+        for (k, (&g, &w)) in got.iter().zip(&want).enumerate() {
+            if g.to_bits() == w.to_bits() {
+                continue;
+            }
+            if let Some(wall) = REACH_SLOTS.iter().position(|&r| r == k) {
+                // Wall `wall` lies over the edge from vertex wall + 1 to wall + 2; its
+                // altitude is twice the area over that edge's length.
+                let v = |i: usize| match i % 3 {
+                    0 => (0.0f32, 0.0f32),
+                    1 => (want[15], 0.0),
+                    _ => (want[19], want[23]),
+                };
+                let ((ax, ay), (bx, by)) = (v(wall + 1), v(wall + 2));
+                let altitude = want[15] * want[23] / (bx - ax).hypot(by - ay);
+                let d = (g - w).abs() * altitude / 4.0 / (f32::EPSILON * want[3]);
+                seen.worst_reach = seen.worst_reach.max(d);
+                assert!(
+                    d <= GAP_TOL_EPS,
+                    "{name}: patch {t}, reach at {k}: device {g:e}, CPU {w:e} (gaps {d} ε·scale \
+                     apart)"
+                );
+                continue;
+            }
+            let tol = if (16..24).contains(&k) {
+                RECORD_TOL + 2.0 * dr * want[3] / scale.max(w.abs())
+            } else {
+                RECORD_TOL
+            };
+            let d = (g - w).abs() / scale.max(w.abs());
+            seen.worst = seen.worst.max(d);
+            assert!(
+                d <= tol,
+                "{name}: patch {t}, record value {k}: device {g:e}, CPU {w:e} (scaled \
+                 difference {d:e})"
+            );
+        }
+        seen.reaches += REACH_SLOTS.iter().filter(|&&k| want[k] > 0.0).count();
+    }
+    if nodes {
+        let cpu_nodes: Vec<GpuNode> = s.bvh().nodes().iter().map(GpuNode::from_node).collect();
+        assert_eq!(gpu_nodes.len(), cpu_nodes.len(), "{name}");
+        // The root's box sets the scale of every node's.
+        let root = cpu_nodes[0];
+        let scale = (0..3)
+            .flat_map(|a| (0..4).map(move |s| (a, s)))
+            .filter(|&(_, s)| root.child[s] != smoothtri::BVH_EMPTY_SLOT)
+            .map(|(a, s)| root.lo[a][s].abs().max(root.hi[a][s].abs()))
+            .fold(1.0f32, f32::max);
+        for (i, (g, w)) in gpu_nodes.iter().zip(&cpu_nodes).enumerate() {
+            assert_eq!((g.child, g.count), (w.child, w.count), "{name}: node {i}");
+            for a in 0..3 {
+                for s in 0..4 {
+                    for (x, y) in [(g.lo[a][s], w.lo[a][s]), (g.hi[a][s], w.hi[a][s])] {
+                        assert!(
+                            (x - y).abs()
+                                <= RECORD_TOL * scale.max(y.abs())
+                                    + 2.0 * seen.widest_reach_difference * seen.largest_scale,
+                            "{name}: node {i}, slot {s}, axis {a}: device {x:e}, CPU {y:e}"
+                        );
+                    }
+                }
+            }
+        }
+    }
+    eprintln!("{name}: {seen:?}");
+    seen
+}
+
+/// Builds `m` on the CPU, uploads it, and updates the upload on the device from `m`'s own
+/// vertices: the device must reproduce the CPU build.
+fn same_pose(name: &str, m: &Mesh) -> Option<Seen> {
+    let gpu = gpu()?;
+    let cpu = cpu_build(m);
+    let s = cpu.scene();
+    let gs = GpuScene::smooth(&gpu, s.bvh()).expect("upload");
+    let up = GpuUpdate::new(&gs, s.bvh(), &slot_triangles(m, &cpu), m.positions.len())
+        .expect("the device update");
+    // First every vertex at the origin: every patch a placeholder, every box empty, so that
+    // nothing of the upload survives into the comparison below.
+    let zeros = vec![0.0f32; 3 * m.positions.len()];
+    up.write_vertices(&zeros, &zeros).expect("vertices");
+    up.run(&gs).expect("the update runs");
+    let remedies = up.read_remedies().expect("remedies");
+    assert!(remedies.iter().all(|&r| r == 0x82), "{name}: {remedies:?}");
+    up.write_vertices(&f32s(&m.positions), &f32s(&m.normals))
+        .expect("vertices");
+    up.run(&gs).expect("the update runs");
+    Some(compare(name, &gs, &up, &cpu, true))
+}
+
+#[test]
+fn the_device_update_reproduces_the_cpu_build_of_the_built_in_scenes() {
+    for name in ["torus", "sphere", "cube", "teapot"] {
+        same_pose(name, &builtin(name).expect("a built-in scene"));
+    }
+}
+
+#[test]
+fn steep_normals_take_the_cpu_remedy_on_the_device() {
+    let mut m = tilted_normal_sphere();
+    for (k, n) in m.normals.iter_mut().enumerate() {
+        let tip = DVec3::new(0.9, -0.4, 0.2) * (k % 3) as f64;
+        *n = (*n + tip).normalize();
+    }
+    if let Some(seen) = same_pose("tipped normals", &m) {
+        assert!(seen.clamped > 0, "no normal tipped far enough: {seen:?}");
+    }
+}
+
+#[test]
+fn the_device_update_follows_a_deforming_mesh() {
+    let Some(gpu) = gpu() else { return };
+    const SIDE: usize = 16;
+    let m0 = twisting_torus(SIDE, 0.0);
+    let mut cpu = cpu_build(&m0);
+    let gs = GpuScene::smooth(&gpu, cpu.scene().bvh()).expect("upload");
+    let up = GpuUpdate::new(
+        &gs,
+        cpu.scene().bvh(),
+        &slot_triangles(&m0, &cpu),
+        m0.positions.len(),
+    )
+    .expect("the device update");
+    let mut m = m0.clone();
+    let (mut reaches, mut refits) = (0, 0);
+    for (k, t) in [0.7, 2.3, 4.1].into_iter().enumerate() {
+        twist_pose(SIDE, t, &mut m.positions, &mut m.normals);
+        if k == 2 {
+            // Triangle 5 degenerates mid-animation: its three vertices on one line.
+            let [a, b, c] = m.triangles[5].map(|i| i as usize);
+            m.positions[c] = m.positions[a] + (m.positions[b] - m.positions[a]) * 0.5;
+        }
+        let (p, n) = (packed(&m.positions), packed(&m.normals));
+        let report = *cpu
+            .update(Vertices::packed(&p), Vertices::packed(&n), &mut options())
+            .expect("the CPU update");
+        up.write_vertices(&f32s(&m.positions), &f32s(&m.normals))
+            .expect("vertices");
+        up.run(&gs).expect("the device update runs");
+        let seen = compare(
+            &format!("twist at {t}"),
+            &gs,
+            &up,
+            &cpu,
+            report.bvh_refitted,
+        );
+        reaches += seen.reaches;
+        refits += usize::from(report.bvh_refitted);
+        if k == 2 {
+            assert_eq!(seen.placeholders, 1, "{seen:?}");
+        }
+    }
+    assert!(reaches > 0, "the twist's cracks were never measured open");
+    assert!(
+        refits > 0,
+        "the CPU never refitted: the device's refit was not compared"
+    );
+}
+
+#[test]
+fn bad_input_to_the_device_update_is_a_typed_error() {
+    let Some(gpu) = gpu() else { return };
+    let m = builtin("cube").expect("cube");
+    let cpu = cpu_build(&m);
+    let s = cpu.scene();
+    let gs = GpuScene::smooth(&gpu, s.bvh()).expect("upload");
+    let tris = slot_triangles(&m, &cpu);
+    let nv = m.positions.len();
+    let up = GpuUpdate::new(&gs, s.bvh(), &tris, nv).expect("the device update");
+    let p = f32s(&m.positions);
+    assert_eq!(
+        up.write_vertices(&p[1..], &p),
+        Err(GpuError::VertexCount {
+            expected: p.len(),
+            given: p.len() - 1
+        })
+    );
+    // Another scene's buffers.
+    let other = GpuScene::smooth(&gpu, s.bvh()).expect("upload");
+    assert!(matches!(
+        up.run(&other),
+        Err(GpuError::SceneMismatch { .. })
+    ));
+    // A vertex index out of range, the wrong triangle count, a seamless scene.
+    let mut bad = tris.clone();
+    bad[0][1] = nv as u32;
+    assert!(matches!(
+        GpuUpdate::new(&gs, s.bvh(), &bad, nv),
+        Err(GpuError::Mesh(_))
+    ));
+    assert!(matches!(
+        GpuUpdate::new(&gs, s.bvh(), &tris[1..], nv),
+        Err(GpuError::SceneMismatch { .. })
+    ));
+    let seamless = GpuScene::smooth_seamless(&gpu, s.bvh(), &vec![Default::default(); tris.len()])
+        .expect("upload");
+    assert!(matches!(
+        GpuUpdate::new(&seamless, s.bvh(), &tris, nv),
+        Err(GpuError::Unsupported(_))
+    ));
+}
+
+/// The animated files of `assimp-testmodels` (skinned, morphed), posed at five times of their
+/// first clip: each device update holds the CPU update's records.
+#[test]
+fn the_device_update_follows_the_animated_files() {
+    let Some(gpu) = gpu() else { return };
+    let Some(root) = smoothtri_testkit::assimp_models().expect("assimp-testmodels") else {
+        return;
+    };
+    for file in [
+        "glTF2/simple_skin/simple_skin.gltf",
+        "glTF2/glTF-Sample-Models/AnimatedMorphCube-glTF/AnimatedMorphCube.gltf",
+    ] {
+        let path = root.join(file);
+        let mut anim = smoothtri_io::load_animated(path.to_str().expect("a UTF-8 path"))
+            .unwrap_or_else(|e| panic!("{file}: {e}"));
+        let duration = anim.clips().first().map_or(0.0, |c| c.duration);
+        let rest = anim.posed_mesh(None, 0.0).expect("the rest pose");
+        let mut cpu = cpu_build(&rest);
+        let gs = GpuScene::smooth(&gpu, cpu.scene().bvh()).expect("upload");
+        let up = GpuUpdate::new(
+            &gs,
+            cpu.scene().bvh(),
+            &slot_triangles(&rest, &cpu),
+            rest.positions.len(),
+        )
+        .expect("the device update");
+        for k in 1u32..=5 {
+            let t = duration * f64::from(k) / 5.0;
+            let frame = anim.posed_mesh(Some(0), t).expect("a pose");
+            let (p, n) = (packed(&frame.positions), packed(&frame.normals));
+            let report = *cpu
+                .update(Vertices::packed(&p), Vertices::packed(&n), &mut options())
+                .expect("the CPU update");
+            up.write_vertices(&f32s(&frame.positions), &f32s(&frame.normals))
+                .expect("vertices");
+            up.run(&gs).expect("the device update runs");
+            compare(
+                &format!("{file} at {t:.2}"),
+                &gs,
+                &up,
+                &cpu,
+                report.bvh_refitted,
+            );
+        }
+    }
+}
