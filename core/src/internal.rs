@@ -10,7 +10,8 @@ pub use crate::kernel::refine::{
 };
 pub use crate::kernel::{ROUNDING_ULPS, WALL_MARGIN_ULPS};
 pub use crate::mesh::cracks::{CRACK_REACH, CRACK_SAMPLES, MAX_CRACK_REACH};
-pub use crate::mesh::seams::{FIT_SAMPLES, TWIST_TERMS};
+pub use crate::mesh::sampling::FIT_NODES;
+pub use crate::mesh::seams::{FIT_SAMPLES, FREE_END_TOL, TWIST_TERMS};
 pub use crate::num::real::LANES;
 pub use crate::surface::band::BAND_MIN_NORMAL_COS;
 pub use crate::surface::field::SECTION_NEWTON_STEPS;
@@ -26,4 +27,14 @@ pub fn without_band<F: crate::Float>(patch: &crate::Patch<F>) -> crate::Patch<F>
         band: crate::geometry::Band::UNBOUNDED,
         ..*patch
     }
+}
+
+/// The seam fit's least-squares map from the [`FIT_SAMPLES`] tilt samples of an edge (at the
+/// nodes [`FIT_NODES`]) to its [`TWIST_TERMS`] coefficients, `c = P·y`, as the CPU's fit
+/// computes it once per build (`f64`): for a port of the fit.
+///
+/// # Panics
+/// Never.
+pub fn seam_fit_matrix() -> [[f64; FIT_SAMPLES]; TWIST_TERMS] {
+    crate::mesh::seams::FitMatrix::new().rows()
 }

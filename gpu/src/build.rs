@@ -4,7 +4,7 @@
 
 use std::sync::{Arc, LazyLock};
 
-use smoothtri::internal::CRACK_SAMPLES;
+use smoothtri::internal::{CRACK_SAMPLES, seam_fit_matrix};
 use smoothtri::mesh::{SharedEdge, shared_edges};
 use smoothtri::{BVH_EMPTY_SLOT, Bvh, NORMAL_CLAMP_DEG};
 use wgpu::util::DeviceExt;
@@ -79,20 +79,22 @@ impl UpdatePipelines {
 ///    face field, in `f32` with the same operations, the per-patch remedy, and the CPU's
 ///    placeholder for a triangle that degenerates: an empty box that no ray reaches, the layout
 ///    unchanged);
-/// 2. crack closure (`close_edges`: the gap of every shared edge at the CPU's 16 nodes and
-///    both walls' reach) and each patch's box from its reaches (`fit_boxes`);
+/// 2. crack closure and, for a [`GpuScene::smooth_seamless`] scene, the seam fits
+///    (`close_edges`: the gap of every shared edge at the CPU's 16 nodes and both walls'
+///    reach; both sides' tilts of the common normal at 8 of them, or a free edge's
+///    neighbour normals) and each patch's box from its reaches (`fit_boxes`);
 /// 3. a refit of the scene's tree (`refit_nodes`, one dispatch per depth, deepest first).
 ///
-/// The records equal the CPU's within rounding (`tests/update.rs`: the shell's heights come
+/// The records equal the CPU's within rounding (`tests/device_update.rs`: the shell's heights come
 /// from the kernel's height evaluation, equal to the CPU's to rounding; gaps are measured in
 /// `f32` relative to the patches' origins where the CPU places its points in `f64`). The tree
 /// is always refitted: the CPU's update rebuilds it once a refit's cost passes
 /// `smoothtri::REBUILD_COST_RATIO`; on the device, upload a CPU build for that
 /// ([`GpuScene::update`]).
 ///
-/// Not on the device yet: the seamless normal's fits (a [`Shading::Seamless`] scene is
-/// [`GpuError::Unsupported`]) and the per-vertex remedy of `smoothtri::LineField::Vertex`
-/// (which runs in triangle order).
+/// Not on the device: the per-vertex remedy of `smoothtri::LineField::Vertex` (it runs in
+/// triangle order; the passes build the face field), and the normals of a mesh without any
+/// (the caller's vertex normals are the input).
 pub struct GpuUpdate {
     gpu: Arc<Gpu>,
     pipelines: Arc<UpdatePipelines>,
@@ -102,7 +104,7 @@ pub struct GpuUpdate {
     binds: [wgpu::BindGroup; 3],
     levels: Vec<(u32, wgpu::BindGroup)>,
     /// The scene buffers the passes write, to refuse another scene.
-    targets: [wgpu::Buffer; 3],
+    targets: [wgpu::Buffer; 4],
     slots: u32,
     edges: u32,
     vertices: u32,
@@ -125,7 +127,7 @@ impl GpuUpdate {
     /// its vertex order: the CPU scene's triangles in slot order) over `vertex_count` vertices,
     /// with the vertex buffers zeroed.
     ///
-    /// Errors: [`GpuError::Unsupported`] for a flat, Phong or seamless scene;
+    /// Errors: [`GpuError::Unsupported`] for a flat or Phong scene;
     /// [`GpuError::SceneMismatch`] when `bvh` or `triangles` does not match the scene;
     /// [`GpuError::Mesh`] for a vertex index at or above `vertex_count` or repeated in a
     /// triangle; [`GpuError::TooLarge`] beyond the device's limits; [`GpuError::Shader`] or
@@ -139,11 +141,15 @@ impl GpuUpdate {
         triangles: &[[u32; 3]],
         vertex_count: usize,
     ) -> Result<GpuUpdate, GpuError> {
-        if scene.kind != SceneKind::Smooth || scene.shading != Shading::Geometric {
-            return Err(GpuError::Unsupported(
-                "the device updates smooth scenes with the geometric normal only",
-            ));
-        }
+        let seams = match (scene.kind, scene.shading) {
+            (SceneKind::Smooth, Shading::Geometric) => false,
+            (SceneKind::Smooth, Shading::Seamless) => true,
+            _ => {
+                return Err(GpuError::Unsupported(
+                    "the device updates smooth scenes (geometric or seamless normal) only",
+                ));
+            }
+        };
         let gpu = Arc::clone(&scene.gpu);
         let n = scene.counts[2] as usize;
         let mismatch = |what, given| GpuError::SceneMismatch {
@@ -180,7 +186,7 @@ impl GpuUpdate {
         let slots = n as u32;
         let edges = pairs.len() as u32;
         let mut bparams = Vec::new();
-        for w in [slots, 0, vertices, 0] {
+        for w in [slots, 0, vertices, u32::from(seams)] {
             bparams.extend_from_slice(&w.to_ne_bytes());
         }
         for deg in NORMAL_CLAMP_DEG {
@@ -191,7 +197,7 @@ impl GpuUpdate {
             }
         }
         let mut eparams = Vec::new();
-        for w in [edges, 0, 0, 0] {
+        for w in [edges, u32::from(seams), 0, 0] {
             eparams.extend_from_slice(&w.to_ne_bytes());
         }
         for s in 0..CRACK_SAMPLES {
@@ -201,6 +207,12 @@ impl GpuUpdate {
             let t = 0.5 * (1.0 - a.cos());
             for x in [t as f32, (1.0 - t) as f32, (1.0 - (1.0 - t)) as f32, 0.0] {
                 eparams.extend_from_slice(&x.to_ne_bytes());
+            }
+        }
+        // The seam fit's map, rounded once from the CPU's f64 rows.
+        for row in seam_fit_matrix() {
+            for x in row {
+                eparams.extend_from_slice(&(x as f32).to_ne_bytes());
             }
         }
         let pair_bytes: Vec<u8> = pairs
@@ -240,6 +252,9 @@ impl GpuUpdate {
             let bparams = init("build params", &bparams, U::UNIFORM);
             let eparams = init("edge params", &eparams, U::UNIFORM);
             let level_nodes = init("tree levels", &order_bytes, U::STORAGE);
+            // The seam records, or a buffer too short for any record (the passes skip it).
+            let no_seams = zeroed("no seams", 16, U::STORAGE);
+            let seam_out = if seams { &scene.shade_in } else { &no_seams };
             let group = |p: &wgpu::ComputePipeline, entries: &[wgpu::BindGroupEntry<'_>]| {
                 device.create_bind_group(&wgpu::BindGroupDescriptor {
                     label: Some("smoothtri update"),
@@ -257,6 +272,7 @@ impl GpuUpdate {
                         bind_entry(10, &normals),
                         bind_entry(11, &tris),
                         bind_entry(12, &remedy),
+                        bind_entry(17, seam_out),
                     ],
                 ),
                 group(
@@ -266,6 +282,7 @@ impl GpuUpdate {
                         bind_entry(12, &remedy),
                         bind_entry(13, &eparams),
                         bind_entry(14, &pairs),
+                        bind_entry(17, seam_out),
                     ],
                 ),
                 group(
@@ -274,6 +291,7 @@ impl GpuUpdate {
                         bind_entry(1, &scene.patches),
                         bind_entry(8, &bparams),
                         bind_entry(12, &remedy),
+                        bind_entry(17, seam_out),
                     ],
                 ),
             ];
@@ -310,6 +328,7 @@ impl GpuUpdate {
                     scene.patches.clone(),
                     scene.nodes.clone(),
                     scene.order.clone(),
+                    scene.shade_in.clone(),
                 ],
                 slots,
                 edges,
@@ -366,8 +385,7 @@ impl GpuUpdate {
     /// # Panics
     /// Never.
     pub fn encode(&self, scene: &GpuScene, enc: &mut wgpu::CommandEncoder) -> Result<(), GpuError> {
-        if [&scene.patches, &scene.nodes, &scene.order]
-            != [&self.targets[0], &self.targets[1], &self.targets[2]]
+        if [&scene.patches, &scene.nodes, &scene.order, &scene.shade_in] != self.targets.each_ref()
         {
             return Err(GpuError::SceneMismatch {
                 what: "buffer",

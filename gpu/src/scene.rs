@@ -262,6 +262,28 @@ impl GpuScene {
         Ok((records, nodes))
     }
 
+    /// Reads back the scene's shading data as `f32`: the seam records
+    /// ([`SEAM_VEC4`](crate::SEAM_VEC4) `vec4<f32>` per patch, [`seam_record`]'s layout) of a
+    /// [`Shading::Seamless`] scene, the vertex normals of a [`Shading::Phong`] one, one zero
+    /// record otherwise. For tests and tools, as [`GpuScene::read_back`].
+    ///
+    /// # Panics
+    ///
+    /// Never.
+    pub fn read_shading(&self) -> Result<Vec<f32>, GpuError> {
+        let per_patch = match self.shading {
+            Shading::Seamless => 16 * crate::SEAM_VEC4 as u64,
+            Shading::Phong => 48,
+            Shading::Geometric => 0,
+        };
+        let bytes = (per_patch * u64::from(self.counts[2])).max(16);
+        let raw = self.gpu.read_buffer(&self.shade_in, bytes)?;
+        Ok(raw
+            .chunks_exact(4)
+            .map(|c| f32::from_ne_bytes([c[0], c[1], c[2], c[3]]))
+            .collect())
+    }
+
     /// The shader's group 0 for this scene with the query's own buffers (the frame pass binds
     /// unused ones for `rays` and `hits`). Call inside [`scoped`].
     pub(crate) fn bind_group(

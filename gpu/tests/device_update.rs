@@ -8,8 +8,12 @@
 mod common;
 use common::*;
 use glam::DVec3;
+use smoothtri::internal::TWIST_TERMS;
+use smoothtri::mesh::Seam;
 use smoothtri::{BuildOptions, LineField, NORMAL_CLAMP_DEG, OwnedScene, Patch, Vertices};
-use smoothtri_gpu::{GpuError, GpuNode, GpuScene, GpuUpdate, PATCH_VEC4, smooth_record};
+use smoothtri_gpu::{
+    GpuError, GpuNode, GpuScene, GpuUpdate, PATCH_VEC4, SEAM_VEC4, seam_record, smooth_record,
+};
 use smoothtri_testkit::Mesh;
 use smoothtri_testkit::scenes::{builtin, tilted_normal_sphere};
 use smoothtri_testkit::twist::{twist_pose, twisting_torus};
@@ -27,6 +31,11 @@ const RECORD_TOL: f32 = 4e-6;
 /// to the patches' origins on the device and in `f64` on the CPU.
 const GAP_TOL_EPS: f32 = 4.0;
 
+/// The largest angle allowed between the seamless shading normal of a device-fitted seam and
+/// of the CPU's, in degrees, at points across each patch: the fits agree to the rounding of
+/// the sampled normals (`f32` on the device, the CPU's derivatives widened to `f64`).
+const SEAM_NORMAL_TOL_DEG: f64 = 0.005;
+
 /// Where a record's reaches ride: value 3 of each edge's fourth `vec4` (`smooth_record`).
 const REACH_SLOTS: [usize; 3] = [4 * 13 + 3, 4 * 18 + 3, 4 * 23 + 3];
 
@@ -38,24 +47,52 @@ fn f32s(v: &[DVec3]) -> Vec<f32> {
     v.iter().flat_map(|p| p.as_vec3().to_array()).collect()
 }
 
-fn options() -> BuildOptions<(), ()> {
+fn options(seams: bool) -> BuildOptions<(), ()> {
     BuildOptions {
         field: LineField::Face,
-        seams: false,
+        seams,
         observer: (),
         executor: (),
     }
 }
 
-fn cpu_build(m: &Mesh) -> OwnedScene<f32> {
+fn cpu_build(m: &Mesh, seams: bool) -> OwnedScene<f32> {
     let (p, n) = (packed(&m.positions), packed(&m.normals));
     OwnedScene::<f32>::build(
         Vertices::packed(&p),
         Vertices::packed(&n),
         &m.triangles,
-        &mut options(),
+        &mut options(seams),
     )
     .expect("the CPU build")
+}
+
+/// Uploads the CPU scene, with its seams where it has them.
+fn upload(
+    gpu: &std::sync::Arc<smoothtri_gpu::Gpu>,
+    cpu: &OwnedScene<f32>,
+    seams: bool,
+) -> GpuScene {
+    let s = cpu.scene();
+    if seams {
+        GpuScene::smooth_seamless(gpu, s.bvh(), s.seams())
+    } else {
+        GpuScene::smooth(gpu, s.bvh())
+    }
+    .expect("upload")
+}
+
+/// A seam from its record (`seam_record`'s layout).
+fn seam_of(r: &[f32]) -> Seam<f32> {
+    let mut seam = Seam::<f32>::default();
+    for j in 0..3 {
+        for k in 0..TWIST_TERMS {
+            seam.common[j][k] = r[12 * j + k];
+            seam.common_along[j][k] = r[12 * j + 6 + k];
+        }
+        seam.free[j] = r[36 + j] != 0.0;
+    }
+    seam
 }
 
 /// The CPU's `remedy` byte of `p` (as the device reports it; `rejected` placeholders by
@@ -99,6 +136,9 @@ struct Seen {
     /// Barycentric.
     widest_reach_difference: f32,
     largest_scale: f32,
+    worst_seam_deg: f64,
+    fitted_edges: usize,
+    free_edges: usize,
     clamped: usize,
     placeholders: usize,
     reaches: usize,
@@ -172,6 +212,44 @@ fn compare(name: &str, gs: &GpuScene, up: &GpuUpdate, cpu: &OwnedScene<f32>, nod
         }
         seen.reaches += REACH_SLOTS.iter().filter(|&&k| want[k] > 0.0).count();
     }
+    if gs.shading() == smoothtri_gpu::Shading::Seamless {
+        let shading = gs.read_shading().expect("seams");
+        for (t, (p, want)) in patches.iter().zip(s.seams()).enumerate() {
+            let r = &shading[t * SEAM_VEC4 * 4..(t + 1) * SEAM_VEC4 * 4];
+            let cpu_r = seam_record(want);
+            // Which edges are fitted, free or zero, and the record's flag, exactly.
+            for k in 36..40 {
+                assert_eq!(r[k], cpu_r[k], "{name}: patch {t}: seam flag {k}");
+            }
+            for j in 0..3 {
+                let zero = |q: &[f32]| q[12 * j..12 * j + 12].iter().all(|&x| x == 0.0);
+                assert_eq!(zero(r), zero(&cpu_r), "{name}: patch {t}: edge {j} fitted");
+            }
+            if p.rejected().is_some() {
+                continue;
+            }
+            let got = seam_of(r);
+            for (w1, w2) in [(0.2f32, 0.3f32), (0.45, 0.45), (0.05, 0.9), (0.6, 0.01)] {
+                let (a, b) = (
+                    got.shading_normal(p, w1, w2),
+                    want.shading_normal(p, w1, w2),
+                );
+                // The angle from both the sine and the cosine, in f64 (an f32 cosine cannot
+                // tell angles below 0.02° apart).
+                let (a, b) = (a.as_dvec3(), b.as_dvec3());
+                let deg = a.cross(b).length().atan2(a.dot(b)).to_degrees();
+                seen.worst_seam_deg = seen.worst_seam_deg.max(deg);
+                assert!(
+                    deg <= SEAM_NORMAL_TOL_DEG,
+                    "{name}: patch {t} at ({w1}, {w2}): seamless normals {deg}° apart"
+                );
+            }
+            seen.free_edges += want.free.iter().filter(|&&f| f).count();
+            seen.fitted_edges += (0..3)
+                .filter(|&j| !want.common[j].iter().all(|&c| c == 0.0))
+                .count();
+        }
+    }
     if nodes {
         let cpu_nodes: Vec<GpuNode> = s.bvh().nodes().iter().map(GpuNode::from_node).collect();
         assert_eq!(gpu_nodes.len(), cpu_nodes.len(), "{name}");
@@ -204,11 +282,11 @@ fn compare(name: &str, gs: &GpuScene, up: &GpuUpdate, cpu: &OwnedScene<f32>, nod
 
 /// Builds `m` on the CPU, uploads it, and updates the upload on the device from `m`'s own
 /// vertices: the device must reproduce the CPU build.
-fn same_pose(name: &str, m: &Mesh) -> Option<Seen> {
+fn same_pose(name: &str, m: &Mesh, seams: bool) -> Option<Seen> {
     let gpu = gpu()?;
-    let cpu = cpu_build(m);
+    let cpu = cpu_build(m, seams);
     let s = cpu.scene();
-    let gs = GpuScene::smooth(&gpu, s.bvh()).expect("upload");
+    let gs = upload(&gpu, &cpu, seams);
     let up = GpuUpdate::new(&gs, s.bvh(), &slot_triangles(m, &cpu), m.positions.len())
         .expect("the device update");
     // First every vertex at the origin: every patch a placeholder, every box empty, so that
@@ -221,13 +299,21 @@ fn same_pose(name: &str, m: &Mesh) -> Option<Seen> {
     up.write_vertices(&f32s(&m.positions), &f32s(&m.normals))
         .expect("vertices");
     up.run(&gs).expect("the update runs");
-    Some(compare(name, &gs, &up, &cpu, true))
+    Some(compare(
+        &format!("{name} seams={seams}"),
+        &gs,
+        &up,
+        &cpu,
+        true,
+    ))
 }
 
 #[test]
 fn the_device_update_reproduces_the_cpu_build_of_the_built_in_scenes() {
     for name in ["torus", "sphere", "cube", "teapot"] {
-        same_pose(name, &builtin(name).expect("a built-in scene"));
+        for seams in [false, true] {
+            same_pose(name, &builtin(name).expect("a built-in scene"), seams);
+        }
     }
 }
 
@@ -238,8 +324,12 @@ fn steep_normals_take_the_cpu_remedy_on_the_device() {
         let tip = DVec3::new(0.9, -0.4, 0.2) * (k % 3) as f64;
         *n = (*n + tip).normalize();
     }
-    if let Some(seen) = same_pose("tipped normals", &m) {
-        assert!(seen.clamped > 0, "no normal tipped far enough: {seen:?}");
+    for seams in [false, true] {
+        if let Some(seen) = same_pose("tipped normals", &m, seams) {
+            assert!(seen.clamped > 0, "no normal tipped far enough: {seen:?}");
+            // A clamped patch's neighbours no longer share its vertex normals: free edges.
+            assert_eq!(seen.free_edges > 0, seams, "{seen:?}");
+        }
     }
 }
 
@@ -247,57 +337,60 @@ fn steep_normals_take_the_cpu_remedy_on_the_device() {
 fn the_device_update_follows_a_deforming_mesh() {
     let Some(gpu) = gpu() else { return };
     const SIDE: usize = 16;
-    let m0 = twisting_torus(SIDE, 0.0);
-    let mut cpu = cpu_build(&m0);
-    let gs = GpuScene::smooth(&gpu, cpu.scene().bvh()).expect("upload");
-    let up = GpuUpdate::new(
-        &gs,
-        cpu.scene().bvh(),
-        &slot_triangles(&m0, &cpu),
-        m0.positions.len(),
-    )
-    .expect("the device update");
-    let mut m = m0.clone();
-    let (mut reaches, mut refits) = (0, 0);
-    for (k, t) in [0.7, 2.3, 4.1].into_iter().enumerate() {
-        twist_pose(SIDE, t, &mut m.positions, &mut m.normals);
-        if k == 2 {
-            // Triangle 5 degenerates mid-animation: its three vertices on one line.
-            let [a, b, c] = m.triangles[5].map(|i| i as usize);
-            m.positions[c] = m.positions[a] + (m.positions[b] - m.positions[a]) * 0.5;
-        }
-        let (p, n) = (packed(&m.positions), packed(&m.normals));
-        let report = *cpu
-            .update(Vertices::packed(&p), Vertices::packed(&n), &mut options())
-            .expect("the CPU update");
-        up.write_vertices(&f32s(&m.positions), &f32s(&m.normals))
-            .expect("vertices");
-        up.run(&gs).expect("the device update runs");
-        let seen = compare(
-            &format!("twist at {t}"),
+    for seams in [false, true] {
+        let m0 = twisting_torus(SIDE, 0.0);
+        let mut cpu = cpu_build(&m0, seams);
+        let gs = upload(&gpu, &cpu, seams);
+        let up = GpuUpdate::new(
             &gs,
-            &up,
-            &cpu,
-            report.bvh_refitted,
-        );
-        reaches += seen.reaches;
-        refits += usize::from(report.bvh_refitted);
-        if k == 2 {
-            assert_eq!(seen.placeholders, 1, "{seen:?}");
+            cpu.scene().bvh(),
+            &slot_triangles(&m0, &cpu),
+            m0.positions.len(),
+        )
+        .expect("the device update");
+        let mut m = m0.clone();
+        let (mut reaches, mut refits, mut fitted) = (0, 0, 0);
+        for (k, t) in [0.7, 2.3, 4.1].into_iter().enumerate() {
+            twist_pose(SIDE, t, &mut m.positions, &mut m.normals);
+            if k == 2 {
+                // Triangle 5 degenerates mid-animation: its three vertices on one line.
+                let [a, b, c] = m.triangles[5].map(|i| i as usize);
+                m.positions[c] = m.positions[a] + (m.positions[b] - m.positions[a]) * 0.5;
+            }
+            let (p, n) = (packed(&m.positions), packed(&m.normals));
+            let report = *cpu
+                .update(
+                    Vertices::packed(&p),
+                    Vertices::packed(&n),
+                    &mut options(seams),
+                )
+                .expect("the CPU update");
+            up.write_vertices(&f32s(&m.positions), &f32s(&m.normals))
+                .expect("vertices");
+            up.run(&gs).expect("the device update runs");
+            let name = format!("twist at {t} seams={seams}");
+            let seen = compare(&name, &gs, &up, &cpu, report.bvh_refitted);
+            reaches += seen.reaches;
+            fitted += seen.fitted_edges;
+            refits += usize::from(report.bvh_refitted);
+            if k == 2 {
+                assert_eq!(seen.placeholders, 1, "{seen:?}");
+            }
         }
+        assert!(reaches > 0, "the twist's cracks were never measured open");
+        assert!(
+            refits > 0,
+            "the CPU never refitted: the device's refit was not compared"
+        );
+        assert_eq!(fitted > 0, seams, "seams fitted: {fitted}");
     }
-    assert!(reaches > 0, "the twist's cracks were never measured open");
-    assert!(
-        refits > 0,
-        "the CPU never refitted: the device's refit was not compared"
-    );
 }
 
 #[test]
 fn bad_input_to_the_device_update_is_a_typed_error() {
     let Some(gpu) = gpu() else { return };
     let m = builtin("cube").expect("cube");
-    let cpu = cpu_build(&m);
+    let cpu = cpu_build(&m, false);
     let s = cpu.scene();
     let gs = GpuScene::smooth(&gpu, s.bvh()).expect("upload");
     let tris = slot_triangles(&m, &cpu);
@@ -328,10 +421,9 @@ fn bad_input_to_the_device_update_is_a_typed_error() {
         GpuUpdate::new(&gs, s.bvh(), &tris[1..], nv),
         Err(GpuError::SceneMismatch { .. })
     ));
-    let seamless = GpuScene::smooth_seamless(&gpu, s.bvh(), &vec![Default::default(); tris.len()])
-        .expect("upload");
+    let flat = GpuScene::flat(&gpu, s.bvh()).expect("upload");
     assert!(matches!(
-        GpuUpdate::new(&seamless, s.bvh(), &tris, nv),
+        GpuUpdate::new(&flat, s.bvh(), &tris, nv),
         Err(GpuError::Unsupported(_))
     ));
 }
@@ -353,8 +445,9 @@ fn the_device_update_follows_the_animated_files() {
             .unwrap_or_else(|e| panic!("{file}: {e}"));
         let duration = anim.clips().first().map_or(0.0, |c| c.duration);
         let rest = anim.posed_mesh(None, 0.0).expect("the rest pose");
-        let mut cpu = cpu_build(&rest);
-        let gs = GpuScene::smooth(&gpu, cpu.scene().bvh()).expect("upload");
+        let seams = true;
+        let mut cpu = cpu_build(&rest, seams);
+        let gs = upload(&gpu, &cpu, seams);
         let up = GpuUpdate::new(
             &gs,
             cpu.scene().bvh(),
@@ -367,7 +460,11 @@ fn the_device_update_follows_the_animated_files() {
             let frame = anim.posed_mesh(Some(0), t).expect("a pose");
             let (p, n) = (packed(&frame.positions), packed(&frame.normals));
             let report = *cpu
-                .update(Vertices::packed(&p), Vertices::packed(&n), &mut options())
+                .update(
+                    Vertices::packed(&p),
+                    Vertices::packed(&n),
+                    &mut options(seams),
+                )
                 .expect("the CPU update");
             up.write_vertices(&f32s(&frame.positions), &f32s(&frame.normals))
                 .expect("vertices");

@@ -698,6 +698,17 @@ fn update_shader_constants_match_the_cpu_builder() {
             .expect("a number")
     };
     assert_eq!(u32_of("CRACK_SAMPLES"), CRACK_SAMPLES);
+    assert_eq!(u32_of("FIT_SAMPLES"), smoothtri::internal::FIT_SAMPLES);
+    assert_eq!(
+        f32_of("FREE_END_TOL"),
+        smoothtri::internal::FREE_END_TOL as f32
+    );
+    let fit_nodes: Vec<usize> = declared("const FIT_NODES = array<u32, 8>(")
+        .trim_end_matches(')')
+        .split(',')
+        .map(|x| x.trim().trim_end_matches('u').parse().expect("a number"))
+        .collect();
+    assert_eq!(fit_nodes, smoothtri::internal::FIT_NODES);
     assert_eq!(u32_of("SHELL_SAMPLES"), SHELL_SAMPLES);
     let edge_t: Vec<f32> = declared("const EDGE_T = array<f32, 5>(")
         .trim_end_matches(')')

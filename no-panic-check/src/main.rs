@@ -298,6 +298,12 @@ fn seams<F: Float>(patches: &[Patch<F>], ray: &Ray<F>) -> u32 {
     if let Err(e) = shared_edges(&tris, 9, &mut scratch[..5]) {
         acc += display_len(&e);
     }
+    // The seam fit's map a port of the fit uploads.
+    acc += smoothtri::internal::seam_fit_matrix()
+        .iter()
+        .flatten()
+        .filter(|x| x.is_finite())
+        .count() as u32;
     // Crack closing on a copy (it widens the patches' walls and boxes), and its errors.
     let mut sealed = [ps[0]; COUNT];
     sealed.copy_from_slice(ps);

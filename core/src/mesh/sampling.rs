@@ -20,7 +20,7 @@ const _: () = assert!(EDGE_SAMPLES.is_multiple_of(2));
 /// first half and the even ones in the second, so that the set is symmetric
 /// (`FIT_NODES[i] + FIT_NODES[7 − i] = 15`: the second side, which runs the edge backwards,
 /// samples the same points) and holds the two nodes nearest the middle.
-pub(crate) const FIT_NODES: [usize; 8] = [1, 3, 5, 7, 8, 10, 12, 14];
+pub const FIT_NODES: [usize; 8] = [1, 3, 5, 7, 8, 10, 12, 14];
 
 /// The other nodes, where only the points are needed (the gap).
 const POINT_NODES: [usize; 8] = [0, 2, 4, 6, 9, 11, 13, 15];

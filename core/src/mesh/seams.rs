@@ -39,7 +39,7 @@ pub const FIT_SAMPLES: usize = FIT_NODES.len();
 /// World distance between two unit vertex normals beyond which the two sides of an edge do not
 /// share the vertex normal (a per-patch clamp moved one; the same normal differs only by the
 /// frames' rounding, below 1e-6 in `f32`).
-const FREE_END_TOL: f64 = 1e-5;
+pub const FREE_END_TOL: f64 = 1e-5;
 
 /// The seam correction of one patch: the common normal of each of its three edges (edge `j`
 /// from `Pj` to `Pj+1`, parameter `t` from 0 at `Pj`; see [`crate::mesh`] for the formula). All
@@ -170,6 +170,11 @@ impl FitMatrix {
             }
         }
         p
+    }
+
+    /// The map's rows (one per coefficient).
+    pub(crate) fn rows(&self) -> [[f64; FIT_SAMPLES]; TWIST_TERMS] {
+        self.p
     }
 
     /// The coefficients of the samples `y`.
