@@ -383,7 +383,7 @@ const TWIST_FRAMES: usize = 12;
 /// frame posed, updated on the CPU (`OwnedScene::update` on rayon's pool, every core), moved
 /// into the GPU scene in place (`GpuScene::update`: records packed and written, no allocation)
 /// and rendered as `view --gpu --animate` renders it (1080p with shadows). Medians over
-/// [`TWIST_FRAMES`] frames. The update itself runs on the CPU: no WGSL update exists.
+/// [`TWIST_FRAMES`] frames; then the same on the device ([`device_update`]).
 fn animated(gpu: &Arc<Gpu>, o: &Opts) -> Result<(), Box<dyn std::error::Error>> {
     let mut mesh = twisting_torus(TWIST_SIDE, 0.0);
     let flat = |v: &[DVec3]| -> Vec<f64> { v.iter().flat_map(|p| p.to_array()).collect() };
@@ -474,82 +474,91 @@ fn animated(gpu: &Arc<Gpu>, o: &Opts) -> Result<(), Box<dyn std::error::Error>> 
     device_update(gpu, o)
 }
 
-/// The animated table's second part: the same twisting torus without seams, updated on the
-/// device ([`GpuUpdate`]: patches, crack closure, boxes and the tree's refit as compute passes
-/// from the vertex buffers) and rendered. The pose is made on the CPU and written into the
-/// vertex buffers (a renderer's skinning pass would write them on the device).
+/// The animated table's second part: the same twisting torus, without and with seams,
+/// updated on the device ([`GpuUpdate`]: patches, crack closure, the seam fits, boxes and the
+/// tree's refit as compute passes from the vertex buffers) and rendered. The pose is made on
+/// the CPU and written into the vertex buffers (a renderer's skinning pass would write them on
+/// the device).
 fn device_update(gpu: &Arc<Gpu>, o: &Opts) -> Result<(), Box<dyn std::error::Error>> {
-    let mut mesh = twisting_torus(TWIST_SIDE, 0.0);
     let flat = |v: &[DVec3]| -> Vec<f64> { v.iter().flat_map(|p| p.to_array()).collect() };
-    let (p, n) = (flat(&mesh.positions), flat(&mesh.normals));
-    let cpu = OwnedScene::<f32>::build(
-        Vertices::packed(&p),
-        Vertices::packed(&n),
-        &mesh.triangles,
-        &mut BuildOptions {
-            field: LineField::Face,
-            seams: false,
-            observer: (),
-            executor: RayonExecutor,
-        },
-    )?;
-    let s = cpu.scene();
-    let scene = GpuScene::smooth(gpu, s.bvh())?;
-    let tris: Vec<[u32; 3]> = s
-        .triangle_ids()
-        .iter()
-        .map(|&t| mesh.triangles[t as usize])
-        .collect();
-    let up = GpuUpdate::new(&scene, s.bvh(), &tris, mesh.positions.len())?;
-    let cam = Camera::for_mesh(&mesh, 30.0, 35.0, o.width, o.height);
-    let basis = [cam.forward, cam.right, cam.up];
-    let eps = mesh.diagonal() * SHADOW_OFFSET_F32;
-    let view = FrameView::pinhole(cam.eye, basis, cam.tan_half, cam.light_dir(), eps);
-    let mut frame = GpuFrame::new(gpu, o.width, o.height)?;
     let f32s =
         |v: &[DVec3]| -> Vec<f32> { v.iter().flat_map(|p| p.as_vec3().to_array()).collect() };
-    let mut times: [Vec<f64>; 3] = Default::default();
-    for k in 0..=TWIST_FRAMES {
-        twist_pose(
-            TWIST_SIDE,
-            0.05 * k as f64,
-            &mut mesh.positions,
-            &mut mesh.normals,
-        );
-        let t0 = Instant::now();
-        up.write_vertices(&f32s(&mesh.positions), &f32s(&mesh.normals))?;
-        let t1 = Instant::now();
-        up.run(&scene)?;
-        let t2 = Instant::now();
-        let stats = scene.render_frame(o.iterations, &view, &mut frame)?;
-        if k == 0 {
-            continue;
-        }
-        for (v, x) in times.iter_mut().zip([
-            (t1 - t0).as_secs_f64(),
-            (t2 - t1).as_secs_f64(),
-            stats.seconds,
-        ]) {
-            v.push(x * 1e3);
-        }
-    }
-    let med = |v: &mut Vec<f64>| {
-        v.sort_by(f64::total_cmp);
-        v[v.len() / 2]
-    };
     println!();
     println!(
-        "animated, updated on the device (GpuUpdate): the twisting torus, {} triangles, no \
-         seams, {}x{}, N = {}; {up:?}; median of {} frames",
-        mesh.triangles.len(),
-        o.width,
-        o.height,
-        o.iterations,
-        TWIST_FRAMES,
+        "animated, updated on the device (GpuUpdate): the twisting torus, {}x{}, N = {}; median \
+         of {} frames",
+        o.width, o.height, o.iterations, TWIST_FRAMES,
     );
-    println!("| write vertices ms | GpuUpdate::run ms | frame ms |");
-    println!("|---|---|---|");
-    let [a, b, c] = &mut times;
-    println!("| {:.1} | {:.1} | {:.2} |", med(a), med(b), med(c));
+    println!("| seams | update | write vertices ms | GpuUpdate::run ms | frame ms |");
+    println!("|---|---|---|---|---|");
+    for seams in [false, true] {
+        let mut mesh = twisting_torus(TWIST_SIDE, 0.0);
+        let (p, n) = (flat(&mesh.positions), flat(&mesh.normals));
+        let cpu = OwnedScene::<f32>::build(
+            Vertices::packed(&p),
+            Vertices::packed(&n),
+            &mesh.triangles,
+            &mut BuildOptions {
+                field: LineField::Face,
+                seams,
+                observer: (),
+                executor: RayonExecutor,
+            },
+        )?;
+        let s = cpu.scene();
+        let scene = if seams {
+            GpuScene::smooth_seamless(gpu, s.bvh(), s.seams())?
+        } else {
+            GpuScene::smooth(gpu, s.bvh())?
+        };
+        let tris: Vec<[u32; 3]> = s
+            .triangle_ids()
+            .iter()
+            .map(|&t| mesh.triangles[t as usize])
+            .collect();
+        let up = GpuUpdate::new(&scene, s.bvh(), &tris, mesh.positions.len())?;
+        let cam = Camera::for_mesh(&mesh, 30.0, 35.0, o.width, o.height);
+        let basis = [cam.forward, cam.right, cam.up];
+        let eps = mesh.diagonal() * SHADOW_OFFSET_F32;
+        let view = FrameView::pinhole(cam.eye, basis, cam.tan_half, cam.light_dir(), eps);
+        let mut frame = GpuFrame::new(gpu, o.width, o.height)?;
+        let mut times: [Vec<f64>; 3] = Default::default();
+        for k in 0..=TWIST_FRAMES {
+            twist_pose(
+                TWIST_SIDE,
+                0.05 * k as f64,
+                &mut mesh.positions,
+                &mut mesh.normals,
+            );
+            let t0 = Instant::now();
+            up.write_vertices(&f32s(&mesh.positions), &f32s(&mesh.normals))?;
+            let t1 = Instant::now();
+            up.run(&scene)?;
+            let t2 = Instant::now();
+            let stats = scene.render_frame(o.iterations, &view, &mut frame)?;
+            if k == 0 {
+                continue;
+            }
+            for (v, x) in times.iter_mut().zip([
+                (t1 - t0).as_secs_f64(),
+                (t2 - t1).as_secs_f64(),
+                stats.seconds,
+            ]) {
+                v.push(x * 1e3);
+            }
+        }
+        let med = |v: &mut Vec<f64>| {
+            v.sort_by(f64::total_cmp);
+            v[v.len() / 2]
+        };
+        let [a, b, c] = &mut times;
+        println!(
+            "| {} | {up:?} | {:.1} | {:.1} | {:.2} |",
+            if seams { "yes" } else { "no" },
+            med(a),
+            med(b),
+            med(c)
+        );
+    }
     Ok(())
 }

@@ -12,9 +12,11 @@
 //!
 //! `--animate` plays the source's animation ([`crate::animate`]: a glTF file's clip, or
 //! `--scene twist`) from `--time` on, looping over the clip, each frame's scene built from the
-//! pose ([`scene_of_pose`]: the previous pose's scene updated in place); with
-//! `--gpu` the uploaded scene is then rewritten in place too ([`gpu_update`]). The camera
-//! frames the whole clip. Space pauses.
+//! pose ([`scene_of_pose`]: the previous pose's scene updated in place). With `--gpu` a smooth
+//! scene on the face field moves on the device ([`GpuUpdate`]: each pose's vertices written into
+//! its vertex buffers, its compute passes re-make the patches, crack closure, seams and the
+//! tree's refit; no CPU scene per frame); the flat modes and the vertex field are rewritten in
+//! place from the CPU's update ([`gpu_update`]). The camera frames the whole clip. Space pauses.
 //! Headless, frame `k` shows `--time` + `k ·` [`FRAME_STEP`], so the last of K frames equals
 //! `render --time` at that time.
 
@@ -27,7 +29,7 @@ use std::time::{Duration, Instant};
 
 use glam::DVec3;
 use smoothtri::LineField;
-use smoothtri_gpu::{FrameStats, Gpu, GpuFrame, GpuScene, GpuSurface};
+use smoothtri_gpu::{FrameStats, Gpu, GpuFrame, GpuScene, GpuSurface, GpuUpdate};
 use smoothtri_io::Mesh;
 use smoothtri_testkit::Camera;
 use winit::application::ApplicationHandler;
@@ -219,8 +221,11 @@ struct Frame {
 struct GpuView {
     gpu: Arc<Gpu>,
     /// Per mode and shading normal, each with whether the mesh moved since it was written
-    /// (`--animate`: moved in place by [`gpu_update`] before its next frame).
+    /// (`--animate`: moved in place before its next frame, on the device by its
+    /// [`GpuUpdate`] where it has one, else by [`gpu_update`] from the CPU's update).
     scenes: HashMap<(Mode, Normals), (Rc<GpuScene>, bool)>,
+    /// `--animate`: the device updates of the smooth scenes (face field), by the same key.
+    updates: HashMap<(Mode, Normals), GpuUpdate>,
     /// The last frame (its size is the last frame's) and the scene and counters it was
     /// rendered with.
     frame: Option<(GpuFrame, Rc<GpuScene>, FrameStats)>,
@@ -323,13 +328,19 @@ impl Viewer {
         let s = self.settings;
         let seams = s.normals == Normals::Seamless && s.mode == Mode::Smooth;
         if self.gpu.is_some() {
+            let key = (s.mode, s.normals);
+            let on_device = self.gpu.as_ref().is_some_and(|g| {
+                g.updates.contains_key(&key) && g.scenes.get(&key).is_some_and(|(_, stale)| *stale)
+            });
+            if on_device {
+                return self.render_device_update(key, &cam, w, h);
+            }
             let scene = self
                 .scenes
                 .get::<f32>(&self.mesh, self.options.field, seams)?;
             let Some(g) = self.gpu.as_mut() else {
                 return Err(DemoError::Usage("view: no GPU".into()));
             };
-            let key = (s.mode, s.normals);
             // The last frame holds its scene: dropped first, so that a moved scene is
             // written in place rather than uploaded anew.
             let mut frame = match g.frame.take() {
@@ -350,6 +361,21 @@ impl Viewer {
                 None => {
                     let gs = Rc::new(gpu_scene(&g.gpu, &scene, s.mode)?);
                     g.scenes.insert(key, (Rc::clone(&gs), false));
+                    // A played smooth scene moves on the device from now on.
+                    if self.playing.is_some()
+                        && s.mode == Mode::Smooth
+                        && self.options.field == LineField::Face
+                    {
+                        let tris: Vec<[u32; 3]> = scene
+                            .tri_ids()
+                            .iter()
+                            .filter_map(|&t| self.mesh.triangles.get(t as usize).copied())
+                            .collect();
+                        let up =
+                            GpuUpdate::new(&gs, &scene.bvh(), &tris, self.mesh.positions.len())
+                                .map_err(gpu_error)?;
+                        g.updates.insert(key, up);
+                    }
                     gs
                 }
             };
@@ -383,6 +409,48 @@ impl Viewer {
             rays: r.rays,
             seconds: r.seconds,
             max_t_error,
+        })
+    }
+
+    /// `--gpu --animate`: moves the smooth scene of `key` to the mesh's pose on the device
+    /// (the posed vertices written into its [`GpuUpdate`]'s buffers, the update's passes, no
+    /// CPU scene) and renders it.
+    fn render_device_update(
+        &mut self,
+        key: (Mode, Normals),
+        cam: &Camera,
+        w: u32,
+        h: u32,
+    ) -> Result<Frame> {
+        let s = self.settings;
+        let Some(g) = self.gpu.as_mut() else {
+            return Err(DemoError::Usage("view: no GPU".into()));
+        };
+        let (Some((gs, stale)), Some(up)) = (g.scenes.get_mut(&key), g.updates.get(&key)) else {
+            return Err(DemoError::Usage("view: no device update".into()));
+        };
+        let f32s =
+            |v: &[DVec3]| -> Vec<f32> { v.iter().flat_map(|p| p.as_vec3().to_array()).collect() };
+        up.write_vertices(&f32s(&self.mesh.positions), &f32s(&self.mesh.normals))
+            .map_err(gpu_error)?;
+        up.run(gs).map_err(gpu_error)?;
+        *stale = false;
+        let gs = Rc::clone(gs);
+        let mut frame = match g.frame.take() {
+            Some((f, _, _)) if (f.width(), f.height()) == (w, h) => f,
+            _ => GpuFrame::new(&g.gpu, w, h).map_err(gpu_error)?,
+        };
+        let stats = gs
+            .render_frame(s.n, &frame_view(cam, self.diag, s.heat), &mut frame)
+            .map_err(gpu_error)?;
+        g.frame = Some((frame, gs, stats));
+        Ok(Frame {
+            pixels: None,
+            width: w,
+            height: h,
+            rays: stats.rays,
+            seconds: stats.seconds,
+            max_t_error: f64::from(stats.max_t_error),
         })
     }
 
@@ -841,6 +909,7 @@ pub fn run(o: ViewOptions) -> Result<()> {
         Some(GpuView {
             gpu: open_gpu()?,
             scenes: HashMap::new(),
+            updates: HashMap::new(),
             frame: None,
             surface: None,
         })
