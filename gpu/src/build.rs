@@ -30,8 +30,9 @@ pub(crate) static BUILD_SHADER: LazyLock<String> = LazyLock::new(|| {
     format!("{kernel}\n{UPDATE_SHADER}")
 });
 
-/// The update's four compute pipelines (compiled once per [`Gpu`]).
+/// The update's five compute pipelines (compiled once per [`Gpu`]).
 pub(crate) struct UpdatePipelines {
+    normals: wgpu::ComputePipeline,
     patches: wgpu::ComputePipeline,
     edges: wgpu::ComputePipeline,
     boxes: wgpu::ComputePipeline,
@@ -61,6 +62,7 @@ impl UpdatePipelines {
                 })
             };
             UpdatePipelines {
+                normals: make("vertex_normals"),
                 patches: make("build_patches"),
                 edges: make("close_edges"),
                 boxes: make("fit_boxes"),
@@ -75,6 +77,8 @@ impl UpdatePipelines {
 /// re-makes what the CPU's `OwnedScene::update` re-makes, as compute passes that write the
 /// scene's own buffers:
 ///
+/// 0. where [`GpuUpdate::generate_normals`] is on, the vertex normals from the positions
+///    (`vertex_normals`: angle-weighted, for a mesh without normals);
 /// 1. every triangle's patch (`build_patches`: the CPU's `Patch::new_or_tilted_with` on the
 ///    face field, in `f32` with the same operations, the per-patch remedy, and the CPU's
 ///    placeholder for a triangle that degenerates: an empty box that no ray reaches, the layout
@@ -93,14 +97,16 @@ impl UpdatePipelines {
 /// ([`GpuScene::update`]).
 ///
 /// Not on the device: the per-vertex remedy of `smoothtri::LineField::Vertex` (it runs in
-/// triangle order; the passes build the face field), and the normals of a mesh without any
-/// (the caller's vertex normals are the input).
+/// triangle order; the passes build the face field).
 pub struct GpuUpdate {
     gpu: Arc<Gpu>,
     pipelines: Arc<UpdatePipelines>,
     positions: wgpu::Buffer,
     normals: wgpu::Buffer,
     remedy: wgpu::Buffer,
+    /// The vertex normals pass's bind group, and whether it runs ([`GpuUpdate::generate_normals`]).
+    normals_bind: wgpu::BindGroup,
+    generate_normals: bool,
     binds: [wgpu::BindGroup; 3],
     levels: Vec<(u32, wgpu::BindGroup)>,
     /// The scene buffers the passes write, to refuse another scene.
@@ -178,7 +184,11 @@ impl GpuUpdate {
         let mut scratch = vec![SharedEdge::default(); 3 * n];
         let pairs = shared_edges(triangles, vertex_count, &mut scratch).map_err(GpuError::Mesh)?;
         let max_groups = gpu.limits.max_compute_workgroups_per_dimension as usize;
-        if n.max(pairs.len()).div_ceil(WORKGROUP as usize) > max_groups {
+        if n.max(pairs.len())
+            .max(vertex_count)
+            .div_ceil(WORKGROUP as usize)
+            > max_groups
+        {
             return Err(too_large("triangle", 12 * n));
         }
         let pipelines = gpu.update_pipelines()?;
@@ -225,6 +235,28 @@ impl GpuUpdate {
             .flatten()
             .flat_map(|i| i.to_ne_bytes())
             .collect();
+        // Each vertex's corners, in triangle order (as the CPU's accumulation).
+        let mut start = vec![0u32; vertex_count + 1];
+        for &i in triangles.iter().flatten() {
+            if let Some(c) = start.get_mut(i as usize + 1) {
+                *c += 1;
+            }
+        }
+        for v in 0..vertex_count {
+            start[v + 1] += start[v];
+        }
+        let mut incident = vec![0u32; start[vertex_count] as usize];
+        let mut next = start.clone();
+        for (t, tri) in triangles.iter().enumerate() {
+            for (k, &i) in tri.iter().enumerate() {
+                if let Some(slot) = next.get_mut(i as usize) {
+                    incident[*slot as usize] = (3 * t + k) as u32;
+                    *slot += 1;
+                }
+            }
+        }
+        let words = |v: &[u32]| -> Vec<u8> { v.iter().flat_map(|i| i.to_ne_bytes()).collect() };
+        let (incident, start) = (words(&incident), words(&start));
         let (order, ranges) = levels(bvh);
         let order_bytes: Vec<u8> = order.iter().flat_map(|i| i.to_ne_bytes()).collect();
         scoped(device, GpuError::Device, || {
@@ -245,13 +277,19 @@ impl GpuUpdate {
                 })
             };
             let positions = zeroed("positions", 12 * vertex_count, U::STORAGE | U::COPY_DST);
-            let normals = zeroed("normals", 12 * vertex_count, U::STORAGE | U::COPY_DST);
+            let normals = zeroed(
+                "normals",
+                12 * vertex_count,
+                U::STORAGE | U::COPY_DST | U::COPY_SRC,
+            );
             let remedy = zeroed("remedy", 4 * n, U::STORAGE | U::COPY_SRC);
             let tris = init("triangles", &tri_bytes, U::STORAGE);
             let pairs = init("shared edges", &pair_bytes, U::STORAGE);
             let bparams = init("build params", &bparams, U::UNIFORM);
             let eparams = init("edge params", &eparams, U::UNIFORM);
             let level_nodes = init("tree levels", &order_bytes, U::STORAGE);
+            let incident = init("incident corners", &incident, U::STORAGE);
+            let incident_start = init("incident starts", &start, U::STORAGE);
             // The seam records, or a buffer too short for any record (the passes skip it).
             let no_seams = zeroed("no seams", 16, U::STORAGE);
             let seam_out = if seams { &scene.shade_in } else { &no_seams };
@@ -262,6 +300,17 @@ impl GpuUpdate {
                     entries,
                 })
             };
+            let normals_bind = group(
+                &pipelines.normals,
+                &[
+                    bind_entry(8, &bparams),
+                    bind_entry(9, &positions),
+                    bind_entry(10, &normals),
+                    bind_entry(11, &tris),
+                    bind_entry(18, &incident),
+                    bind_entry(19, &incident_start),
+                ],
+            );
             let binds = [
                 group(
                     &pipelines.patches,
@@ -322,6 +371,8 @@ impl GpuUpdate {
                 positions,
                 normals,
                 remedy,
+                normals_bind,
+                generate_normals: false,
                 binds,
                 levels,
                 targets: [
@@ -349,6 +400,42 @@ impl GpuUpdate {
         &self.normals
     }
 
+    /// With `on`, each update first computes the vertex normals from the positions
+    /// (angle-weighted, as `smoothtri_io::angle_weighted_normals` does for a mesh without
+    /// normals: each vertex's triangles' unit face normals weighted by their angles there, in
+    /// `f32`), overwriting [`GpuUpdate::normals`]; then only the positions need writing
+    /// ([`GpuUpdate::write_positions`]). Off by default.
+    pub fn generate_normals(&mut self, on: bool) {
+        self.generate_normals = on;
+    }
+
+    /// Whether each update generates the vertex normals ([`GpuUpdate::generate_normals`]).
+    pub fn generates_normals(&self) -> bool {
+        self.generate_normals
+    }
+
+    /// Writes the positions from the host through the queue (three `f32` per vertex), for an
+    /// update that generates its normals ([`GpuUpdate::generate_normals`]). Returns
+    /// [`GpuError::VertexCount`] when the length is not three per vertex; the buffer is then
+    /// unchanged.
+    ///
+    /// # Panics
+    /// Never.
+    pub fn write_positions(&self, positions: &[f32]) -> Result<(), GpuError> {
+        let expected = 3 * self.vertices as usize;
+        if positions.len() != expected {
+            return Err(GpuError::VertexCount {
+                expected,
+                given: positions.len(),
+            });
+        }
+        if expected > 0 {
+            let bytes: Vec<u8> = positions.iter().flat_map(|x| x.to_ne_bytes()).collect();
+            self.gpu.queue.write_buffer(&self.positions, 0, &bytes);
+        }
+        Ok(())
+    }
+
     /// Writes the vertices from the host through the queue (`positions` and `normals`: three
     /// `f32` per vertex). Returns [`GpuError::VertexCount`] when a length is not three per
     /// vertex; the buffers are then unchanged.
@@ -373,7 +460,7 @@ impl GpuUpdate {
     }
 
     /// Records the update's passes into `enc`: `3 + depth` dispatches (patches, edges, boxes,
-    /// then one per depth of the tree), in that order, so that commands recorded after them
+    /// then one per depth of the tree; one more first for generated normals), in that order, so that commands recorded after them
     /// (a frame, a query) see the updated scene. Returns [`GpuError::SceneMismatch`] when
     /// `scene` is not the scene this update was made for, or no longer holds the same buffers
     /// (after a [`GpuScene::update`] that re-allocated one); nothing is recorded then.
@@ -398,6 +485,11 @@ impl GpuUpdate {
             timestamp_writes: None,
         });
         let p = &self.pipelines;
+        if self.generate_normals && self.vertices > 0 {
+            pass.set_pipeline(&p.normals);
+            pass.set_bind_group(0, &self.normals_bind, &[]);
+            pass.dispatch_workgroups(self.vertices.div_ceil(WORKGROUP), 1, 1);
+        }
         for (pipeline, bind, count) in [
             (&p.patches, &self.binds[0], self.slots),
             (&p.edges, &self.binds[1], self.edges),
@@ -435,6 +527,21 @@ impl GpuUpdate {
                 .map(|_| ())
                 .map_err(|e| GpuError::Device(e.to_string()))
         })?
+    }
+
+    /// Reads back the vertex normals buffer (three `f32` per vertex): what the last update
+    /// built the patches from, generated or written. For tests and tools.
+    ///
+    /// # Panics
+    /// Never.
+    pub fn read_normals(&self) -> Result<Vec<f32>, GpuError> {
+        let bytes = self
+            .gpu
+            .read_buffer(&self.normals, 12 * u64::from(self.vertices))?;
+        Ok(bytes
+            .chunks_exact(4)
+            .map(|c| f32::from_ne_bytes([c[0], c[1], c[2], c[3]]))
+            .collect())
     }
 
     /// Reads back each triangle's `remedy` byte of the last update (the CPU's

@@ -36,6 +36,10 @@ const GAP_TOL_EPS: f32 = 4.0;
 /// the sampled normals (`f32` on the device, the CPU's derivatives widened to `f64`).
 const SEAM_NORMAL_TOL_DEG: f64 = 0.005;
 
+/// The largest angle allowed between a vertex normal generated on the device (`f32`) and the
+/// CPU's (`f64`), in degrees.
+const NORMAL_TOL_DEG: f64 = 1e-4;
+
 /// Where a record's reaches ride: value 3 of each edge's fourth `vec4` (`smooth_record`).
 const REACH_SLOTS: [usize; 3] = [4 * 13 + 3, 4 * 18 + 3, 4 * 23 + 3];
 
@@ -476,6 +480,88 @@ fn the_device_update_follows_the_animated_files() {
                 &cpu,
                 report.bvh_refitted,
             );
+        }
+    }
+}
+
+/// A mesh without normals: the device generates the angle-weighted vertex normals from the
+/// posed positions (as `smoothtri_io::angle_weighted_normals`, in `f32`), and the update from
+/// them holds the CPU update's records from the CPU's normals; `simple_skin.gltf` has none.
+#[test]
+fn the_device_generates_the_normals_of_a_mesh_without_any() {
+    let Some(gpu) = gpu() else { return };
+    let mut sources: Vec<(String, Box<dyn FnMut(f64) -> Mesh>)> = Vec::new();
+    const SIDE: usize = 16;
+    let twist = twisting_torus(SIDE, 0.0);
+    sources.push((
+        "twist".into(),
+        Box::new(move |t| {
+            let mut m = twist.clone();
+            twist_pose(SIDE, t, &mut m.positions, &mut m.normals);
+            let tris = m.triangles.iter().map(|t| t.map(|i| i as usize));
+            m.normals = smoothtri_io::angle_weighted_normals(&m.positions, tris);
+            m
+        }),
+    ));
+    if let Some(root) = smoothtri_testkit::assimp_models().expect("assimp-testmodels") {
+        let path = root.join("glTF2/simple_skin/simple_skin.gltf");
+        let mut anim =
+            smoothtri_io::load_animated(path.to_str().expect("a UTF-8 path")).expect("simple_skin");
+        assert!(anim.computed_normals(), "simple_skin has normals now");
+        sources.push((
+            "simple_skin".into(),
+            Box::new(move |t| anim.posed_mesh(Some(0), t).expect("a pose")),
+        ));
+    }
+    for (name, mut pose) in sources {
+        for seams in [false, true] {
+            let rest = pose(0.0);
+            let mut cpu = cpu_build(&rest, seams);
+            let gs = upload(&gpu, &cpu, seams);
+            let mut up = GpuUpdate::new(
+                &gs,
+                cpu.scene().bvh(),
+                &slot_triangles(&rest, &cpu),
+                rest.positions.len(),
+            )
+            .expect("the device update");
+            up.generate_normals(true);
+            for t in [0.4, 1.3] {
+                let m = pose(t);
+                let (p, n) = (packed(&m.positions), packed(&m.normals));
+                let report = *cpu
+                    .update(
+                        Vertices::packed(&p),
+                        Vertices::packed(&n),
+                        &mut options(seams),
+                    )
+                    .expect("the CPU update");
+                up.write_positions(&f32s(&m.positions)).expect("positions");
+                up.run(&gs).expect("the device update runs");
+                let normals = up.read_normals().expect("normals");
+                let mut worst = 0.0f64;
+                for (v, want) in m.normals.iter().enumerate() {
+                    let got = DVec3::new(
+                        f64::from(normals[3 * v]),
+                        f64::from(normals[3 * v + 1]),
+                        f64::from(normals[3 * v + 2]),
+                    );
+                    let deg = got.cross(*want).length().atan2(got.dot(*want)).to_degrees();
+                    worst = worst.max(deg);
+                }
+                eprintln!("{name} at {t}: generated normals within {worst:e}°");
+                assert!(
+                    worst <= NORMAL_TOL_DEG,
+                    "{name} at {t}: normals {worst}° apart"
+                );
+                compare(
+                    &format!("{name} at {t} seams={seams}, generated normals"),
+                    &gs,
+                    &up,
+                    &cpu,
+                    report.bvh_refitted,
+                );
+            }
         }
     }
 }

@@ -123,6 +123,15 @@ impl Animation {
         }
     }
 
+    /// Whether the source has no normals at all, so that every pose's normals are computed
+    /// from its positions (angle-weighted): a device may then compute them itself.
+    pub fn normals_from_positions(&self) -> bool {
+        match &self.source {
+            Source::Gltf { anim, .. } => anim.all_normals_computed(),
+            Source::Twist { .. } => false,
+        }
+    }
+
     /// Writes the pose at `time` seconds into `mesh` (a mesh of [`Animation::rest`]'s
     /// triangles), upright. Times past the clip hold its last pose (glTF clamps); the twisting
     /// torus repeats.

@@ -14,8 +14,9 @@
 //! `--scene twist`) from `--time` on, looping over the clip, each frame's scene built from the
 //! pose ([`scene_of_pose`]: the previous pose's scene updated in place). With `--gpu` a smooth
 //! scene on the face field moves on the device ([`GpuUpdate`]: each pose's vertices written into
-//! its vertex buffers, its compute passes re-make the patches, crack closure, seams and the
-//! tree's refit; no CPU scene per frame); the flat modes and the vertex field are rewritten in
+//! its vertex buffers, only the positions for a file without normals, whose normals the device
+//! computes; its compute passes re-make the patches, crack closure, seams and the tree's refit;
+//! no CPU scene per frame); the flat modes and the vertex field are rewritten in
 //! place from the CPU's update ([`gpu_update`]). The camera frames the whole clip. Space pauses.
 //! Headless, frame `k` shows `--time` + `k ·` [`FRAME_STEP`], so the last of K frames equals
 //! `render --time` at that time.
@@ -371,9 +372,15 @@ impl Viewer {
                             .iter()
                             .filter_map(|&t| self.mesh.triangles.get(t as usize).copied())
                             .collect();
-                        let up =
+                        let mut up =
                             GpuUpdate::new(&gs, &scene.bvh(), &tris, self.mesh.positions.len())
                                 .map_err(gpu_error)?;
+                        // A file without normals: the device computes them from the positions.
+                        up.generate_normals(
+                            self.playing
+                                .as_ref()
+                                .is_some_and(|p| p.animation.normals_from_positions()),
+                        );
                         g.updates.insert(key, up);
                     }
                     gs
@@ -431,8 +438,12 @@ impl Viewer {
         };
         let f32s =
             |v: &[DVec3]| -> Vec<f32> { v.iter().flat_map(|p| p.as_vec3().to_array()).collect() };
-        up.write_vertices(&f32s(&self.mesh.positions), &f32s(&self.mesh.normals))
-            .map_err(gpu_error)?;
+        if up.generates_normals() {
+            up.write_positions(&f32s(&self.mesh.positions))
+        } else {
+            up.write_vertices(&f32s(&self.mesh.positions), &f32s(&self.mesh.normals))
+        }
+        .map_err(gpu_error)?;
         up.run(gs).map_err(gpu_error)?;
         *stale = false;
         let gs = Rc::clone(gs);

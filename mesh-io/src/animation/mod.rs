@@ -303,6 +303,13 @@ impl AnimatedMesh {
         self.computed_normals
     }
 
+    /// `true` when every normal is computed (the file has normals for none of its vertices), so
+    /// a renderer may compute them itself from the posed positions, as [`AnimatedMesh::pose`]
+    /// does (a GPU's own pass, for example).
+    pub fn all_normals_computed(&self) -> bool {
+        !self.rig.prims.is_empty() && self.rig.prims.iter().all(|p| p.normals.is_none())
+    }
+
     /// The static loader's warnings and the animation reader's (a morph target's normals
     /// ignored where the primitive has none, and the like), one line each.
     pub fn warnings(&self) -> &[String] {
