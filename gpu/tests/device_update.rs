@@ -484,13 +484,16 @@ fn the_device_update_follows_the_animated_files() {
     }
 }
 
+/// A mesh's pose at a time.
+type Poser = Box<dyn FnMut(f64) -> Mesh>;
+
 /// A mesh without normals: the device generates the angle-weighted vertex normals from the
 /// posed positions (as `smoothtri_io::angle_weighted_normals`, in `f32`), and the update from
 /// them holds the CPU update's records from the CPU's normals; `simple_skin.gltf` has none.
 #[test]
 fn the_device_generates_the_normals_of_a_mesh_without_any() {
     let Some(gpu) = gpu() else { return };
-    let mut sources: Vec<(String, Box<dyn FnMut(f64) -> Mesh>)> = Vec::new();
+    let mut sources: Vec<(String, Poser)> = Vec::new();
     const SIDE: usize = 16;
     let twist = twisting_torus(SIDE, 0.0);
     sources.push((
