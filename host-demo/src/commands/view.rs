@@ -30,7 +30,7 @@ use std::time::{Duration, Instant};
 
 use glam::DVec3;
 use smoothtri::LineField;
-use smoothtri_gpu::{FrameStats, Gpu, GpuFrame, GpuScene, GpuSurface, GpuUpdate};
+use smoothtri_gpu::{FrameStats, FrameView, Gpu, GpuFrame, GpuScene, GpuSurface, GpuUpdate};
 use smoothtri_io::Mesh;
 use smoothtri_testkit::Camera;
 use winit::application::ApplicationHandler;
@@ -233,6 +233,40 @@ struct GpuView {
     surface: Option<GpuSurface>,
 }
 
+impl GpuView {
+    /// The frame storage for a `w`×`h` frame: the last frame's when its size is the same. The
+    /// last frame holds its scene: taken first, so that a moved scene can be written in place
+    /// rather than uploaded anew.
+    fn take_frame(&mut self, w: u32, h: u32) -> Result<GpuFrame> {
+        match self.frame.take() {
+            Some((f, _, _)) if (f.width(), f.height()) == (w, h) => Ok(f),
+            _ => GpuFrame::new(&self.gpu, w, h).map_err(gpu_error),
+        }
+    }
+
+    /// Renders `gs` into `frame` with budget `n` through `view` and keeps both as the last
+    /// frame.
+    fn draw(
+        &mut self,
+        gs: Rc<GpuScene>,
+        mut frame: GpuFrame,
+        n: usize,
+        view: &FrameView,
+    ) -> Result<Frame> {
+        let stats = gs.render_frame(n, view, &mut frame).map_err(gpu_error)?;
+        let (width, height) = (frame.width(), frame.height());
+        self.frame = Some((frame, gs, stats));
+        Ok(Frame {
+            pixels: None,
+            width,
+            height,
+            rays: stats.rays,
+            seconds: stats.seconds,
+            max_t_error: f64::from(stats.max_t_error),
+        })
+    }
+}
+
 /// How frames reach the window.
 enum Presenter {
     /// The CPU's frames, copied into the window's buffer.
@@ -342,12 +376,7 @@ impl Viewer {
             let Some(g) = self.gpu.as_mut() else {
                 return Err(DemoError::Usage("view: no GPU".into()));
             };
-            // The last frame holds its scene: dropped first, so that a moved scene is
-            // written in place rather than uploaded anew.
-            let mut frame = match g.frame.take() {
-                Some((f, _, _)) if (f.width(), f.height()) == (w, h) => f,
-                _ => GpuFrame::new(&g.gpu, w, h).map_err(gpu_error)?,
-            };
+            let frame = g.take_frame(w, h)?;
             let gs = match g.scenes.get_mut(&key) {
                 Some((gs, stale)) => {
                     if *stale {
@@ -386,18 +415,7 @@ impl Viewer {
                     gs
                 }
             };
-            let stats = gs
-                .render_frame(s.n, &frame_view(&cam, self.diag, s.heat), &mut frame)
-                .map_err(gpu_error)?;
-            g.frame = Some((frame, gs, stats));
-            return Ok(Frame {
-                pixels: None,
-                width: w,
-                height: h,
-                rays: stats.rays,
-                seconds: stats.seconds,
-                max_t_error: f64::from(stats.max_t_error),
-            });
+            return g.draw(gs, frame, s.n, &frame_view(&cam, self.diag, s.heat));
         }
         let r: Rendered = match s.precision {
             Precision::F32 => self.render_cpu::<f32>(&cam, seams)?,
@@ -447,22 +465,8 @@ impl Viewer {
         up.run(gs).map_err(gpu_error)?;
         *stale = false;
         let gs = Rc::clone(gs);
-        let mut frame = match g.frame.take() {
-            Some((f, _, _)) if (f.width(), f.height()) == (w, h) => f,
-            _ => GpuFrame::new(&g.gpu, w, h).map_err(gpu_error)?,
-        };
-        let stats = gs
-            .render_frame(s.n, &frame_view(cam, self.diag, s.heat), &mut frame)
-            .map_err(gpu_error)?;
-        g.frame = Some((frame, gs, stats));
-        Ok(Frame {
-            pixels: None,
-            width: w,
-            height: h,
-            rays: stats.rays,
-            seconds: stats.seconds,
-            max_t_error: f64::from(stats.max_t_error),
-        })
+        let frame = g.take_frame(w, h)?;
+        g.draw(gs, frame, s.n, &frame_view(cam, self.diag, s.heat))
     }
 
     fn render_cpu<F: Prec>(&mut self, cam: &Camera, seams: bool) -> Result<Rendered> {
