@@ -109,6 +109,8 @@ pub struct GpuUpdate {
     generate_normals: bool,
     binds: [wgpu::BindGroup; 3],
     levels: Vec<(u32, wgpu::BindGroup)>,
+    /// Per node, its part of the tree's cost ([`GpuUpdate::tree_cost`]).
+    node_cost: wgpu::Buffer,
     /// The scene buffers the passes write, to refuse another scene.
     targets: [wgpu::Buffer; 4],
     slots: u32,
@@ -288,6 +290,11 @@ impl GpuUpdate {
             let bparams = init("build params", &bparams, U::UNIFORM);
             let eparams = init("edge params", &eparams, U::UNIFORM);
             let level_nodes = init("tree levels", &order_bytes, U::STORAGE);
+            let node_cost = zeroed(
+                "node costs",
+                4 * bvh.nodes().len(),
+                U::STORAGE | U::COPY_SRC,
+            );
             let incident = init("incident corners", &incident, U::STORAGE);
             let incident_start = init("incident starts", &start, U::STORAGE);
             // The seam records, or a buffer too short for any record (the passes skip it).
@@ -360,6 +367,7 @@ impl GpuUpdate {
                             bind_entry(3, &scene.order),
                             bind_entry(15, &level),
                             bind_entry(16, &level_nodes),
+                            bind_entry(20, &node_cost),
                         ],
                     );
                     (count, bind)
@@ -375,6 +383,7 @@ impl GpuUpdate {
                 generate_normals: false,
                 binds,
                 levels,
+                node_cost,
                 targets: [
                     scene.patches.clone(),
                     scene.nodes.clone(),
@@ -527,6 +536,59 @@ impl GpuUpdate {
                 .map(|_| ())
                 .map_err(|e| GpuError::Device(e.to_string()))
         })?
+    }
+
+    /// The refitted tree's cost by the surface area heuristic after the last update, relative
+    /// to its root's box, as the CPU's `BuildReport::bvh_cost` measures it (the per-node parts
+    /// computed by the refit pass, read back and summed here in `f64`). The CPU's update
+    /// rebuilds its tree once this passes `smoothtri::REBUILD_COST_RATIO` times the built
+    /// tree's cost; the device only refits, so a renderer that plays long or wild animations
+    /// checks this now and then and uploads a CPU build when it is past that ratio. 0 before
+    /// the first update; `+∞` for a root of no area.
+    ///
+    /// # Panics
+    /// Never.
+    pub fn tree_cost(&self) -> Result<f64, GpuError> {
+        let parts = self
+            .gpu
+            .read_buffer(&self.node_cost, self.node_cost.size())?;
+        let root = self
+            .gpu
+            .read_buffer(&self.targets[1], size_of::<GpuNode>() as u64)?;
+        let word = |b: &[u8], k: usize| {
+            b.get(4 * k..4 * k + 4)
+                .map_or(0.0, |w| f32::from_ne_bytes([w[0], w[1], w[2], w[3]]))
+        };
+        let sum: f64 = (0..parts.len() / 4)
+            .map(|k| f64::from(word(&parts, k)))
+            .sum();
+        let child = |s: usize| {
+            root.get(96 + 4 * s..100 + 4 * s)
+                .map_or(BVH_EMPTY_SLOT, |w| {
+                    u32::from_ne_bytes([w[0], w[1], w[2], w[3]])
+                })
+        };
+        // The root's box: the union of its used slots (the CPU's `tree_cost`, in f32).
+        let (mut lo, mut hi) = ([f32::MAX; 3], [f32::MIN; 3]);
+        for s in (0..4).filter(|&s| child(s) != BVH_EMPTY_SLOT) {
+            for a in 0..3 {
+                lo[a] = lo[a].min(word(&root, 4 * a + s));
+                hi[a] = hi[a].max(word(&root, 12 + 4 * a + s));
+            }
+        }
+        let e = [0, 1, 2].map(|a| hi[a] - lo[a]);
+        let area = if e.iter().all(|&x| x >= 0.0) {
+            f64::from(e[0] * e[1] + e[1] * e[2] + e[2] * e[0])
+        } else {
+            0.0
+        };
+        Ok(if self.levels.is_empty() {
+            0.0
+        } else if area > 0.0 {
+            sum / area
+        } else {
+            f64::INFINITY
+        })
     }
 
     /// Reads back the vertex normals buffer (three `f32` per vertex): what the last update

@@ -1031,6 +1031,19 @@ struct LevelParams {
 
 @group(0) @binding(15) var<uniform> level: LevelParams;
 @group(0) @binding(16) var<storage, read> level_nodes: array<u32>;
+// Per node, its part of the tree's cost by the surface area heuristic (core/src/bvh/build.rs
+// `tree_cost`): each used slot's half area times what a ray entering it tests (one node, or
+// the leaf's patches). The host sums them and divides by the root's half area.
+@group(0) @binding(20) var<storage, read_write> node_cost: array<f32>;
+
+// aabb.rs `half_area`: xy + yz + zx of the extents, 0 for an empty box.
+fn half_area(lo: vec3<f32>, hi: vec3<f32>) -> f32 {
+    let e = hi - lo;
+    if (!(e.x >= 0.0 && e.y >= 0.0 && e.z >= 0.0)) {
+        return 0.0;
+    }
+    return e.x * e.y + e.y * e.z + e.z * e.x;
+}
 
 @compute @workgroup_size(64)
 fn refit_nodes(@builtin(global_invocation_id) gid: vec3<u32>) {
@@ -1080,6 +1093,17 @@ fn refit_nodes(@builtin(global_invocation_id) gid: vec3<u32>) {
         node.hi[2][k] = hi.z;
     }
     nodes[i] = node;
+    var cost = 0.0;
+    for (var k = 0u; k < 4u; k++) {
+        if (node.child[k] != EMPTY_SLOT) {
+            let lo = vec3<f32>(node.lo[0][k], node.lo[1][k], node.lo[2][k]);
+            let hi = vec3<f32>(node.hi[0][k], node.hi[1][k], node.hi[2][k]);
+            cost = cost + half_area(lo, hi) * f32(max(node.count[k], 1u));
+        }
+    }
+    if (i < arrayLength(&node_cost)) {
+        node_cost[i] = cost;
+    }
 }
 
 // ---------------------------------------------------------------------------------------------

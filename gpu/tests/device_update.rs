@@ -40,6 +40,10 @@ const SEAM_NORMAL_TOL_DEG: f64 = 0.005;
 /// CPU's (`f64`), in degrees.
 const NORMAL_TOL_DEG: f64 = 1e-4;
 
+/// The largest relative difference allowed between the refitted tree's cost on the device and
+/// the CPU's (`BuildReport::bvh_cost`): the boxes differ by their rounding and their reaches'.
+const TREE_COST_TOL: f64 = 4e-6;
+
 /// Where a record's reaches ride: value 3 of each edge's fourth `vec4` (`smooth_record`).
 const REACH_SLOTS: [usize; 3] = [4 * 13 + 3, 4 * 18 + 3, 4 * 23 + 3];
 
@@ -314,6 +318,16 @@ fn step(
     up.run(gs).expect("the device update runs");
     let mut seen = compare(name, gs, up, cpu, report.bvh_refitted);
     seen.refitted = report.bvh_refitted;
+    if report.bvh_refitted {
+        // The same tree refitted to boxes equal within rounding: the same cost.
+        let cost = up.tree_cost().expect("the tree's cost");
+        let d = (cost - report.bvh_cost).abs() / report.bvh_cost;
+        assert!(
+            d <= TREE_COST_TOL,
+            "{name}: tree cost {cost} on the device, {} on the CPU",
+            report.bvh_cost
+        );
+    }
     seen
 }
 
