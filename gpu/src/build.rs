@@ -96,6 +96,12 @@ impl UpdatePipelines {
 /// `smoothtri::REBUILD_COST_RATIO`; on the device, upload a CPU build for that
 /// ([`GpuScene::update`]).
 ///
+/// Bad vertices: the device reads nothing back, so it cannot refuse a pose as the CPU's update
+/// does (`BuildError::NonFiniteVertex`, the scene kept). A vertex that is not finite makes its
+/// triangles placeholders (remedy byte `0x81`, no ray reaches them) and the rest of the scene
+/// updates; the next finite pose restores them (`tests/device_update.rs`). Check poses on the
+/// host where a refusal matters.
+///
 /// Not on the device: the per-vertex remedy of `smoothtri::LineField::Vertex` (it runs in
 /// triangle order; the passes build the face field).
 pub struct GpuUpdate {

@@ -580,3 +580,41 @@ fn the_device_generates_the_normals_of_a_mesh_without_any() {
         }
     }
 }
+
+/// A vertex that is not finite cannot be refused on the device (nothing is read back): its
+/// triangles become placeholders (the CPU's `NonFinite`), the rest of the scene updates as the
+/// CPU's, and the next good pose restores them.
+#[test]
+fn a_non_finite_vertex_on_the_device_makes_placeholders() {
+    let Some(gpu) = gpu() else { return };
+    let m = builtin("torus").expect("torus");
+    let cpu = cpu_build(&m, true);
+    let gs = upload(&gpu, &cpu, true);
+    let tris = slot_triangles(&m, &cpu);
+    let up = GpuUpdate::new(&gs, cpu.scene().bvh(), &tris, m.positions.len())
+        .expect("the device update");
+    let (mut p, n) = (f32s(&m.positions), f32s(&m.normals));
+    p[3 * 7 + 1] = f32::NAN;
+    up.write_vertices(&p, &n).expect("vertices");
+    up.run(&gs).expect("the device update runs");
+    let remedies = up.read_remedies().expect("remedies");
+    for (t, tri) in tris.iter().enumerate() {
+        let want = if tri.contains(&7) { 0x81 } else { 0 };
+        assert_eq!(remedies[t], want, "triangle {t} {tri:?}");
+    }
+    let (records, nodes) = gs.read_back().expect("read back");
+    assert!(
+        nodes
+            .iter()
+            .all(|n| n.lo.iter().chain(&n.hi).flatten().all(|x| !x.is_nan()))
+    );
+    assert!(
+        records.iter().all(|x| !x.is_nan()),
+        "a NaN reached a record"
+    );
+    // The good pose again: the CPU build's records.
+    up.write_vertices(&f32s(&m.positions), &n)
+        .expect("vertices");
+    up.run(&gs).expect("the device update runs");
+    compare("torus after a NaN", &gs, &up, &cpu, true);
+}
