@@ -117,8 +117,10 @@ pub struct GpuUpdate {
     levels: Vec<(u32, wgpu::BindGroup)>,
     /// Per node, its part of the tree's cost ([`GpuUpdate::tree_cost`]).
     node_cost: wgpu::Buffer,
-    /// The scene buffers the passes write, to refuse another scene.
+    /// The scene buffers the passes write and the scene's version, to refuse another scene or
+    /// one rewritten since (its tree may have another topology).
     targets: [wgpu::Buffer; 4],
+    version: u64,
     slots: u32,
     edges: u32,
     vertices: u32,
@@ -396,6 +398,7 @@ impl GpuUpdate {
                     scene.order.clone(),
                     scene.shade_in.clone(),
                 ],
+                version: scene.version,
                 slots,
                 edges,
                 vertices,
@@ -475,19 +478,22 @@ impl GpuUpdate {
     }
 
     /// Records the update's passes into `enc`: `3 + depth` dispatches (patches, edges, boxes,
-    /// then one per depth of the tree; one more first for generated normals), in that order, so that commands recorded after them
-    /// (a frame, a query) see the updated scene. Returns [`GpuError::SceneMismatch`] when
-    /// `scene` is not the scene this update was made for, or no longer holds the same buffers
-    /// (after a [`GpuScene::update`] that re-allocated one); nothing is recorded then.
+    /// then one per depth of the tree; one more first for generated normals), in that order,
+    /// so that commands recorded after them (a frame, a query) see the updated scene. Returns
+    /// [`GpuError::SceneMismatch`] when `scene` is not the scene this update was made for, or
+    /// was rewritten since by [`GpuScene::update`] (whose tree may have another topology: make
+    /// a new `GpuUpdate` from its `Bvh`); nothing is recorded then.
     ///
-    /// Work: one invocation per triangle (at most 7 patch constructions, 19 height
-    /// evaluations each), one per shared edge (32 height evaluations), one per triangle for
-    /// the box, one per node.
+    /// Work: one invocation per vertex for generated normals (one angle per incident
+    /// triangle), one per triangle (at most 7 patch constructions, 19 height evaluations
+    /// each), one per shared edge (32 height evaluations; with seams 16 exact normals), one per
+    /// triangle for the box and its seam flag, one per node.
     ///
     /// # Panics
     /// Never.
     pub fn encode(&self, scene: &GpuScene, enc: &mut wgpu::CommandEncoder) -> Result<(), GpuError> {
         if [&scene.patches, &scene.nodes, &scene.order, &scene.shade_in] != self.targets.each_ref()
+            || scene.version != self.version
         {
             return Err(GpuError::SceneMismatch {
                 what: "buffer",

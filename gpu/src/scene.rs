@@ -37,6 +37,9 @@ pub struct GpuScene {
     /// or vertex normals; one zero record for [`Shading::Geometric`]).
     pub(crate) shading: Shading,
     pub(crate) shade_in: wgpu::Buffer,
+    /// How many times [`GpuScene::update`] rewrote the scene: a [`GpuUpdate`](crate::GpuUpdate)
+    /// made before then would refit another tree's topology, so it refuses the scene.
+    pub(crate) version: u64,
 }
 
 impl fmt::Debug for GpuScene {
@@ -138,6 +141,7 @@ impl GpuScene {
             tilted: tilted(kind, patches.iter().map(|pd| pd.d)),
             shading: Shading::Geometric,
             shade_in: gpu.storage("shading", Vec::new())?,
+            version: 0,
         })
     }
 
@@ -215,6 +219,7 @@ impl GpuScene {
         };
         self.bytes = bytes;
         self.counts = counts;
+        self.version += 1;
         self.tilted = tilted(self.kind, patches.iter().map(|p| p.data().d));
         Ok(())
     }

@@ -454,6 +454,15 @@ fn bad_input_to_the_device_update_is_a_typed_error() {
         up.run(&other),
         Err(GpuError::SceneMismatch { .. })
     ));
+    // The same scene, rewritten from the CPU since (its tree could have another topology).
+    let mut gs = gs;
+    up.run(&gs).expect("the update runs");
+    gs.update(s.bvh(), None).expect("rewritten");
+    assert!(matches!(up.run(&gs), Err(GpuError::SceneMismatch { .. })));
+    GpuUpdate::new(&gs, s.bvh(), &tris, nv)
+        .expect("a new update")
+        .run(&gs)
+        .expect("the new update runs");
     // A vertex index out of range, the wrong triangle count, a seamless scene.
     let mut bad = tris.clone();
     bad[0][1] = nv as u32;
