@@ -8,10 +8,10 @@ use std::sync::{Arc, Mutex};
 
 use wgpu::util::DeviceExt;
 
-use crate::build::UpdatePipelines;
 use crate::error::GpuError;
 use crate::records::{GpuNode, Packed, packed_bytes};
 use crate::shader::{HIT_BYTES, MAX_ITERATIONS, SHADER, Shading, WORKGROUP};
+use crate::update::UpdatePipelines;
 
 /// Largest batch of rays per dispatch.
 const MAX_CHUNK: usize = 1 << 20;

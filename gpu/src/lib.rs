@@ -54,7 +54,6 @@
 #![forbid(unsafe_code)]
 #![deny(missing_docs)]
 
-mod build;
 mod device;
 mod dispatch;
 mod error;
@@ -64,8 +63,8 @@ mod query;
 mod records;
 mod scene;
 mod shader;
+mod update;
 
-pub use build::GpuUpdate;
 pub use device::Gpu;
 pub use error::GpuError;
 pub use flat_tris::{FLAT_SHADER, FlatHit, FlatScene};
@@ -76,3 +75,4 @@ pub use shader::{
     DEFAULT_ITERATIONS, FLAT_VEC4, HIT_BYTES, MAX_ITERATIONS, PATCH_VEC4, RAY_BYTES, SAMPLES,
     SEAM_VEC4, SHADER, STACK, Shading, UPDATE_SHADER,
 };
+pub use update::GpuUpdate;

@@ -5,9 +5,19 @@
 /// The shader (WGSL), as compiled by [`Gpu::new`](crate::Gpu::new).
 pub const SHADER: &str = include_str!("kernel.wgsl");
 
-/// The scene update's passes (WGSL), compiled after [`SHADER`] with its patch records and
-/// nodes writable ([`GpuUpdate`](crate::GpuUpdate)).
-pub const UPDATE_SHADER: &str = include_str!("build.wgsl");
+/// The scene update's passes (WGSL, one file per pass in `gpu/src/update/`), compiled after
+/// [`SHADER`] with its patch records and nodes writable ([`GpuUpdate`](crate::GpuUpdate)).
+pub const UPDATE_SHADER: &str = concat!(
+    include_str!("update/patch.wgsl"),
+    "\n",
+    include_str!("update/cracks.wgsl"),
+    "\n",
+    include_str!("update/seams.wgsl"),
+    "\n",
+    include_str!("update/tree.wgsl"),
+    "\n",
+    include_str!("update/normals.wgsl"),
+);
 
 /// Interior bracketing samples `K` of the shader (the CPU's `DEFAULT_SAMPLES`): `K + 2 = 8`
 /// points.

@@ -656,7 +656,7 @@ fn shading_normals_match_the_cpu() {
     }
 }
 
-/// The constants the update's passes (`build.wgsl`) repeat from the CPU's builder, equal to
+/// The constants the update's passes (`gpu/src/update/`) repeat from the CPU's builder, equal to
 /// the CPU's: a change on either side fails here.
 #[test]
 fn update_shader_constants_match_the_cpu_builder() {

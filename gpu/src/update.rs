@@ -1,6 +1,7 @@
-//! The scene update on the device ([`GpuUpdate`], `build.wgsl`): a deforming mesh's patches,
-//! crack closure and BVH refit re-made by compute passes from vertex buffers that live on the
-//! GPU, into an uploaded [`GpuScene`]'s own buffers, with nothing read back per frame.
+//! The scene update on the device ([`GpuUpdate`], the passes in `gpu/src/update/`): a deforming
+//! mesh's vertex normals (where it has none), patches, crack closure, seams and BVH refit
+//! re-made by compute passes from vertex buffers that live on the GPU, into an uploaded
+//! [`GpuScene`]'s own buffers, with nothing read back per frame.
 
 use std::sync::{Arc, LazyLock};
 
@@ -16,7 +17,8 @@ use crate::scene::{GpuScene, SceneKind};
 use crate::shader::{SHADER, Shading, UPDATE_SHADER, WORKGROUP};
 
 /// The update's shader: the kernel's (whose height evaluation the passes sample the surface
-/// with) with its patch records and nodes writable, then `build.wgsl`.
+/// with) with its patch records and nodes writable, then the update's passes
+/// ([`UPDATE_SHADER`]).
 pub(crate) static BUILD_SHADER: LazyLock<String> = LazyLock::new(|| {
     let kernel = SHADER
         .replace(
