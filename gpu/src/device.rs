@@ -11,7 +11,7 @@ use wgpu::util::DeviceExt;
 use crate::error::GpuError;
 use crate::records::{GpuNode, Packed, packed_bytes};
 use crate::shader::{HIT_BYTES, MAX_ITERATIONS, SHADER, Shading, WORKGROUP};
-use crate::update::UpdatePipelines;
+use crate::update::pipelines::UpdatePipelines;
 
 /// Largest batch of rays per dispatch.
 const MAX_CHUNK: usize = 1 << 20;
@@ -388,7 +388,9 @@ impl Gpu {
         if let Some(p) = slot.as_ref() {
             return Ok(Arc::clone(p));
         }
-        let p = Arc::new(UpdatePipelines::new(self)?);
+        let p = Arc::new(scoped(&self.device, GpuError::Shader, || {
+            UpdatePipelines::new(&self.device)
+        })?);
         *slot = Some(Arc::clone(&p));
         Ok(p)
     }

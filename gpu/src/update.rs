@@ -3,7 +3,7 @@
 //! re-made by compute passes from vertex buffers that live on the GPU, into an uploaded
 //! [`GpuScene`]'s own buffers, with nothing read back per frame.
 
-use std::sync::{Arc, LazyLock};
+use std::sync::Arc;
 
 use smoothtri::internal::{CRACK_SAMPLES, seam_fit_matrix};
 use smoothtri::mesh::{SharedEdge, shared_edges};
@@ -14,65 +14,10 @@ use crate::device::{Gpu, bind_entry, scoped};
 use crate::error::GpuError;
 use crate::records::GpuNode;
 use crate::scene::{GpuScene, SceneKind};
-use crate::shader::{SHADER, Shading, UPDATE_SHADER, WORKGROUP};
+use crate::shader::{Shading, WORKGROUP};
 
-/// The update's shader: the kernel's (whose height evaluation the passes sample the surface
-/// with) with its patch records and nodes writable, then the update's passes
-/// ([`UPDATE_SHADER`]).
-pub(crate) static BUILD_SHADER: LazyLock<String> = LazyLock::new(|| {
-    let kernel = SHADER
-        .replace(
-            "var<storage, read> patches:",
-            "var<storage, read_write> patches:",
-        )
-        .replace(
-            "var<storage, read> nodes:",
-            "var<storage, read_write> nodes:",
-        );
-    format!("{kernel}\n{UPDATE_SHADER}")
-});
-
-/// The update's five compute pipelines (compiled once per [`Gpu`]).
-pub(crate) struct UpdatePipelines {
-    normals: wgpu::ComputePipeline,
-    patches: wgpu::ComputePipeline,
-    edges: wgpu::ComputePipeline,
-    boxes: wgpu::ComputePipeline,
-    refit: wgpu::ComputePipeline,
-}
-
-impl UpdatePipelines {
-    pub(crate) fn new(gpu: &Gpu) -> Result<UpdatePipelines, GpuError> {
-        let device = &gpu.device;
-        scoped(device, GpuError::Shader, || {
-            let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-                label: Some("smoothtri update"),
-                source: wgpu::ShaderSource::Wgsl(BUILD_SHADER.as_str().into()),
-            });
-            let make = |entry: &str| {
-                device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                    label: Some(entry),
-                    layout: None,
-                    module: &module,
-                    entry_point: Some(entry),
-                    compilation_options: wgpu::PipelineCompilationOptions {
-                        // Every line field's sections: the records carry their own di.z.
-                        constants: &[("TILTED", 1.0)],
-                        zero_initialize_workgroup_memory: false,
-                    },
-                    cache: None,
-                })
-            };
-            UpdatePipelines {
-                normals: make("vertex_normals"),
-                patches: make("build_patches"),
-                edges: make("close_edges"),
-                boxes: make("fit_boxes"),
-                refit: make("refit_nodes"),
-            }
-        })
-    }
-}
+pub(crate) mod pipelines;
+use pipelines::UpdatePipelines;
 
 /// The per-frame update of a smooth [`GpuScene`] on the device: given the mesh's triangles
 /// (in the scene's patch order) and its vertices in device buffers, [`GpuUpdate::encode`]
