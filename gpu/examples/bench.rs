@@ -516,7 +516,13 @@ fn device_update(gpu: &Arc<Gpu>, o: &Opts) -> Result<(), Box<dyn std::error::Err
             .iter()
             .map(|&t| mesh.triangles[t as usize])
             .collect();
-        let up = GpuUpdate::new(&scene, s.bvh(), &tris, mesh.positions.len())?;
+        let up = GpuUpdate::new(
+            &scene,
+            s.bvh(),
+            &tris,
+            mesh.positions.len(),
+            LineField::Face,
+        )?;
         let cam = Camera::for_mesh(&mesh, 30.0, 35.0, o.width, o.height);
         let basis = [cam.forward, cam.right, cam.up];
         let eps = mesh.diagonal() * SHADOW_OFFSET_F32;

@@ -7,7 +7,7 @@ use std::sync::Arc;
 
 use smoothtri::internal::{CRACK_SAMPLES, seam_fit_matrix};
 use smoothtri::mesh::{SharedEdge, shared_edges};
-use smoothtri::{BVH_EMPTY_SLOT, Bvh, NORMAL_CLAMP_DEG};
+use smoothtri::{BVH_EMPTY_SLOT, Bvh, LineField, NORMAL_CLAMP_DEG};
 use wgpu::util::DeviceExt;
 
 use crate::device::{Gpu, bind_entry, scoped};
@@ -88,9 +88,10 @@ impl GpuUpdate {
     /// The update of `scene`, a [`GpuScene::smooth`] upload of `bvh` (the tree the passes
     /// refit), for `triangles` (`triangles[i]` the vertex indices of the scene's patch `i`, in
     /// its vertex order: the CPU scene's triangles in slot order) over `vertex_count` vertices,
-    /// with the vertex buffers zeroed.
+    /// on the line field `field` the CPU scene was built on, with the vertex buffers zeroed.
     ///
-    /// Errors: [`GpuError::Unsupported`] for a flat or Phong scene;
+    /// Errors: [`GpuError::Unsupported`] for a flat or Phong scene, or for
+    /// [`LineField::Vertex`] (its per-vertex remedy runs in triangle order, on the CPU);
     /// [`GpuError::SceneMismatch`] when `bvh` or `triangles` does not match the scene;
     /// [`GpuError::Mesh`] for a vertex index at or above `vertex_count` or repeated in a
     /// triangle; [`GpuError::TooLarge`] beyond the device's limits; [`GpuError::Shader`] or
@@ -103,7 +104,13 @@ impl GpuUpdate {
         bvh: &Bvh<'_, f32>,
         triangles: &[[u32; 3]],
         vertex_count: usize,
+        field: LineField,
     ) -> Result<GpuUpdate, GpuError> {
+        if field != LineField::Face {
+            return Err(GpuError::Unsupported(
+                "the device builds the face field only (LineField::Face)",
+            ));
+        }
         let seams = match (scene.kind, scene.shading) {
             (SceneKind::Smooth, Shading::Geometric) => false,
             (SceneKind::Smooth, Shading::Seamless) => true,

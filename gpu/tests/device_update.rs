@@ -342,8 +342,14 @@ fn same_pose(name: &str, m: &Mesh, seams: bool) -> Option<Seen> {
     let cpu = cpu_build(m, seams);
     let s = cpu.scene();
     let gs = upload(&gpu, &cpu, seams);
-    let up = GpuUpdate::new(&gs, s.bvh(), &slot_triangles(m, &cpu), m.positions.len())
-        .expect("the device update");
+    let up = GpuUpdate::new(
+        &gs,
+        s.bvh(),
+        &slot_triangles(m, &cpu),
+        m.positions.len(),
+        LineField::Face,
+    )
+    .expect("the device update");
     // First every vertex at the origin: every patch a placeholder, every box empty, so that
     // nothing of the upload survives into the comparison below.
     let zeros = vec![0.0f32; 3 * m.positions.len()];
@@ -401,6 +407,7 @@ fn the_device_update_follows_a_deforming_mesh() {
             cpu.scene().bvh(),
             &slot_triangles(&m0, &cpu),
             m0.positions.len(),
+            LineField::Face,
         )
         .expect("the device update");
         let mut m = m0.clone();
@@ -439,7 +446,7 @@ fn bad_input_to_the_device_update_is_a_typed_error() {
     let gs = GpuScene::smooth(&gpu, s.bvh()).expect("upload");
     let tris = slot_triangles(&m, &cpu);
     let nv = m.positions.len();
-    let up = GpuUpdate::new(&gs, s.bvh(), &tris, nv).expect("the device update");
+    let up = GpuUpdate::new(&gs, s.bvh(), &tris, nv, LineField::Face).expect("the device update");
     let p = f32s(&m.positions);
     assert_eq!(
         up.write_vertices(&p[1..], &p),
@@ -459,7 +466,7 @@ fn bad_input_to_the_device_update_is_a_typed_error() {
     up.run(&gs).expect("the update runs");
     gs.update(s.bvh(), None).expect("rewritten");
     assert!(matches!(up.run(&gs), Err(GpuError::SceneMismatch { .. })));
-    GpuUpdate::new(&gs, s.bvh(), &tris, nv)
+    GpuUpdate::new(&gs, s.bvh(), &tris, nv, LineField::Face)
         .expect("a new update")
         .run(&gs)
         .expect("the new update runs");
@@ -467,16 +474,20 @@ fn bad_input_to_the_device_update_is_a_typed_error() {
     let mut bad = tris.clone();
     bad[0][1] = nv as u32;
     assert!(matches!(
-        GpuUpdate::new(&gs, s.bvh(), &bad, nv),
+        GpuUpdate::new(&gs, s.bvh(), &bad, nv, LineField::Face),
         Err(GpuError::Mesh(_))
     ));
     assert!(matches!(
-        GpuUpdate::new(&gs, s.bvh(), &tris[1..], nv),
+        GpuUpdate::new(&gs, s.bvh(), &tris[1..], nv, LineField::Face),
         Err(GpuError::SceneMismatch { .. })
+    ));
+    assert!(matches!(
+        GpuUpdate::new(&gs, s.bvh(), &tris, nv, LineField::Vertex),
+        Err(GpuError::Unsupported(_))
     ));
     let flat = GpuScene::flat(&gpu, s.bvh()).expect("upload");
     assert!(matches!(
-        GpuUpdate::new(&flat, s.bvh(), &tris, nv),
+        GpuUpdate::new(&flat, s.bvh(), &tris, nv, LineField::Face),
         Err(GpuError::Unsupported(_))
     ));
 }
@@ -506,6 +517,7 @@ fn the_device_update_follows_the_animated_files() {
             cpu.scene().bvh(),
             &slot_triangles(&rest, &cpu),
             rest.positions.len(),
+            LineField::Face,
         )
         .expect("the device update");
         for k in 1u32..=5 {
@@ -565,6 +577,7 @@ fn the_device_generates_the_normals_of_a_mesh_without_any() {
                 cpu.scene().bvh(),
                 &slot_triangles(&rest, &cpu),
                 rest.positions.len(),
+                LineField::Face,
             )
             .expect("the device update");
             up.generate_normals(true);
@@ -600,8 +613,14 @@ fn a_non_finite_vertex_on_the_device_makes_placeholders() {
     let cpu = cpu_build(&m, true);
     let gs = upload(&gpu, &cpu, true);
     let tris = slot_triangles(&m, &cpu);
-    let up = GpuUpdate::new(&gs, cpu.scene().bvh(), &tris, m.positions.len())
-        .expect("the device update");
+    let up = GpuUpdate::new(
+        &gs,
+        cpu.scene().bvh(),
+        &tris,
+        m.positions.len(),
+        LineField::Face,
+    )
+    .expect("the device update");
     let (mut p, n) = (f32s(&m.positions), f32s(&m.normals));
     p[3 * 7 + 1] = f32::NAN;
     up.write_vertices(&p, &n).expect("vertices");

@@ -401,9 +401,14 @@ impl Viewer {
                             .iter()
                             .filter_map(|&t| self.mesh.triangles.get(t as usize).copied())
                             .collect();
-                        let mut up =
-                            GpuUpdate::new(&gs, &scene.bvh(), &tris, self.mesh.positions.len())
-                                .map_err(gpu_error)?;
+                        let mut up = GpuUpdate::new(
+                            &gs,
+                            &scene.bvh(),
+                            &tris,
+                            self.mesh.positions.len(),
+                            self.options.field,
+                        )
+                        .map_err(gpu_error)?;
                         // A file without normals: the device computes them from the positions.
                         up.generate_normals(
                             self.playing
