@@ -36,21 +36,21 @@ use pipelines::UpdatePipelines;
 ///    neighbour normals) and each patch's box from its reaches (`fit_boxes`);
 /// 3. a refit of the scene's tree (`refit_nodes`, one dispatch per depth, deepest first).
 ///
-/// The records equal the CPU's within rounding (`tests/device_update.rs`: the shell's heights come
-/// from the kernel's height evaluation, equal to the CPU's to rounding; gaps are measured in
-/// `f32` relative to the patches' origins where the CPU places its points in `f64`). The tree
-/// is always refitted: the CPU's update rebuilds it once a refit's cost passes
-/// `smoothtri::REBUILD_COST_RATIO`; on the device, upload a CPU build for that
-/// ([`GpuScene::update`]).
+/// The records equal the CPU's within rounding (`gpu/tests/device_update.rs`: the shell's
+/// heights come from the kernel's height evaluation, equal to the CPU's to rounding; gaps are
+/// measured in `f32` relative to the patches' origins where the CPU places its points in
+/// `f64`). The tree is always refitted: the CPU's update rebuilds it once a refit's cost passes
+/// `smoothtri::REBUILD_COST_RATIO`; [`GpuUpdate::tree_cost`] tells when, and a CPU build
+/// uploaded then ([`GpuScene::update`], and a new `GpuUpdate` from its tree) takes over.
 ///
 /// Bad vertices: the device reads nothing back, so it cannot refuse a pose as the CPU's update
 /// does (`BuildError::NonFiniteVertex`, the scene kept). A vertex that is not finite makes its
 /// triangles placeholders (remedy byte `0x81`, no ray reaches them) and the rest of the scene
-/// updates; the next finite pose restores them (`tests/device_update.rs`). Check poses on the
-/// host where a refusal matters.
+/// updates; the next finite pose restores them (`gpu/tests/device_update.rs`). Check poses on
+/// the host where a refusal matters.
 ///
-/// Not on the device: the per-vertex remedy of `smoothtri::LineField::Vertex` (it runs in
-/// triangle order; the passes build the face field).
+/// Not on the device: the per-vertex remedy of [`LineField::Vertex`] (it runs in triangle
+/// order): [`GpuUpdate::new`] refuses that field.
 pub struct GpuUpdate {
     gpu: Arc<Gpu>,
     pipelines: Arc<UpdatePipelines>,
@@ -85,8 +85,8 @@ impl std::fmt::Debug for GpuUpdate {
 }
 
 impl GpuUpdate {
-    /// The update of `scene`, a [`GpuScene::smooth`] upload of `bvh` (the tree the passes
-    /// refit), for `triangles` (`triangles[i]` the vertex indices of the scene's patch `i`, in
+    /// The update of `scene`, a [`GpuScene::smooth`] or [`GpuScene::smooth_seamless`] upload
+    /// of `bvh` (the tree the passes refit), for `triangles` (`triangles[i]` the vertex indices of the scene's patch `i`, in
     /// its vertex order: the CPU scene's triangles in slot order) over `vertex_count` vertices,
     /// on the line field `field` the CPU scene was built on, with the vertex buffers zeroed.
     ///
