@@ -511,15 +511,10 @@ fn device_update(gpu: &Arc<Gpu>, o: &Opts) -> Result<(), Box<dyn std::error::Err
         } else {
             GpuScene::smooth(gpu, s.bvh())?
         };
-        let tris: Vec<[u32; 3]> = s
-            .triangle_ids()
-            .iter()
-            .map(|&t| mesh.triangles[t as usize])
-            .collect();
         let up = GpuUpdate::new(
             &scene,
-            s.bvh(),
-            &tris,
+            &s,
+            &mesh.triangles,
             mesh.positions.len(),
             LineField::Face,
         )?;

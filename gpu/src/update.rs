@@ -19,8 +19,8 @@ use crate::shader::{Shading, WORKGROUP};
 pub(crate) mod pipelines;
 use pipelines::UpdatePipelines;
 
-/// The per-frame update of a smooth [`GpuScene`] on the device: given the mesh's triangles
-/// (in the scene's patch order) and its vertices in device buffers, [`GpuUpdate::encode`]
+/// The per-frame update of a smooth [`GpuScene`] on the device: given the mesh's index buffer
+/// and its vertices in device buffers, [`GpuUpdate::encode`]
 /// re-makes what the CPU's `OwnedScene::update` re-makes, as compute passes that write the
 /// scene's own buffers:
 ///
@@ -86,13 +86,13 @@ impl std::fmt::Debug for GpuUpdate {
 
 impl GpuUpdate {
     /// The update of `scene`, a [`GpuScene::smooth`] or [`GpuScene::smooth_seamless`] upload
-    /// of `bvh` (the tree the passes refit), for `triangles` (`triangles[i]` the vertex indices of the scene's patch `i`, in
-    /// its vertex order: the CPU scene's triangles in slot order) over `vertex_count` vertices,
-    /// on the line field `field` the CPU scene was built on, with the vertex buffers zeroed.
+    /// of the CPU scene `cpu` (whose tree the passes refit), built from the mesh of `triangles`
+    /// (the index buffer as given to the build: `cpu`'s `triangle_ids` pick each patch's) over
+    /// `vertex_count` vertices on the line field `field`, with the vertex buffers zeroed.
     ///
     /// Errors: [`GpuError::Unsupported`] for a flat or Phong scene, or for
     /// [`LineField::Vertex`] (its per-vertex remedy runs in triangle order, on the CPU);
-    /// [`GpuError::SceneMismatch`] when `bvh` or `triangles` does not match the scene;
+    /// [`GpuError::SceneMismatch`] when `cpu` or `triangles` does not match the scene;
     /// [`GpuError::Mesh`] for a vertex index at or above `vertex_count` or repeated in a
     /// triangle; [`GpuError::TooLarge`] beyond the device's limits; [`GpuError::Shader`] or
     /// [`GpuError::Device`] for device errors.
@@ -101,7 +101,7 @@ impl GpuUpdate {
     /// Never.
     pub fn new(
         scene: &GpuScene,
-        bvh: &Bvh<'_, f32>,
+        cpu: &smoothtri::Scene<'_, f32>,
         triangles: &[[u32; 3]],
         vertex_count: usize,
         field: LineField,
@@ -127,12 +127,20 @@ impl GpuUpdate {
             scene: n,
             given,
         };
+        let bvh = cpu.bvh();
         if bvh.patches().len() != n {
             return Err(mismatch("patch", bvh.patches().len()));
         }
-        if triangles.len() != n {
+        // Each patch's triangle, in the patch's vertex order.
+        let ids = cpu.triangle_ids();
+        let triangles: Vec<[u32; 3]> = ids
+            .iter()
+            .filter_map(|&t| triangles.get(t as usize).copied())
+            .collect();
+        if ids.len() != n || triangles.len() != n {
             return Err(mismatch("triangle", triangles.len()));
         }
+        let triangles = triangles.as_slice();
         if bvh.nodes().len() != scene.counts[0] as usize {
             return Err(mismatch("node", bvh.nodes().len()));
         }

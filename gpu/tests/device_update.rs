@@ -7,12 +7,14 @@
 
 mod common;
 use common::*;
+use std::sync::Arc;
+
 use glam::DVec3;
 use smoothtri::internal::TWIST_TERMS;
 use smoothtri::mesh::Seam;
 use smoothtri::{BuildOptions, LineField, NORMAL_CLAMP_DEG, OwnedScene, Patch, Vertices};
 use smoothtri_gpu::{
-    GpuError, GpuNode, GpuScene, GpuUpdate, PATCH_VEC4, SEAM_VEC4, seam_record, smooth_record,
+    Gpu, GpuError, GpuNode, GpuScene, GpuUpdate, PATCH_VEC4, SEAM_VEC4, seam_record, smooth_record,
 };
 use smoothtri_testkit::Mesh;
 use smoothtri_testkit::scenes::{builtin, tilted_normal_sphere};
@@ -77,11 +79,7 @@ fn cpu_build(m: &Mesh, seams: bool) -> OwnedScene<f32> {
 }
 
 /// Uploads the CPU scene, with its seams where it has them.
-fn upload(
-    gpu: &std::sync::Arc<smoothtri_gpu::Gpu>,
-    cpu: &OwnedScene<f32>,
-    seams: bool,
-) -> GpuScene {
+fn upload(gpu: &Arc<Gpu>, cpu: &OwnedScene<f32>, seams: bool) -> GpuScene {
     let s = cpu.scene();
     if seams {
         GpuScene::smooth_seamless(gpu, s.bvh(), s.seams())
@@ -127,13 +125,19 @@ fn cpu_remedy(p: &Patch) -> u32 {
     })
 }
 
-/// The scene's triangles in patch order.
-fn slot_triangles(m: &Mesh, cpu: &OwnedScene<f32>) -> Vec<[u32; 3]> {
-    let s = cpu.scene();
-    s.triangle_ids()
-        .iter()
-        .map(|&t| m.triangles[t as usize])
-        .collect()
+/// Builds `m` on the CPU (with seams where `seams`), uploads it and makes its device update.
+fn on_device(gpu: &Arc<Gpu>, m: &Mesh, seams: bool) -> (OwnedScene<f32>, GpuScene, GpuUpdate) {
+    let cpu = cpu_build(m, seams);
+    let gs = upload(gpu, &cpu, seams);
+    let up = GpuUpdate::new(
+        &gs,
+        &cpu.scene(),
+        &m.triangles,
+        m.positions.len(),
+        LineField::Face,
+    )
+    .expect("the device update");
+    (cpu, gs, up)
 }
 
 /// What one comparison saw.
@@ -339,17 +343,7 @@ fn step(
 /// vertices: the device must reproduce the CPU build.
 fn same_pose(name: &str, m: &Mesh, seams: bool) -> Option<Seen> {
     let gpu = gpu()?;
-    let cpu = cpu_build(m, seams);
-    let s = cpu.scene();
-    let gs = upload(&gpu, &cpu, seams);
-    let up = GpuUpdate::new(
-        &gs,
-        s.bvh(),
-        &slot_triangles(m, &cpu),
-        m.positions.len(),
-        LineField::Face,
-    )
-    .expect("the device update");
+    let (cpu, gs, up) = on_device(&gpu, m, seams);
     // First every vertex at the origin: every patch a placeholder, every box empty, so that
     // nothing of the upload survives into the comparison below.
     let zeros = vec![0.0f32; 3 * m.positions.len()];
@@ -399,18 +393,8 @@ fn the_device_update_follows_a_deforming_mesh() {
     let Some(gpu) = gpu() else { return };
     const SIDE: usize = 16;
     for seams in [false, true] {
-        let m0 = twisting_torus(SIDE, 0.0);
-        let mut cpu = cpu_build(&m0, seams);
-        let gs = upload(&gpu, &cpu, seams);
-        let up = GpuUpdate::new(
-            &gs,
-            cpu.scene().bvh(),
-            &slot_triangles(&m0, &cpu),
-            m0.positions.len(),
-            LineField::Face,
-        )
-        .expect("the device update");
-        let mut m = m0.clone();
+        let mut m = twisting_torus(SIDE, 0.0);
+        let (mut cpu, gs, up) = on_device(&gpu, &m, seams);
         let (mut reaches, mut refits, mut fitted) = (0, 0, 0);
         for (k, t) in [0.7, 2.3, 4.1].into_iter().enumerate() {
             twist_pose(SIDE, t, &mut m.positions, &mut m.normals);
@@ -444,9 +428,9 @@ fn bad_input_to_the_device_update_is_a_typed_error() {
     let cpu = cpu_build(&m, false);
     let s = cpu.scene();
     let gs = GpuScene::smooth(&gpu, s.bvh()).expect("upload");
-    let tris = slot_triangles(&m, &cpu);
+    let tris = &m.triangles;
     let nv = m.positions.len();
-    let up = GpuUpdate::new(&gs, s.bvh(), &tris, nv, LineField::Face).expect("the device update");
+    let up = GpuUpdate::new(&gs, &s, tris, nv, LineField::Face).expect("the device update");
     let p = f32s(&m.positions);
     assert_eq!(
         up.write_vertices(&p[1..], &p),
@@ -466,7 +450,7 @@ fn bad_input_to_the_device_update_is_a_typed_error() {
     up.run(&gs).expect("the update runs");
     gs.update(s.bvh(), None).expect("rewritten");
     assert!(matches!(up.run(&gs), Err(GpuError::SceneMismatch { .. })));
-    GpuUpdate::new(&gs, s.bvh(), &tris, nv, LineField::Face)
+    GpuUpdate::new(&gs, &s, tris, nv, LineField::Face)
         .expect("a new update")
         .run(&gs)
         .expect("the new update runs");
@@ -474,20 +458,20 @@ fn bad_input_to_the_device_update_is_a_typed_error() {
     let mut bad = tris.clone();
     bad[0][1] = nv as u32;
     assert!(matches!(
-        GpuUpdate::new(&gs, s.bvh(), &bad, nv, LineField::Face),
+        GpuUpdate::new(&gs, &s, &bad, nv, LineField::Face),
         Err(GpuError::Mesh(_))
     ));
     assert!(matches!(
-        GpuUpdate::new(&gs, s.bvh(), &tris[1..], nv, LineField::Face),
+        GpuUpdate::new(&gs, &s, &tris[1..], nv, LineField::Face),
         Err(GpuError::SceneMismatch { .. })
     ));
     assert!(matches!(
-        GpuUpdate::new(&gs, s.bvh(), &tris, nv, LineField::Vertex),
+        GpuUpdate::new(&gs, &s, tris, nv, LineField::Vertex),
         Err(GpuError::Unsupported(_))
     ));
     let flat = GpuScene::flat(&gpu, s.bvh()).expect("upload");
     assert!(matches!(
-        GpuUpdate::new(&flat, s.bvh(), &tris, nv, LineField::Face),
+        GpuUpdate::new(&flat, &s, tris, nv, LineField::Face),
         Err(GpuError::Unsupported(_))
     ));
 }
@@ -510,16 +494,7 @@ fn the_device_update_follows_the_animated_files() {
         let duration = anim.clips().first().map_or(0.0, |c| c.duration);
         let rest = anim.posed_mesh(None, 0.0).expect("the rest pose");
         let seams = true;
-        let mut cpu = cpu_build(&rest, seams);
-        let gs = upload(&gpu, &cpu, seams);
-        let up = GpuUpdate::new(
-            &gs,
-            cpu.scene().bvh(),
-            &slot_triangles(&rest, &cpu),
-            rest.positions.len(),
-            LineField::Face,
-        )
-        .expect("the device update");
+        let (mut cpu, gs, up) = on_device(&gpu, &rest, seams);
         for k in 1u32..=5 {
             let t = duration * f64::from(k) / 5.0;
             let frame = anim.posed_mesh(Some(0), t).expect("a pose");
@@ -570,16 +545,7 @@ fn the_device_generates_the_normals_of_a_mesh_without_any() {
     for (name, mut pose) in sources {
         for seams in [false, true] {
             let rest = pose(0.0);
-            let mut cpu = cpu_build(&rest, seams);
-            let gs = upload(&gpu, &cpu, seams);
-            let mut up = GpuUpdate::new(
-                &gs,
-                cpu.scene().bvh(),
-                &slot_triangles(&rest, &cpu),
-                rest.positions.len(),
-                LineField::Face,
-            )
-            .expect("the device update");
+            let (mut cpu, gs, mut up) = on_device(&gpu, &rest, seams);
             up.generate_normals(true);
             for t in [0.4, 1.3] {
                 let m = pose(t);
@@ -610,23 +576,14 @@ fn the_device_generates_the_normals_of_a_mesh_without_any() {
 fn a_non_finite_vertex_on_the_device_makes_placeholders() {
     let Some(gpu) = gpu() else { return };
     let m = builtin("torus").expect("torus");
-    let cpu = cpu_build(&m, true);
-    let gs = upload(&gpu, &cpu, true);
-    let tris = slot_triangles(&m, &cpu);
-    let up = GpuUpdate::new(
-        &gs,
-        cpu.scene().bvh(),
-        &tris,
-        m.positions.len(),
-        LineField::Face,
-    )
-    .expect("the device update");
+    let (cpu, gs, up) = on_device(&gpu, &m, true);
     let (mut p, n) = (f32s(&m.positions), f32s(&m.normals));
     p[3 * 7 + 1] = f32::NAN;
     up.write_vertices(&p, &n).expect("vertices");
     up.run(&gs).expect("the device update runs");
     let remedies = up.read_remedies().expect("remedies");
-    for (t, tri) in tris.iter().enumerate() {
+    for (t, &id) in cpu.scene().triangle_ids().iter().enumerate() {
+        let tri = m.triangles[id as usize];
         let want = if tri.contains(&7) { 0x81 } else { 0 };
         assert_eq!(remedies[t], want, "triangle {t} {tri:?}");
     }

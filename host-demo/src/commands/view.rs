@@ -396,15 +396,10 @@ impl Viewer {
                         && s.mode == Mode::Smooth
                         && self.options.field == LineField::Face
                     {
-                        let tris: Vec<[u32; 3]> = scene
-                            .tri_ids()
-                            .iter()
-                            .filter_map(|&t| self.mesh.triangles.get(t as usize).copied())
-                            .collect();
                         let mut up = GpuUpdate::new(
                             &gs,
-                            &scene.bvh(),
-                            &tris,
+                            &scene.core(),
+                            &self.mesh.triangles,
                             self.mesh.positions.len(),
                             self.options.field,
                         )
