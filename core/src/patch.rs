@@ -312,9 +312,8 @@ impl<F: Float> Patch<F> {
     /// fifth of sound patches with normals 45° off the face, most at 55°).
     ///
     /// Not part of [`Patch::new_or_tilted`]: it is for offline validation. Work is bounded
-    /// (at most 3 · 4096 boxes) but large:
-    /// about 30 ms per patch with normals within 15° of the face, 100 ms at 30° and 450 ms at
-    /// 45°, on the machine of the README's figures.
+    /// (at most 3 · 4096 boxes) but large, and grows with the normals' angle to the face
+    /// (docs/MEASUREMENTS.md, "Notes moved from the code").
     ///
     /// # Accuracy
     /// Sound for the surface the stored data define in `f64` (for `f32` patches, their data

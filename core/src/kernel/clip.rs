@@ -18,8 +18,8 @@ use crate::surface::shell::{cross2_poly, longest_edge, moved_corners};
 
 /// A world ray prepared once for all the patches it is tested against: origin and direction
 /// in the kernel's vectors and the direction's reciprocals for the box test
-/// ([`Aabb::ray_interval`](crate::aabb::Aabb::ray_interval)), the same values each patch test
-/// computed for itself before.
+/// ([`Aabb::ray_interval`](crate::aabb::Aabb::ray_interval)), computed once per ray rather than
+/// once per patch test.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct WorldRay<F> {
     /// Origin, world coordinates.

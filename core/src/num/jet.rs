@@ -19,7 +19,8 @@ pub(crate) struct Jet<L, D = [L; 2]> {
 }
 
 /// The partial derivatives of a [`Jet`]: two (`[L; 2]`) or one (`[L; 1]`), each rule written
-/// out per count (loops over a const count made the jets' code compile several times slower).
+/// out per count (a loop over a const count compiled slowly: docs/MEASUREMENTS.md, "Notes
+/// moved from the code").
 pub(crate) trait Partials<L: LaneOps>: Copy {
     /// All zero.
     fn zero() -> Self;

@@ -9,8 +9,8 @@
 /// On x86 with SSE the packed square root of `wide` (one lane used): `libm::sqrtf` is an inline
 /// `sqrtss` in the legacy SSE encoding, which in code built with AVX enabled (`-C
 /// target-feature=+avx2` or `target-cpu=native`) mixes with the VEX-encoded lane code and paid
-/// an SSE/AVX transition on every call, which made patch construction several times slower
-/// with AVX2 than with SSE2 (docs/MEASUREMENTS.md). The compiler
+/// an SSE/AVX transition on every call (its cost: docs/MEASUREMENTS.md, "Notes moved from the
+/// code"). The compiler
 /// encodes `sqrtps` to match the target, and both roundings are IEEE-exact (the same bits).
 /// Elsewhere `libm`.
 #[inline(always)]

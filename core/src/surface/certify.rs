@@ -27,12 +27,12 @@
 //! patch's precision (`f32` data convert exactly); it does not cover the rounding of an `f32`
 //! evaluation.
 //!
-//! Cost and sharpness (domain study, `f64`, docs/METHOD.md §7): tens of milliseconds per patch
-//! with normals within 15°–30° of the face, hundreds at 45°, against microseconds for a
-//! construction; it refuses every folded or jumping patch of the study, and also a fifth of the
-//! sound patches at 45° (most at 55°), where interval enclosures stay too wide. It is therefore
-//! not part of [`Patch::new_or_tilted`](crate::Patch::new_or_tilted): it is for offline
-//! validation of meshes that must not spike.
+//! Cost and sharpness (domain study, `f64`, docs/METHOD.md §7; its timings in
+//! docs/MEASUREMENTS.md, "Notes moved from the code"): orders of magnitude above a construction;
+//! it refuses every folded or jumping patch of the study, and also a fifth of the sound patches
+//! at 45° (most at 55°), where interval enclosures stay too wide. It is therefore not part of
+//! [`Patch::new_or_tilted`](crate::Patch::new_or_tilted): it is for offline validation of meshes
+//! that must not spike.
 
 use heapless::Vec as HVec;
 
@@ -51,8 +51,8 @@ pub const CERTIFY_GRID: usize = 8;
 pub const CERTIFY_MAX_DEPTH: usize = 4;
 
 /// Boxes evaluated per vertex at most, the start grid included: the work bound (three
-/// vertices, so at most `3 · CERTIFY_MAX_BOXES` boxes per patch; a box costs about 150 µs on
-/// the machine of the README's figures).
+/// vertices, so at most `3 · CERTIFY_MAX_BOXES` boxes per patch; a box's cost is in
+/// docs/MEASUREMENTS.md, "Notes moved from the code").
 pub const CERTIFY_MAX_BOXES: usize = 4096;
 
 /// The scalars the certificate is evaluated in: an interval, or dual numbers over one (for the
