@@ -1,4 +1,4 @@
-//! Ray queries against a [`Scene`]: the smooth kernel at a compile-time iteration budget, or
+//! Ray queries against a [`Scene`]: the smooth kernel at a run-time iteration budget (`N`), or
 //! the flat and Phong baselines, chosen at run time by [`tracer`] ([`Mode`], the budget). The
 //! precision-generic parts ([`Prec`], [`Precision`]), the scene build ([`Scene`]) and the
 //! choices of the command line ([`Mode`], [`Field`], [`Normals`]) are in the submodules.
