@@ -39,6 +39,39 @@ pub enum Error {
         /// The file.
         path: String,
     },
+    /// Loading the file would take more than its budget
+    /// ([`LoadOptions::max_bytes`](crate::LoadOptions::max_bytes); `path: field needs N bytes,
+    /// over the load budget of M bytes`).
+    Budget {
+        /// The file.
+        path: String,
+        /// What asked for the bytes (the file's size, a buffer, an accessor, an element, with
+        /// where it is: node, mesh, primitive, animation, line).
+        field: String,
+        /// The bytes the load would have held with it.
+        needed: u64,
+        /// The budget.
+        budget: u64,
+    },
+    /// A glTF buffer URI that resolves outside the asset's own folder (an absolute path, a
+    /// `..` escape, a symlink leaving the folder, another scheme), refused without
+    /// [`LoadOptions::allow_outside_folder`](crate::LoadOptions::allow_outside_folder).
+    OutsideFolder {
+        /// The glTF file.
+        path: String,
+        /// The URI as the file writes it.
+        uri: String,
+    },
+    /// A glTF buffer URI that cannot be read as a buffer: not a regular file (a device, a
+    /// FIFO, a folder), shorter than its `byteLength`, or a malformed URI.
+    Resource {
+        /// The glTF file.
+        path: String,
+        /// The URI as the file writes it.
+        uri: String,
+        /// What is wrong.
+        why: String,
+    },
     /// A mesh without positions or triangles given to the glTF writer, whose accessors need at
     /// least one element.
     EmptyGltf,
@@ -51,6 +84,23 @@ impl fmt::Display for Error {
             Error::Parse { path, line, msg } => write!(f, "{path}:{line}: {msg}"),
             Error::Format { path, msg } => write!(f, "{path}: {msg}"),
             Error::NoTriangles { path } => write!(f, "{path}: the mesh has no triangles"),
+            Error::Budget {
+                path,
+                field,
+                needed,
+                budget,
+            } => write!(
+                f,
+                "{path}: {field} needs {needed} bytes, over the load budget of {budget} bytes"
+            ),
+            Error::OutsideFolder { path, uri } => write!(
+                f,
+                "{path}: buffer URI {uri:?} resolves outside the file's folder (refused; \
+                 allow_outside_folder / --allow-outside-folder permits it)"
+            ),
+            Error::Resource { path, uri, why } => {
+                write!(f, "{path}: buffer URI {uri:?}: {why}")
+            }
             Error::EmptyGltf => f.write_str("cannot write an empty mesh as glTF"),
         }
     }

@@ -5,6 +5,7 @@ use std::path::Path;
 
 use crate::error::{Error, Result};
 use crate::mesh::{FloatWidth, LoadedMesh, Mesh};
+use crate::options::{Budget, LoadOptions, read_file};
 use crate::{gltf, obj, ply};
 
 /// The lower-case extension of `path`, if it has one.
@@ -15,18 +16,30 @@ pub fn extension(path: &str) -> Option<String> {
         .map(|e| e.to_ascii_lowercase())
 }
 
-/// Reads a mesh, choosing the format by extension (`.obj`, `.ply`, `.gltf`, `.glb`).
+/// Reads a mesh, choosing the format by extension (`.obj`, `.ply`, `.gltf`, `.glb`), with the
+/// default [`LoadOptions`] ([`load_with`]).
 ///
 /// Returns [`Error::Format`] for another extension, [`Error::Io`] when the file cannot be read,
 /// and the errors of [`parse`].
 pub fn load(path: &str) -> Result<LoadedMesh> {
+    load_with(path, &LoadOptions::default())
+}
+
+/// Reads a mesh as [`load`] does, within `options` (see [`LoadOptions`]): the file's size is
+/// checked against the budget before it is read.
+///
+/// Returns [`Error::Format`] for another extension, [`Error::Io`] when the file cannot be read
+/// or is not a regular file, [`Error::Budget`] when it is larger than the budget, and the
+/// errors of [`parse_with`].
+pub fn load_with(path: &str, options: &LoadOptions) -> Result<LoadedMesh> {
     format_of(
         path,
         "obj, .ply, .gltf or .glb",
         &["obj", "ply", "gltf", "glb"],
     )?;
-    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
-    parse(&bytes, path)
+    let budget = Budget::new(path, options);
+    let bytes = read_file(path, &budget)?;
+    parse_budgeted(&bytes, path, options, &budget)
 }
 
 /// The extension of `path` when it is one of `allowed`; else a format error listing `expected`.
@@ -46,15 +59,37 @@ fn format_of(path: &str, expected: &str, allowed: &[&str]) -> Result<String> {
 /// Returns the format's error ([`obj::parse`], [`ply::parse`], [`gltf::parse`]), or
 /// [`Error::NoTriangles`] when the file holds none.
 pub fn parse(bytes: &[u8], path: &str) -> Result<LoadedMesh> {
+    parse_with(bytes, path, &LoadOptions::default())
+}
+
+/// Parses the bytes of a mesh file as [`parse`] does, within `options` (see [`LoadOptions`];
+/// `bytes` count against the budget).
+///
+/// Returns the errors of [`parse`], [`Error::Budget`] when the file and what it decodes to
+/// would take more than `options.max_bytes`, and for glTF buffers
+/// [`Error::OutsideFolder`] and [`Error::Resource`].
+pub fn parse_with(bytes: &[u8], path: &str, options: &LoadOptions) -> Result<LoadedMesh> {
+    let budget = Budget::new(path, options);
+    budget.charge_typed("the file's size", bytes.len() as u64, 1)?;
+    parse_budgeted(bytes, path, options, &budget)
+}
+
+/// [`parse_with`] of a file whose bytes are already charged to `budget`.
+fn parse_budgeted(
+    bytes: &[u8],
+    path: &str,
+    options: &LoadOptions,
+    budget: &Budget,
+) -> Result<LoadedMesh> {
     let ext = format_of(
         path,
         "obj, .ply, .gltf or .glb",
         &["obj", "ply", "gltf", "glb"],
     )?;
     let out = match ext.as_str() {
-        "obj" => obj::parse(&String::from_utf8_lossy(bytes), path)?,
-        "ply" => ply::parse(bytes, path)?,
-        _ => gltf::parse(bytes, path)?,
+        "obj" => obj::parse_budgeted(&String::from_utf8_lossy(bytes), path, budget)?,
+        "ply" => ply::parse_budgeted(bytes, path, budget)?,
+        _ => gltf::parse_budgeted(bytes, path, options, budget)?,
     };
     if out.mesh.triangles.is_empty() {
         return Err(Error::NoTriangles {

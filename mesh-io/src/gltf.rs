@@ -25,12 +25,18 @@ use glam::{DMat3, DMat4, DQuat, DVec3};
 use crate::error::{Error, Result};
 use crate::glb;
 use crate::mesh::{LoadedMesh, Mesh};
+use crate::options::{
+    BYTES_PER_POSITION, BYTES_PER_TRIANGLE, Budget, LoadOptions, read_buffer, read_file,
+};
 use crate::weld::{Builder, Corner};
 
-/// Reads a `.gltf` or `.glb` file (see the module documentation).
+/// Reads a `.gltf` or `.glb` file (see the module documentation) within the default
+/// [`LoadOptions`] ([`crate::load_with`] takes others).
 pub fn load(path: &str) -> Result<LoadedMesh> {
-    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
-    parse(&bytes, path)
+    let options = LoadOptions::default();
+    let budget = Budget::new(path, &options);
+    let bytes = read_file(path, &budget)?;
+    parse_budgeted(&bytes, path, &options, &budget)
 }
 
 /// Parses the bytes of a glTF or GLB file. `path` names the file in messages, tells `.glb` by
@@ -48,14 +54,34 @@ pub fn load(path: &str) -> Result<LoadedMesh> {
 /// indexed or not, their accessors sparse or not; other modes are skipped with a warning naming
 /// the mesh, the primitive and the nodes that draw it. Errors name the node, mesh, primitive and
 /// accessor.
+///
+/// External buffers are read within the default [`LoadOptions`]: inside the file's folder
+/// only, regular files of at least their `byteLength` ([`crate::parse_with`] takes others).
 pub fn parse(bytes: &[u8], path: &str) -> Result<LoadedMesh> {
-    let (doc, buffers) = open(bytes, path)?;
-    let w = walk(&doc, &buffers, path)?;
+    let options = LoadOptions::default();
+    parse_budgeted(bytes, path, &options, &Budget::new(path, &options))
+}
+
+/// [`parse`] within `options`, what it reads and decodes charged to `budget`.
+pub(crate) fn parse_budgeted(
+    bytes: &[u8],
+    path: &str,
+    options: &LoadOptions,
+    budget: &Budget,
+) -> Result<LoadedMesh> {
+    let (doc, buffers) = open(bytes, path, options, budget)?;
+    let w = walk(&doc, &buffers, path, budget)?;
     Ok(w.builder.into_loaded(w.warnings))
 }
 
-/// The validated document of a glTF or GLB file and the bytes of its buffers (see [`parse`]).
-pub(crate) fn open(bytes: &[u8], path: &str) -> Result<(::gltf::Document, Vec<Vec<u8>>)> {
+/// The validated document of a glTF or GLB file and the bytes of its buffers (see [`parse`]),
+/// the buffers charged to `budget`.
+pub(crate) fn open(
+    bytes: &[u8],
+    path: &str,
+    options: &LoadOptions,
+    budget: &Budget,
+) -> Result<(::gltf::Document, Vec<Vec<u8>>)> {
     let is_glb = bytes.starts_with(&glb::MAGIC)
         || Path::new(path)
             .extension()
@@ -74,7 +100,7 @@ pub(crate) fn open(bytes: &[u8], path: &str) -> Result<(::gltf::Document, Vec<Ve
         ));
     }
     let doc = document(json).map_err(|e| Error::format(path, format!("malformed glTF: {e}")))?;
-    let buffers = buffers(&doc, blob, path)?;
+    let buffers = buffers(&doc, blob, path, options, budget)?;
     Ok((doc, buffers))
 }
 
@@ -103,7 +129,12 @@ pub(crate) struct Walk {
 }
 
 /// Walks the drawn scene of `doc` (see [`parse`]) into a [`Walk`].
-pub(crate) fn walk(doc: &::gltf::Document, buffers: &[Vec<u8>], path: &str) -> Result<Walk> {
+pub(crate) fn walk(
+    doc: &::gltf::Document,
+    buffers: &[Vec<u8>],
+    path: &str,
+    budget: &Budget,
+) -> Result<Walk> {
     let mut warnings = Vec::new();
     let (instances, order) = instances(doc, &mut warnings).map_err(|m| Error::format(path, m))?;
     let mut decoded: HashMap<usize, Vec<Prim>> = HashMap::new();
@@ -119,8 +150,8 @@ pub(crate) fn walk(doc: &::gltf::Document, buffers: &[Vec<u8>], path: &str) -> R
         let prims = match decoded.entry(m) {
             std::collections::hash_map::Entry::Occupied(e) => e.into_mut(),
             std::collections::hash_map::Entry::Vacant(e) => e.insert(
-                decode_mesh(&inst.mesh, &inst.label, buffers)
-                    .map_err(|msg| Error::format(path, msg))?,
+                decode_mesh(&inst.mesh, &inst.label, buffers, budget)
+                    .map_err(|msg| budget.typed(Error::format(path, msg)))?,
             ),
         };
         for (p, prim) in prims.iter().enumerate() {
@@ -129,6 +160,27 @@ pub(crate) fn walk(doc: &::gltf::Document, buffers: &[Vec<u8>], path: &str) -> R
                     Some((_, _, nodes)) => nodes.push(inst.label.clone()),
                     None => skipped.push(((m, p), why.clone(), vec![inst.label.clone()])),
                 }
+            }
+        }
+        for (p, prim) in prims.iter().enumerate() {
+            if let Prim::Triangles {
+                positions, tris, ..
+            } = prim
+            {
+                let at = format!("{}, {}, primitive {p}", inst.label, mesh_label(&inst.mesh));
+                budget
+                    .charge(positions.len() as u64, BYTES_PER_POSITION)
+                    .and_then(|()| budget.charge(tris.len() as u64, BYTES_PER_TRIANGLE))
+                    .map_err(|()| {
+                        budget.typed(Error::format(
+                            path,
+                            format!(
+                                "{at} ({} vertices and {} triangles placed)",
+                                positions.len(),
+                                tris.len()
+                            ),
+                        ))
+                    })?;
             }
         }
         let firsts = add_instance(&mut builder, prims, inst.world)
@@ -351,6 +403,7 @@ fn decode_mesh(
     mesh: &::gltf::Mesh<'_>,
     node: &str,
     buffers: &[Vec<u8>],
+    budget: &Budget,
 ) -> std::result::Result<Vec<Prim>, String> {
     use ::gltf::mesh::Mode;
     let mut out = Vec::new();
@@ -380,7 +433,26 @@ fn decode_mesh(
         for (what, acc, want) in checks {
             if let Some(acc) = acc {
                 check_accessor(&acc, want, buffers).map_err(|m| format!("{at}: {what} {m}"))?;
+                // What the loader decodes it to, before it does: DVec3 positions and normals
+                // (24 bytes), u32 indices and the triangles they become (4 + 4).
+                let size = if what == "indices" { 8 } else { 24 };
+                budget
+                    .charge_msg(
+                        &format!("accessor {}", acc.index()),
+                        acc.count() as u64,
+                        size,
+                    )
+                    .map_err(|m| format!("{at}: {what} {m}"))?;
             }
+        }
+        if prim.get(&::gltf::Semantic::Positions).is_some() && prim.indices().is_none() {
+            // The generated indices of a non-indexed primitive.
+            let n = prim
+                .get(&::gltf::Semantic::Positions)
+                .map_or(0, |a| a.count());
+            budget
+                .charge_msg("generated indices", n as u64, 8)
+                .map_err(|m| format!("{at}: {m}"))?;
         }
         let reader = prim.reader(|b| buffers.get(b.index()).map(|v| v.as_slice()));
         let Some(pos) = reader.read_positions() else {
@@ -604,26 +676,40 @@ fn document(json: &[u8]) -> std::result::Result<::gltf::Document, ::gltf::Error>
 }
 
 /// The data of every buffer, in index order: the GLB's BIN chunk, a base64 data URI, or a file
-/// relative to the glTF file. Each must hold at least its declared `byteLength`.
-fn buffers(doc: &::gltf::Document, blob: Option<&[u8]>, path: &str) -> Result<Vec<Vec<u8>>> {
-    let base = Path::new(path).parent().unwrap_or(Path::new("."));
+/// relative to the glTF file (confined and size-checked as `options` says: [`read_buffer`]).
+/// Each must hold at least its declared `byteLength`; each is charged to `budget` before it is
+/// copied or read.
+fn buffers(
+    doc: &::gltf::Document,
+    blob: Option<&[u8]>,
+    path: &str,
+    options: &LoadOptions,
+    budget: &Budget,
+) -> Result<Vec<Vec<u8>>> {
     let mut out = Vec::new();
     for b in doc.buffers() {
+        let field = |len: usize| format!("buffer {} ({len} bytes)", b.index());
         let data = match b.source() {
-            ::gltf::buffer::Source::Bin => blob
-                .map(<[u8]>::to_vec)
-                .ok_or_else(|| Error::format(path, "GLB has no binary chunk"))?,
+            ::gltf::buffer::Source::Bin => {
+                let blob = blob.ok_or_else(|| Error::format(path, "GLB has no binary chunk"))?;
+                budget
+                    .charge(blob.len() as u64, 1)
+                    .map_err(|()| budget.typed(Error::format(path, field(blob.len()))))?;
+                blob.to_vec()
+            }
             ::gltf::buffer::Source::Uri(uri) => {
                 if let Some(rest) = uri.strip_prefix("data:") {
                     let b64 = rest.split_once(";base64,").map(|(_, d)| d).ok_or_else(|| {
                         Error::format(path, "unsupported data URI (expected base64)")
                     })?;
+                    let len = b64.len() / 4 * 3 + 3;
+                    budget
+                        .charge(len as u64, 1)
+                        .map_err(|()| budget.typed(Error::format(path, field(len))))?;
                     base64_decode(b64)
                         .ok_or_else(|| Error::format(path, "malformed base64 data URI"))?
                 } else {
-                    let p = base.join(uri);
-                    let ps = p.display().to_string();
-                    std::fs::read(&p).map_err(|e| Error::io(&ps, e))?
+                    read_buffer(path, uri, b.length(), options, budget)?
                 }
             }
         };

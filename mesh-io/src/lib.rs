@@ -18,6 +18,20 @@
 //! mesh, primitive or accessor (PLY, glTF); no input makes a loader panic (the fuzz targets in
 //! `fuzz/` run them on arbitrary bytes).
 //!
+//! Loading is bounded and confined ([`LoadOptions`], taken by [`load_with`], [`parse_with`],
+//! [`load_animated_with`] and [`parse_animated_with`]; the entry points without options use
+//! its default). Every count, size and offset in a file (OBJ and PLY element counts, glTF
+//! accessors, sparse accessors, buffer views, buffers, animation samplers, morph targets,
+//! skins) is checked against the bytes actually present before anything is allocated, and a
+//! load holds at most [`LoadOptions::max_bytes`] (default [`DEFAULT_MAX_BYTES`], 2 GiB) of
+//! file, buffers and decoded data, else [`Error::Budget`] names the file and the field. A
+//! glTF buffer URI must resolve inside the asset's own folder (no absolute paths, no `..`,
+//! percent-encoded or not, no symlink out of it: [`Error::OutsideFolder`]) to a regular file
+//! of at least its `byteLength` ([`Error::Resource`] otherwise); only `byteLength` bytes are
+//! read. [`LoadOptions::allow_outside_folder`] lifts the folder rule (not the others) for
+//! trusted pipelines. Data URIs and the GLB's binary chunk need no file. Images are never
+//! read.
+//!
 //! ```no_run
 //! let loaded = smoothtri_io::load("bunny.obj")?;
 //! for w in &loaded.warnings {
@@ -34,6 +48,7 @@ mod animation;
 mod error;
 mod file;
 mod mesh;
+mod options;
 mod weld;
 
 pub mod glb;
@@ -42,9 +57,11 @@ pub mod obj;
 pub mod ply;
 
 pub use animation::{
-    AnimatedMesh, Clip, PoseError, WEIGHT_SUM_TOLERANCE, load_animated, parse_animated,
+    AnimatedMesh, Clip, PoseError, WEIGHT_SUM_TOLERANCE, load_animated, load_animated_with,
+    parse_animated, parse_animated_with,
 };
 pub use error::{Error, Result};
-pub use file::{encode, extension, load, parse, save};
+pub use file::{encode, extension, load, load_with, parse, parse_with, save};
 pub use mesh::{FloatWidth, LoadedMesh, Mesh};
+pub use options::{DEFAULT_MAX_BYTES, LoadOptions};
 pub use weld::{angle_weighted_normals, angle_weighted_normals_into};

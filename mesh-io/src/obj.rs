@@ -6,13 +6,16 @@ use glam::DVec3;
 
 use crate::error::{Error, Result};
 use crate::mesh::{FloatWidth, LoadedMesh, Mesh};
+use crate::options::{BYTES_PER_POSITION, BYTES_PER_TRIANGLE, Budget, LoadOptions, read_file};
 use crate::weld::Builder;
 
-/// Reads and parses an OBJ file (invalid UTF-8 is replaced, not rejected); [`Error::Io`] when
-/// it cannot be read, else as [`parse`].
+/// Reads and parses an OBJ file (invalid UTF-8 is replaced, not rejected) within the default
+/// [`LoadOptions`]; [`Error::Io`] when it cannot be read, [`Error::Budget`] when it is larger
+/// than the budget, else as [`parse`].
 pub fn load(path: &str) -> Result<LoadedMesh> {
-    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
-    parse(&String::from_utf8_lossy(&bytes), path)
+    let budget = Budget::new(path, &LoadOptions::default());
+    let bytes = read_file(path, &budget)?;
+    parse_budgeted(&String::from_utf8_lossy(&bytes), path, &budget)
 }
 
 /// Parses a finite number, or reports [`Error::Parse`] at `path:line` with what is wrong
@@ -58,8 +61,16 @@ fn obj_index(tok: &str, count: usize, what: &str, path: &str, line: usize) -> Re
 }
 
 /// Parses Wavefront OBJ text (`v`, `vn`, `vt`, `f` with `v`, `v/vt`, `v//vn`, `v/vt/vn`,
-/// negative indices; other statements ignored). Polygons are fan-triangulated.
+/// negative indices; `#` comments and other statements ignored). Polygons are
+/// fan-triangulated. The decoded mesh is held within the default [`LoadOptions::max_bytes`]
+/// ([`Error::Budget`] naming the line past it).
 pub fn parse(text: &str, path: &str) -> Result<LoadedMesh> {
+    parse_budgeted(text, path, &Budget::new(path, &LoadOptions::default()))
+}
+
+/// [`parse`], the decoded mesh charged to `budget` line by line (nothing is reserved ahead:
+/// every vertex, normal and triangle comes from a line of the text).
+pub(crate) fn parse_budgeted(text: &str, path: &str, budget: &Budget) -> Result<LoadedMesh> {
     let mut positions = Vec::new();
     let mut normals: Vec<DVec3> = Vec::new();
     let mut n_vt = 0usize;
@@ -86,6 +97,14 @@ pub fn parse(text: &str, path: &str) -> Result<LoadedMesh> {
                 for tok in &nums[3..] {
                     parse_f64(tok, path, line)?;
                 }
+                let (what, size) = if kw == "v" {
+                    ("vertex", BYTES_PER_POSITION)
+                } else {
+                    ("vertex normal", 24)
+                };
+                budget.charge(1, size).map_err(|()| {
+                    budget.typed(Error::parse(path, line, format!("'{kw}' ({what})")))
+                })?;
                 if kw == "v" {
                     positions.push(DVec3::from_array(c));
                 } else {
@@ -130,6 +149,15 @@ pub fn parse(text: &str, path: &str) -> Result<LoadedMesh> {
                         format!("face with {} vertices (need at least 3)", corners.len()),
                     ));
                 }
+                budget
+                    .charge(corners.len() as u64 - 2, BYTES_PER_TRIANGLE)
+                    .map_err(|()| {
+                        budget.typed(Error::parse(
+                            path,
+                            line,
+                            format!("'f' ({} triangles)", corners.len() - 2),
+                        ))
+                    })?;
                 for k in 1..corners.len() - 1 {
                     tris.push([corners[0], corners[k], corners[k + 1]]);
                 }

@@ -5,6 +5,7 @@ use glam::DVec3;
 
 use crate::error::{Error, Result};
 use crate::mesh::{FloatWidth, LoadedMesh, Mesh};
+use crate::options::{BYTES_PER_POSITION, BYTES_PER_TRIANGLE, Budget, LoadOptions, read_file};
 use crate::weld::Builder;
 
 fn prop_f64(p: &ply_rs_bw::ply::Property) -> Option<f64> {
@@ -36,10 +37,12 @@ fn prop_list(p: &ply_rs_bw::ply::Property) -> Option<Vec<i64>> {
 }
 
 /// Reads a PLY file: `vertex` elements with `x, y, z` (and optionally `nx, ny, nz`), `face`
-/// elements with a `vertex_indices` (or `vertex_index`) list, fan-triangulated.
+/// elements with a `vertex_indices` (or `vertex_index`) list, fan-triangulated; within the
+/// default [`LoadOptions`] ([`Error::Budget`] when the file is larger than the budget).
 pub fn load(path: &str) -> Result<LoadedMesh> {
-    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
-    parse(&bytes, path)
+    let budget = Budget::new(path, &LoadOptions::default());
+    let bytes = read_file(path, &budget)?;
+    parse_budgeted(&bytes, path, &budget)
 }
 
 /// The keywords that start a PLY header line.
@@ -114,23 +117,181 @@ fn one_line(e: &dyn std::fmt::Display) -> String {
     out
 }
 
-/// Parses the bytes of a PLY file (see [`load`]); `path` names it in messages.
+/// A vertex element as the loader keeps it: the six numbers it reads, nothing else.
+#[derive(Default)]
+struct Vert {
+    xyz: [Option<f64>; 3],
+    n: [Option<f64>; 3],
+}
+
+impl ply_rs_bw::ply::PropertyAccess for Vert {
+    fn new() -> Self {
+        Vert::default()
+    }
+    fn set_property(
+        &mut self,
+        key: &str,
+        p: ply_rs_bw::ply::Property,
+    ) -> ply_rs_bw::ply::PropertyAccessResult {
+        let slot = match key {
+            "x" => &mut self.xyz[0],
+            "y" => &mut self.xyz[1],
+            "z" => &mut self.xyz[2],
+            "nx" => &mut self.n[0],
+            "ny" => &mut self.n[1],
+            "nz" => &mut self.n[2],
+            _ => return ply_rs_bw::ply::PropertyAccessResult::Ignored,
+        };
+        *slot = prop_f64(&p);
+        ply_rs_bw::ply::PropertyAccessResult::Set
+    }
+}
+
+/// A face element as the loader keeps it: its `vertex_indices` and `vertex_index` lists.
+#[derive(Default)]
+struct Face {
+    indices: Option<Vec<i64>>,
+    index: Option<Vec<i64>>,
+}
+
+impl ply_rs_bw::ply::PropertyAccess for Face {
+    fn new() -> Self {
+        Face::default()
+    }
+    fn set_property(
+        &mut self,
+        key: &str,
+        p: ply_rs_bw::ply::Property,
+    ) -> ply_rs_bw::ply::PropertyAccessResult {
+        let slot = match key {
+            "vertex_indices" => &mut self.indices,
+            "vertex_index" => &mut self.index,
+            _ => return ply_rs_bw::ply::PropertyAccessResult::Ignored,
+        };
+        *slot = prop_list(&p);
+        ply_rs_bw::ply::PropertyAccessResult::Set
+    }
+}
+
+/// An element the loader does not use: read past, nothing kept.
+struct Skip;
+
+impl ply_rs_bw::ply::PropertyAccess for Skip {
+    fn new() -> Self {
+        Skip
+    }
+}
+
+/// The fewest bytes one element of `def` takes in `encoding`: binary, the sum of its scalar
+/// properties' sizes and its lists' length fields (a list may be empty); ASCII, one digit and
+/// one separator per property. At least one byte, so that a count is never free.
+fn min_element_bytes(def: &ply_rs_bw::ply::ElementDef, encoding: ply_rs_bw::ply::Encoding) -> u64 {
+    use ply_rs_bw::ply::{Encoding, PropertyType, ScalarType as S};
+    let size = |t: &S| -> u64 {
+        match t {
+            S::Char | S::UChar => 1,
+            S::Short | S::UShort => 2,
+            S::Int | S::UInt | S::Float => 4,
+            S::Double => 8,
+        }
+    };
+    let n: u64 = match encoding {
+        Encoding::Ascii => 2 * def.properties.len() as u64,
+        _ => def
+            .properties
+            .values()
+            .map(|p| match &p.data_type {
+                PropertyType::Scalar(t) | PropertyType::List(t, _) => size(t),
+            })
+            .sum(),
+    };
+    n.max(1)
+}
+
+/// Parses the bytes of a PLY file (see [`load`]); `path` names it in messages. Each element
+/// count of the header is checked against the bytes after it before anything is read, and the
+/// decoded mesh is held within the default [`LoadOptions::max_bytes`] ([`Error::Budget`]).
 pub fn parse(bytes: &[u8], path: &str) -> Result<LoadedMesh> {
+    parse_budgeted(bytes, path, &Budget::new(path, &LoadOptions::default()))
+}
+
+/// [`parse`], what it decodes charged to `budget` before it is read.
+pub(crate) fn parse_budgeted(bytes: &[u8], path: &str, budget: &Budget) -> Result<LoadedMesh> {
+    use ply_rs_bw::parser::{Parser, Reader};
     let lenient = lenient_header(bytes);
-    let mut reader = lenient.as_deref().unwrap_or(bytes);
-    let parser = ply_rs_bw::parser::Parser::<ply_rs_bw::ply::DefaultElement>::new();
-    let ply = parser
-        .read_ply(&mut reader)
-        .map_err(|e| Error::format(path, format!("malformed PLY: {}", one_line(&e))))?;
-    let verts = ply
-        .payload
-        .get("vertex")
-        .ok_or_else(|| Error::format(path, "PLY has no 'vertex' element"))?;
+    let body: &[u8] = lenient.as_deref().unwrap_or(bytes);
+    let malformed =
+        |e: &dyn std::fmt::Display| Error::format(path, format!("malformed PLY: {}", one_line(e)));
+    let mut reader = Reader::new(body);
+    let header = Parser::<Skip>::new()
+        .read_header(&mut reader)
+        .map_err(|e| malformed(&e))?;
+    // Every element count against the bytes present: a header cannot ask for more elements
+    // than the file could hold.
+    let have = reader.get_ref().len() as u64;
+    let mut need = 0u64;
+    for def in header.elements.values() {
+        let min = min_element_bytes(def, header.encoding);
+        need = need.saturating_add((def.count as u64).saturating_mul(min));
+        if need > have {
+            return Err(Error::format(
+                path,
+                format!(
+                    "element '{}' declares {} elements of at least {min} bytes each, more than \
+                     the {have} bytes after the header hold",
+                    def.name, def.count
+                ),
+            ));
+        }
+    }
+    let mut verts: Option<Vec<Vert>> = None;
+    let mut faces: Option<Vec<Face>> = None;
+    for def in header.elements.values() {
+        let count = def.count as u64;
+        let field = |what: &str| format!("element '{}' ({count} {what})", def.name);
+        match def.name.as_str() {
+            "vertex" => {
+                let size = (std::mem::size_of::<Vert>() + 24) as u64 + BYTES_PER_POSITION;
+                budget
+                    .charge(count, size)
+                    .map_err(|()| budget.typed(Error::format(path, field("vertices"))))?;
+                verts = Some(
+                    Parser::<Vert>::new()
+                        .read_payload_for_element(&mut reader, def, &header)
+                        .map_err(|e| malformed(&e))?,
+                );
+            }
+            "face" => {
+                budget
+                    .charge(count, std::mem::size_of::<Face>() as u64)
+                    .map_err(|()| budget.typed(Error::format(path, field("faces"))))?;
+                let read = Parser::<Face>::new()
+                    .read_payload_for_element(&mut reader, def, &header)
+                    .map_err(|e| malformed(&e))?;
+                let lists: u64 = read
+                    .iter()
+                    .map(|f| {
+                        (f.indices.as_ref().map_or(0, Vec::len)
+                            + f.index.as_ref().map_or(0, Vec::len)) as u64
+                    })
+                    .sum();
+                budget
+                    .charge(lists, 8)
+                    .map_err(|()| budget.typed(Error::format(path, field("faces' index lists"))))?;
+                faces = Some(read);
+            }
+            _ => {
+                Parser::<Skip>::new()
+                    .read_payload_for_element(&mut reader, def, &header)
+                    .map_err(|e| malformed(&e))?;
+            }
+        }
+    }
+    let verts = verts.ok_or_else(|| Error::format(path, "PLY has no 'vertex' element"))?;
     let mut positions = Vec::with_capacity(verts.len());
     let mut file_normals = Vec::with_capacity(verts.len());
     for (i, v) in verts.iter().enumerate() {
-        let get = |k: &str| v.get(k).and_then(prop_f64);
-        let (Some(x), Some(y), Some(z)) = (get("x"), get("y"), get("z")) else {
+        let [Some(x), Some(y), Some(z)] = v.xyz else {
             return Err(Error::format(
                 path,
                 format!("vertex {i} lacks numeric x, y, z"),
@@ -141,8 +302,8 @@ pub fn parse(bytes: &[u8], path: &str) -> Result<LoadedMesh> {
             return Err(Error::format(path, format!("vertex {i} is not finite")));
         }
         positions.push(p);
-        let n = match (get("nx"), get("ny"), get("nz")) {
-            (Some(x), Some(y), Some(z)) => {
+        let n = match v.n {
+            [Some(x), Some(y), Some(z)] => {
                 let n = DVec3::new(x, y, z);
                 if !n.is_finite() {
                     return Err(Error::format(
@@ -156,38 +317,42 @@ pub fn parse(bytes: &[u8], path: &str) -> Result<LoadedMesh> {
         };
         file_normals.push(n);
     }
+    drop(verts);
     let mut tris = Vec::new();
-    if let Some(faces) = ply.payload.get("face") {
-        for (fi, f) in faces.iter().enumerate() {
-            let list = f
-                .get("vertex_indices")
-                .or_else(|| f.get("vertex_index"))
-                .and_then(prop_list)
-                .ok_or_else(|| {
-                    Error::format(path, format!("face {fi} has no vertex_indices list"))
-                })?;
-            if list.len() < 3 {
+    for (fi, f) in faces.iter().flatten().enumerate() {
+        let list =
+            f.indices.as_ref().or(f.index.as_ref()).ok_or_else(|| {
+                Error::format(path, format!("face {fi} has no vertex_indices list"))
+            })?;
+        if list.len() < 3 {
+            return Err(Error::format(
+                path,
+                format!("face {fi} has {} vertices (need at least 3)", list.len()),
+            ));
+        }
+        budget
+            .charge(list.len() as u64 - 2, BYTES_PER_TRIANGLE)
+            .map_err(|()| {
+                budget.typed(Error::format(
+                    path,
+                    format!("face {fi} ({} triangles)", list.len() - 2),
+                ))
+            })?;
+        let mut corners = Vec::with_capacity(list.len());
+        for &i in list {
+            if i < 0 || i as usize >= positions.len() {
                 return Err(Error::format(
                     path,
-                    format!("face {fi} has {} vertices (need at least 3)", list.len()),
+                    format!(
+                        "face {fi}: vertex index {i} out of range (0..{})",
+                        positions.len()
+                    ),
                 ));
             }
-            let mut corners = Vec::with_capacity(list.len());
-            for &i in &list {
-                if i < 0 || i as usize >= positions.len() {
-                    return Err(Error::format(
-                        path,
-                        format!(
-                            "face {fi}: vertex index {i} out of range (0..{})",
-                            positions.len()
-                        ),
-                    ));
-                }
-                corners.push((i as usize, file_normals[i as usize]));
-            }
-            for k in 1..corners.len() - 1 {
-                tris.push([corners[0], corners[k], corners[k + 1]]);
-            }
+            corners.push((i as usize, file_normals[i as usize]));
+        }
+        for k in 1..corners.len() - 1 {
+            tris.push([corners[0], corners[k], corners[k + 1]]);
         }
     }
     Ok(Builder { positions, tris }.into_loaded(Vec::new()))

@@ -27,7 +27,7 @@
 //! mesh's static load is its bind-pose geometry through its node (the loader does not skin), so
 //! there the two differ by the joints' rest transforms times their inverse bind matrices.
 //!
-//! Malformed animation data is an [`Error`] naming the file and the animation, channel,
+//! Malformed animation data is an [`Error`](crate::Error) naming the file and the animation, channel,
 //! sampler, skin, node, mesh, primitive and accessor: joints out of range, weights that do not
 //! sum to one (within [`WEIGHT_SUM_TOLERANCE`]), non-finite keys, matrices or deltas, sampler
 //! input and output counts that do not match, key times that do not increase, accessors of the
@@ -56,9 +56,10 @@ use std::ops::Range;
 
 use glam::{DMat3, DMat4, DQuat, DVec3};
 
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::gltf::Trs;
 use crate::mesh::Mesh;
+use crate::options::{Budget, LoadOptions, read_file};
 use crate::weld::angle_weighted_normals_into;
 
 use keys::Keys;
@@ -270,24 +271,63 @@ impl fmt::Display for PoseError {
 
 impl std::error::Error for PoseError {}
 
-/// Reads a `.gltf` or `.glb` file with its animations ([`parse_animated`]).
+/// Reads a `.gltf` or `.glb` file with its animations ([`parse_animated`]), within the default
+/// [`LoadOptions`] ([`load_animated_with`]).
 ///
-/// Returns [`Error::Io`] when the file cannot be read, and the errors of [`parse_animated`].
+/// Returns [`Error::Io`](crate::Error::Io) when the file cannot be read, and the errors of [`parse_animated`].
 pub fn load_animated(path: &str) -> Result<AnimatedMesh> {
-    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
-    parse_animated(&bytes, path)
+    load_animated_with(path, &LoadOptions::default())
+}
+
+/// [`load_animated`] within `options` (see [`LoadOptions`]): the file's size is checked against
+/// the budget before it is read.
+///
+/// Returns [`Error::Io`](crate::Error::Io) when the file cannot be read or is not a regular file,
+/// [`Error::Budget`](crate::Error::Budget) when it is larger than the budget, and the errors of
+/// [`parse_animated_with`].
+pub fn load_animated_with(path: &str, options: &LoadOptions) -> Result<AnimatedMesh> {
+    let budget = Budget::new(path, options);
+    let bytes = read_file(path, &budget)?;
+    parse_animated_budgeted(&bytes, path, options, &budget)
 }
 
 /// Parses a glTF or GLB file (as [`gltf::parse`](crate::gltf::parse) does) with its skins,
 /// morph targets and animations. A file without animations gives an [`AnimatedMesh`] without
 /// clips, which poses its rest pose only.
 ///
-/// Returns the static loader's errors, [`Error::NoTriangles`], or an [`Error::Format`] naming
+/// Returns the static loader's errors, [`Error::NoTriangles`](crate::Error::NoTriangles), or an [`Error::Format`](crate::Error::Format) naming
 /// the malformed animation data (see the module documentation).
 pub fn parse_animated(bytes: &[u8], path: &str) -> Result<AnimatedMesh> {
-    let (doc, buffers) = crate::gltf::open(bytes, path)?;
-    let walk = crate::gltf::walk(&doc, &buffers, path)?;
-    read::animated(&doc, &buffers, walk, path)
+    parse_animated_with(bytes, path, &LoadOptions::default())
+}
+
+/// [`parse_animated`] within `options` (see [`LoadOptions`]; `bytes` count against the
+/// budget).
+///
+/// Returns the errors of [`parse_animated`], [`Error::Budget`](crate::Error::Budget) when the file and what it
+/// decodes to (the mesh, skins, morph targets, animation keys) would take more than
+/// `options.max_bytes`, and for external buffers [`Error::OutsideFolder`](crate::Error::OutsideFolder) and
+/// [`Error::Resource`](crate::Error::Resource).
+pub fn parse_animated_with(
+    bytes: &[u8],
+    path: &str,
+    options: &LoadOptions,
+) -> Result<AnimatedMesh> {
+    let budget = Budget::new(path, options);
+    budget.charge_typed("the file's size", bytes.len() as u64, 1)?;
+    parse_animated_budgeted(bytes, path, options, &budget)
+}
+
+/// [`parse_animated_with`] of bytes already charged to `budget`.
+fn parse_animated_budgeted(
+    bytes: &[u8],
+    path: &str,
+    options: &LoadOptions,
+    budget: &Budget,
+) -> Result<AnimatedMesh> {
+    let (doc, buffers) = crate::gltf::open(bytes, path, options, budget)?;
+    let walk = crate::gltf::walk(&doc, &buffers, path, budget)?;
+    read::animated(&doc, &buffers, budget, walk, path)
 }
 
 impl AnimatedMesh {

@@ -21,6 +21,7 @@ use crate::error::{Error, Result};
 use crate::gltf::{
     Prim as StaticPrim, Walk, Want, check_accessor, local_matrix, local_trs, mesh_label, node_label,
 };
+use crate::options::Budget;
 
 type Msg<T> = std::result::Result<T, String>;
 
@@ -144,6 +145,7 @@ fn read_numbers(
     expected: &'static str,
     normalized: bool,
     buffers: &[Vec<u8>],
+    budget: &Budget,
 ) -> Msg<Vec<f64>> {
     check_accessor(
         acc,
@@ -153,6 +155,15 @@ fn read_numbers(
             expected,
         },
         buffers,
+    )?;
+    // Before anything is decoded: the elements (zeros where the accessor has no view, bounded
+    // by nothing else) and the numbers they become, `f64` each.
+    let per = acc.dimensions().multiplicity() as u64;
+    let component = acc.data_type().size() as u64;
+    budget.charge_msg(
+        &format!("accessor {}", acc.index()),
+        acc.count() as u64,
+        per * (component + 8),
     )?;
     let v = match acc.data_type() {
         DataType::F32 => numbers::<f32>(acc, dims, normalized, buffers)?,
@@ -174,8 +185,16 @@ fn read_numbers(
 }
 
 /// `VEC3` float data as vectors.
-fn read_vec3(acc: &::gltf::Accessor<'_>, buffers: &[Vec<u8>]) -> Msg<Vec<DVec3>> {
-    let v = read_numbers(acc, Dimensions::Vec3, FLOAT, "Vec3 of F32", false, buffers)?;
+fn read_vec3(acc: &::gltf::Accessor<'_>, buffers: &[Vec<u8>], budget: &Budget) -> Msg<Vec<DVec3>> {
+    let v = read_numbers(
+        acc,
+        Dimensions::Vec3,
+        FLOAT,
+        "Vec3 of F32",
+        false,
+        buffers,
+        budget,
+    )?;
     Ok(v.chunks_exact(3)
         .map(|c| DVec3::new(c[0], c[1], c[2]))
         .collect())
@@ -200,10 +219,11 @@ fn animation_label(i: usize, name: Option<&str>) -> String {
 pub(super) fn animated(
     doc: &::gltf::Document,
     buffers: &[Vec<u8>],
+    budget: &Budget,
     walk: Walk,
     path: &str,
 ) -> Result<AnimatedMesh> {
-    let fail = |m: String| Error::format(path, m);
+    let fail = |m: String| budget.typed(Error::format(path, m));
     let Walk {
         builder,
         mut warnings,
@@ -219,9 +239,9 @@ pub(super) fn animated(
     }
     let targets = target_counts(doc).map_err(fail)?;
     let mut rest_weights = Vec::new();
-    let nodes = node_rests(doc, &targets, &mut rest_weights).map_err(fail)?;
+    let nodes = node_rests(doc, &targets, &mut rest_weights, budget).map_err(fail)?;
     let order = full_order(doc, order);
-    let (skins, joint_count) = skins(doc, buffers, &order).map_err(fail)?;
+    let (skins, joint_count) = skins(doc, buffers, budget, &order).map_err(fail)?;
 
     // The primitives the placements draw, each read once, and the placements as parts.
     let mut prims: Vec<Prim> = Vec::new();
@@ -251,8 +271,9 @@ pub(super) fn animated(
                     .primitives()
                     .nth(pl.prim)
                     .ok_or_else(|| fail(format!("{at}: does not exist")))?;
-                let targets = morph_targets(&gprim, positions.len(), normals.is_some(), buffers)
-                    .map_err(|m| fail(format!("{at}: {m}")))?;
+                let targets =
+                    morph_targets(&gprim, positions.len(), normals.is_some(), buffers, budget)
+                        .map_err(|m| fail(format!("{at}: {m}")))?;
                 if let Some(w) = targets.1 {
                     warnings.push(format!("{at}: {w}"));
                 }
@@ -275,7 +296,8 @@ pub(super) fn animated(
             if prims[k].influences.is_none() {
                 let count = prims[k].positions.len();
                 prims[k].influences = Some(
-                    influences(&gprim, count, buffers).map_err(|m| fail(format!("{at}: {m}")))?,
+                    influences(&gprim, count, buffers, budget)
+                        .map_err(|m| fail(format!("{at}: {m}")))?,
                 );
             }
             let (max, joints) = (
@@ -323,7 +345,7 @@ pub(super) fn animated(
         vertex.push((part as u32, local as u32));
     }
     let computed = parts.iter().any(|p| prims[p.prim].normals.is_none());
-    let clips = clips(doc, buffers, &nodes, &targets).map_err(fail)?;
+    let clips = clips(doc, buffers, budget, &nodes, &targets).map_err(fail)?;
     let widest = clips
         .iter()
         .flat_map(|c| c.channels.iter().map(|ch| ch.keys.width))
@@ -386,6 +408,7 @@ fn node_rests(
     doc: &::gltf::Document,
     targets: &[usize],
     rest_weights: &mut Vec<f64>,
+    budget: &Budget,
 ) -> Msg<Vec<NodeRest>> {
     let mut out = Vec::new();
     for n in doc.nodes() {
@@ -412,6 +435,9 @@ fn node_rests(
             if defaults.1.iter().any(|w| !w.is_finite()) {
                 return Err(format!("{}: {} are not finite", node_label(&n), defaults.0));
             }
+            // A node's weights cost the file a few bytes per target of its mesh, yet every
+            // node drawing that mesh holds them all: charged.
+            budget.charge_msg(&format!("{}: morph weights", node_label(&n)), t as u64, 8)?;
             let start = rest_weights.len();
             rest_weights.extend((0..t).map(|i| defaults.1.get(i).map_or(0.0, |&w| f64::from(w))));
             Some(start..start + t)
@@ -463,6 +489,7 @@ fn full_order(
 fn skins(
     doc: &::gltf::Document,
     buffers: &[Vec<u8>],
+    budget: &Budget,
     order: &[(usize, Option<usize>)],
 ) -> Msg<(Vec<Skin>, usize)> {
     let mut placed = vec![false; doc.nodes().len()];
@@ -491,8 +518,16 @@ fn skins(
         let inverse_bind = match skin.inverse_bind_matrices() {
             None => vec![DMat4::IDENTITY; joints.len()],
             Some(acc) => {
-                let v = read_numbers(&acc, Dimensions::Mat4, FLOAT, "Mat4 of F32", false, buffers)
-                    .map_err(|m| format!("{at}: inverseBindMatrices {m}"))?;
+                let v = read_numbers(
+                    &acc,
+                    Dimensions::Mat4,
+                    FLOAT,
+                    "Mat4 of F32",
+                    false,
+                    buffers,
+                    budget,
+                )
+                .map_err(|m| format!("{at}: inverseBindMatrices {m}"))?;
                 if acc.count() < joints.len() {
                     return Err(format!(
                         "{at}: inverseBindMatrices accessor {} has {} matrices for {} joints",
@@ -529,13 +564,15 @@ fn morph_targets(
     count: usize,
     has_normals: bool,
     buffers: &[Vec<u8>],
+    budget: &Budget,
 ) -> Msg<(Vec<Target>, Option<String>)> {
     let mut out = Vec::new();
     let mut warning = None;
     for (t, target) in prim.morph_targets().enumerate() {
         let read = |acc: Option<::gltf::Accessor<'_>>, what: &str| -> Msg<Option<Vec<DVec3>>> {
             let Some(acc) = acc else { return Ok(None) };
-            let v = read_vec3(&acc, buffers).map_err(|m| format!("target {t} {what} {m}"))?;
+            let v =
+                read_vec3(&acc, buffers, budget).map_err(|m| format!("target {t} {what} {m}"))?;
             if v.len() != count {
                 return Err(format!(
                     "target {t} {what} accessor {} has {} elements for {count} vertices",
@@ -563,7 +600,12 @@ fn morph_targets(
 /// The joints and weights of a skinned primitive of `count` vertices: every
 /// `JOINTS_n`/`WEIGHTS_n` set from 0 on, the weights non-negative and, per vertex, summing to
 /// one within [`WEIGHT_SUM_TOLERANCE`] (then divided by their sum).
-fn influences(prim: &::gltf::Primitive<'_>, count: usize, buffers: &[Vec<u8>]) -> Msg<Influences> {
+fn influences(
+    prim: &::gltf::Primitive<'_>,
+    count: usize,
+    buffers: &[Vec<u8>],
+    budget: &Budget,
+) -> Msg<Influences> {
     use ::gltf::Semantic;
     let mut sets: Vec<(Vec<f64>, Vec<f64>)> = Vec::new();
     for set in 0.. {
@@ -584,6 +626,7 @@ fn influences(prim: &::gltf::Primitive<'_>, count: usize, buffers: &[Vec<u8>]) -
             "Vec4 of U8 or U16",
             false,
             buffers,
+            budget,
         )
         .map_err(|m| format!("JOINTS_{set} {m}"))?;
         let weights = read_numbers(
@@ -593,6 +636,7 @@ fn influences(prim: &::gltf::Primitive<'_>, count: usize, buffers: &[Vec<u8>]) -
             "Vec4 of F32 or normalized U8 or U16",
             true,
             buffers,
+            budget,
         )
         .map_err(|m| format!("WEIGHTS_{set} {m}"))?;
         for (what, acc, v) in [("JOINTS", &j, &joints), ("WEIGHTS", &w, &weights)] {
@@ -610,6 +654,7 @@ fn influences(prim: &::gltf::Primitive<'_>, count: usize, buffers: &[Vec<u8>]) -
         return Err("the node has a skin but the primitive has no JOINTS_0 and WEIGHTS_0".into());
     }
     let per_vertex = 4 * sets.len();
+    budget.charge_msg("joints and weights", (per_vertex * count) as u64, 2 + 8)?;
     let mut joints = Vec::with_capacity(per_vertex * count);
     let mut weights = Vec::with_capacity(per_vertex * count);
     for v in 0..count {
@@ -644,6 +689,7 @@ fn influences(prim: &::gltf::Primitive<'_>, count: usize, buffers: &[Vec<u8>]) -
 fn clips(
     doc: &::gltf::Document,
     buffers: &[Vec<u8>],
+    budget: &Budget,
     nodes: &[NodeRest],
     targets: &[usize],
 ) -> Msg<Vec<Clip>> {
@@ -715,8 +761,8 @@ fn clips(
                 return Err(format!("{at}: sampler {s} does not exist"));
             };
             let at = format!("{at}, sampler {s}");
-            let keys =
-                read_keys(doc, buffers, sampler, path, width).map_err(|m| format!("{at}: {m}"))?;
+            let keys = read_keys(doc, buffers, budget, sampler, path, width)
+                .map_err(|m| format!("{at}: {m}"))?;
             channels.push(Channel { node, path, keys });
         }
         let duration = channels.iter().map(|c| c.keys.end()).fold(0.0, f64::max);
@@ -733,6 +779,7 @@ fn clips(
 fn read_keys(
     doc: &::gltf::Document,
     buffers: &[Vec<u8>],
+    budget: &Budget,
     sampler: &::gltf::json::animation::Sampler,
     path: Path,
     width: usize,
@@ -751,6 +798,7 @@ fn read_keys(
         "Scalar of F32",
         false,
         buffers,
+        budget,
     )
     .map_err(|m| format!("input {m}"))?;
     if let Some(k) = (1..times.len()).find(|&k| times[k] <= times[k - 1]) {
@@ -776,6 +824,7 @@ fn read_keys(
             "Vec3 of F32",
             false,
             buffers,
+            budget,
         ),
         Path::Rotation => read_numbers(
             &output,
@@ -784,6 +833,7 @@ fn read_keys(
             "Vec4 of F32 or normalized I8, U8, I16 or U16",
             true,
             buffers,
+            budget,
         ),
         Path::Weights => read_numbers(
             &output,
@@ -792,6 +842,7 @@ fn read_keys(
             "Scalar of F32 or normalized I8, U8, I16 or U16",
             true,
             buffers,
+            budget,
         ),
     }
     .map_err(|m| format!("output {m}"))?;
