@@ -197,3 +197,157 @@ pub fn write(mesh: &Mesh, width: FloatWidth, comment: &str) -> Vec<u8> {
     }
     s.into_bytes()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn ok(text: &str) -> LoadedMesh {
+        parse(text, "t.obj").unwrap()
+    }
+
+    fn err(text: &str) -> String {
+        parse(text, "t.obj").map(|_| ()).unwrap_err().to_string()
+    }
+
+    #[test]
+    fn faces_with_and_without_normals_and_texture_indices() {
+        let m = ok("v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nvt 0 0\nf 1/1/1 2/1/1 3/1/1\n");
+        assert_eq!(m.mesh.triangles, [[0, 1, 2]]);
+        assert!(!m.computed_normals);
+        assert_eq!(m.mesh.normals, [DVec3::Z; 3]);
+        for face in ["f 1 2 3", "f 1/1 2/1 3/1"] {
+            let m = ok(&format!("v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\n{face}\n"));
+            assert_eq!(m.mesh.triangles.len(), 1, "{face}");
+            // Computed: the face's normal, +z for this counter-clockwise triangle.
+            assert!(m.computed_normals, "{face}");
+            assert!((m.mesh.normals[0].normalize() - DVec3::Z).length() < 1e-12);
+        }
+        let m = ok("v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//1 2//1 3//1\n");
+        assert!(!m.computed_normals);
+    }
+
+    #[test]
+    fn negative_indices_count_back_from_the_last_definition() {
+        let m = ok("v 9 9 9\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf -3//-1 -2//-1 -1//-1\n");
+        let (p, n) = m.mesh.triangle(0);
+        assert_eq!(
+            p,
+            [DVec3::ZERO, DVec3::X, DVec3::Y],
+            "relative to the vertices so far"
+        );
+        assert_eq!(n, [DVec3::Z; 3]);
+    }
+
+    #[test]
+    fn polygons_are_fan_triangulated() {
+        let m = ok("v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv -1 1 0\nf 1 2 3 4 5\n");
+        let tris: Vec<[DVec3; 3]> = (0..3).map(|t| m.mesh.triangle(t).0).collect();
+        let v = |x: f64, y: f64| DVec3::new(x, y, 0.0);
+        assert_eq!(
+            tris,
+            [
+                [v(0.0, 0.0), v(1.0, 0.0), v(1.0, 1.0)],
+                [v(0.0, 0.0), v(1.0, 1.0), v(0.0, 1.0)],
+                [v(0.0, 0.0), v(0.0, 1.0), v(-1.0, 1.0)],
+            ]
+        );
+    }
+
+    #[test]
+    fn comments_blank_lines_and_other_statements_are_skipped() {
+        let m = ok(
+            "# a comment\n\n  \no object\ng group\nusemtl red\ns 1\nmtllib x.mtl\n\
+                    v 0 0 0 # trailing\nv 1 0 0 1.0\nv 0 1 0\nl 1 2\nf 1 2 3 # done\n",
+        );
+        assert_eq!(m.mesh.triangles.len(), 1);
+        // A `#` inside a face ends it.
+        assert_eq!(
+            err("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 # 3\n"),
+            "t.obj:4: face with 2 vertices (need at least 3)"
+        );
+        // Nothing drawable is an empty mesh here ([`crate::parse`] reports it).
+        assert!(ok("# nothing\n").mesh.triangles.is_empty());
+    }
+
+    #[test]
+    fn bad_lines_name_their_line_number() {
+        let cases = [
+            ("v 0 0\n", "t.obj:1: 'v' needs 3 coordinates, found 2"),
+            ("v 0 0 0\nv 0 x 0\n", "t.obj:2: malformed number 'x'"),
+            ("\n\nvn 0 0 inf\n", "t.obj:3: non-finite value 'inf'"),
+            ("v 0 0 0\nv 0 0 NaN\n", "t.obj:2: non-finite value 'NaN'"),
+            ("vt 0 q\n", "t.obj:1: malformed number 'q'"),
+            (
+                "v 0 0 0\nv 1 0 0\nf 1 2 3\n",
+                "t.obj:3: vertex index 3 out of range (1..=2 defined so far)",
+            ),
+            (
+                "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 -4\n",
+                "t.obj:4: vertex index -4 out of range (1..=3 defined so far)",
+            ),
+            (
+                "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n",
+                "t.obj:4: vertex index 0 out of range (1..=3 defined so far)",
+            ),
+            (
+                "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1//1 2//1 3//1\n",
+                "t.obj:4: normal index 1 out of range (1..=0 defined so far)",
+            ),
+            (
+                "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/1 2 3\n",
+                "t.obj:4: texture index 1 out of range (1..=0 defined so far)",
+            ),
+            (
+                "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 a\n",
+                "t.obj:4: malformed vertex index 'a' in face",
+            ),
+            (
+                "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvn 0 0 1\nf 1/1/1/1 2 3\n",
+                "t.obj:6: malformed face vertex '1/1/1/1'",
+            ),
+            (
+                "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 99999999999999999999\n",
+                "t.obj:4: malformed vertex index '99999999999999999999' in face",
+            ),
+        ];
+        for (text, want) in cases {
+            assert_eq!(err(text), want, "{text:?}");
+        }
+    }
+
+    #[test]
+    fn the_budget_counts_vertices_and_triangles_by_line() {
+        let text: String = (0..10).map(|k| format!("v {k} 0 0\n")).collect::<String>()
+            + "f 1 2 3 4 5 6 7 8 9 10\n";
+        let budget = |max: u64| Budget::new("t.obj", &LoadOptions::default().with_max_bytes(max));
+        // Ten vertices and eight triangles fit exactly.
+        let exact = 10 * BYTES_PER_POSITION + 8 * BYTES_PER_TRIANGLE;
+        assert!(parse_budgeted(&text, "t.obj", &budget(exact)).is_ok());
+        let e = parse_budgeted(&text, "t.obj", &budget(exact - 1))
+            .map(|_| ())
+            .unwrap_err()
+            .to_string();
+        assert_eq!(
+            e,
+            format!(
+                "t.obj: line 11: 'f' (8 triangles) needs {exact} bytes, over the load budget of {} bytes",
+                exact - 1
+            )
+        );
+        let e = parse_budgeted(&text, "t.obj", &budget(5 * BYTES_PER_POSITION))
+            .map(|_| ())
+            .unwrap_err()
+            .to_string();
+        assert!(e.starts_with("t.obj: line 6: 'v' (vertex) needs"), "{e}");
+    }
+
+    #[test]
+    fn written_obj_reads_back() {
+        let m = ok("v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 2\nf 1//1 2//1 3//1\n");
+        let back = ok(std::str::from_utf8(&write(&m.mesh, FloatWidth::F64, "a\nb")).unwrap());
+        assert_eq!(back.mesh.positions, m.mesh.positions);
+        assert_eq!(back.mesh.normals, [DVec3::Z; 3]);
+        assert_eq!(back.mesh.triangles, m.mesh.triangles);
+    }
+}

@@ -400,3 +400,202 @@ pub fn write(mesh: &Mesh, width: FloatWidth, comment: &str) -> Vec<u8> {
     }
     out
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const HEAD: &str = "property float x\nproperty float y\nproperty float z\n";
+
+    fn ok(bytes: &[u8]) -> LoadedMesh {
+        parse(bytes, "t.ply").unwrap()
+    }
+
+    fn err(bytes: &[u8]) -> String {
+        parse(bytes, "t.ply").map(|_| ()).unwrap_err().to_string()
+    }
+
+    /// An ASCII PLY of `verts` vertex lines (x y z [nx ny nz]) and `faces` face lines.
+    fn ascii(normals: bool, verts: &[&str], faces: &[&str]) -> Vec<u8> {
+        let n = if normals {
+            "property float nx\nproperty float ny\nproperty float nz\n"
+        } else {
+            ""
+        };
+        let mut s = format!(
+            "ply\nformat ascii 1.0\ncomment made by hand\nelement vertex {}\n{HEAD}{n}element face {}\n\
+             property list uchar int vertex_indices\nend_header\n",
+            verts.len(),
+            faces.len()
+        );
+        for l in verts.iter().chain(faces) {
+            s += l;
+            s += "\n";
+        }
+        s.into_bytes()
+    }
+
+    #[test]
+    fn ascii_faces_with_normals_and_polygons() {
+        let m = ok(&ascii(
+            true,
+            &["0 0 0 0 0 1", "1 0 0 0 0 1", "1 1 0 0 0 1", "0 1 0 0 0 1"],
+            &["4 0 1 2 3"],
+        ));
+        assert_eq!(m.mesh.triangles.len(), 2, "a quad is two triangles");
+        assert!(!m.computed_normals);
+        let (p, n) = m.mesh.triangle(1);
+        assert_eq!(p, [DVec3::ZERO, DVec3::new(1.0, 1.0, 0.0), DVec3::Y]);
+        assert_eq!(n, [DVec3::Z; 3]);
+        // Without normals they are computed.
+        let m = ok(&ascii(false, &["0 0 0", "1 0 0", "0 1 0"], &["3 0 1 2"]));
+        assert!(m.computed_normals);
+    }
+
+    #[test]
+    fn other_elements_and_properties_are_skipped() {
+        let text = format!(
+            "ply\nformat ascii 1.0\nelement material 1\nproperty list uchar float rgb\n\
+             element vertex 3\n{HEAD}property uchar red\nelement face 1\nproperty uchar flags\n\
+             property list uchar uint vertex_index\nelement edge 1\nproperty int a\nproperty int b\n\
+             end_header\n3 0.5 0.5 0.5\n0 0 0 7\n1 0 0 7\n0 1 0 7\n9 3 0 1 2\n0 1\n"
+        );
+        let m = ok(text.as_bytes());
+        assert_eq!(m.mesh.triangles.len(), 1, "vertex_index is read too");
+    }
+
+    /// A binary little-endian PLY of `verts` (x, y, z floats) and triangles (uchar-counted
+    /// int lists).
+    fn binary(verts: &[[f32; 3]], tris: &[[i32; 3]]) -> Vec<u8> {
+        let mut out = format!(
+            "ply\nformat binary_little_endian 1.0\nelement vertex {}\n{HEAD}element face {}\n\
+             property list uchar int vertex_indices\nend_header\n",
+            verts.len(),
+            tris.len()
+        )
+        .into_bytes();
+        for v in verts {
+            out.extend(v.iter().flat_map(|c| c.to_le_bytes()));
+        }
+        for t in tris {
+            out.push(3);
+            out.extend(t.iter().flat_map(|i| i.to_le_bytes()));
+        }
+        out
+    }
+
+    #[test]
+    fn binary_files_read_and_truncations_are_errors() {
+        let bytes = binary(
+            &[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
+            &[[0, 1, 2]],
+        );
+        assert_eq!(ok(&bytes).mesh.triangles, [[0, 1, 2]]);
+        // Every truncation of the body is an error, never a panic or a short mesh.
+        let body = bytes.len() - (3 * 12 + 13);
+        for n in body..bytes.len() {
+            let e = err(&bytes[..n]);
+            assert!(e.starts_with("t.ply: "), "{n}: {e}");
+        }
+        assert!(
+            err(&bytes[..body + 5])
+                .contains("element 'vertex' declares 3 elements of at least 12 bytes")
+        );
+        // The binary writer's output reads back.
+        let m = ok(&bytes);
+        let again = ok(&write(&m.mesh, FloatWidth::F32, "x"));
+        assert_eq!(again.mesh.positions, m.mesh.positions);
+    }
+
+    #[test]
+    fn huge_element_counts_are_refused_before_reading() {
+        for (format, min) in [
+            ("binary_little_endian", 12),
+            ("binary_big_endian", 12),
+            ("ascii", 6),
+        ] {
+            let text = format!(
+                "ply\nformat {format} 1.0\nelement vertex 4000000000\n{HEAD}end_header\n0 0 0\n"
+            );
+            assert_eq!(
+                err(text.as_bytes()),
+                format!(
+                    "t.ply: element 'vertex' declares 4000000000 elements of at least {min} \
+                     bytes each, more than the 6 bytes after the header hold"
+                ),
+                "{format}"
+            );
+        }
+        // Faces count too, after the vertices: a list's length field is one byte at least.
+        let mut bytes = binary(&[[0.0; 3]; 3], &[]);
+        let at = bytes
+            .windows(12)
+            .position(|w| w == b"element face")
+            .unwrap();
+        bytes.splice(at..at + 14, b"element face 999999999999".iter().copied());
+        let e = err(&bytes);
+        assert!(
+            e.contains("element 'face' declares 999999999999 elements of at least 1 bytes"),
+            "{e}"
+        );
+        // A count past usize is the parser's error.
+        let text = format!(
+            "ply\nformat ascii 1.0\nelement vertex 99999999999999999999999\n{HEAD}end_header\n"
+        );
+        assert!(err(text.as_bytes()).starts_with("t.ply: malformed PLY"));
+    }
+
+    #[test]
+    fn malformed_files_are_errors_naming_the_element() {
+        let cases: [(Vec<u8>, &str); 6] = [
+            (
+                ascii(false, &["0 0 0", "1 0 0", "0 1 0"], &["3 0 1 3"]),
+                "t.ply: face 0: vertex index 3 out of range (0..3)",
+            ),
+            (
+                ascii(false, &["0 0 0", "1 0 0", "0 1 0"], &["3 0 1 -1"]),
+                "t.ply: face 0: vertex index -1 out of range (0..3)",
+            ),
+            (
+                ascii(false, &["0 0 0", "1 0 0", "0 1 0"], &["2 0 1"]),
+                "t.ply: face 0 has 2 vertices (need at least 3)",
+            ),
+            (
+                binary(
+                    &[[0.0, 0.0, f32::NAN], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
+                    &[[0, 1, 2]],
+                ),
+                "t.ply: vertex 0 is not finite",
+            ),
+            (
+                b"ply\nformat ascii 1.0\nelement face 0\nproperty list uchar int vertex_indices\nend_header\n"
+                    .to_vec(),
+                "t.ply: PLY has no 'vertex' element",
+            ),
+            (
+                b"ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nend_header\n0\n".to_vec(),
+                "t.ply: vertex 0 lacks numeric x, y, z",
+            ),
+        ];
+        for (bytes, want) in cases {
+            assert_eq!(err(&bytes), want);
+        }
+        assert!(err(b"not a ply\n").starts_with("t.ply: malformed PLY"));
+        // A bad ASCII body line is named by its line number in the file.
+        let e = err(&ascii(false, &["0 0 0", "1 0 x", "0 1 0"], &["3 0 1 2"]));
+        assert!(
+            e.starts_with("t.ply: malformed PLY: line 12: ") && e.contains("'1 0 x'"),
+            "{e}"
+        );
+        assert!(
+            err(b"ply\nformat ascii 1.0\nelement vertex 1\n").starts_with("t.ply: malformed PLY")
+        );
+    }
+
+    #[test]
+    fn a_bare_header_line_is_taken_as_a_comment() {
+        let mut bytes = ascii(false, &["0 0 0", "1 0 0", "0 1 0"], &["3 0 1 2"]);
+        bytes.splice(4..4, b"Created by Blender3D 2.49\n".iter().copied());
+        assert_eq!(ok(&bytes).mesh.triangles.len(), 1);
+    }
+}
