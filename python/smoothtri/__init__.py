@@ -616,7 +616,11 @@ class PrecisionStudy:
         one line per precision, with matplotlib (imported here; ``pip install matplotlib``).
 
         Args:
-            path: where to save the figure (any format matplotlib writes), or ``None``.
+            path: where to save the figure, or ``None``. Its extension names the format (one
+                matplotlib writes: ``.png``, ``.svg``, ``.pdf``, ...; another is a
+                ``ValueError`` listing them). The file is written whole or not at all: into a
+                temporary file in the same folder, then renamed over ``path``, so a failure
+                (an ``OSError``) leaves an old file as it was and no temporary file behind.
             ax: the axes to draw into (default: a new figure).
             title: the title (default: the number of rays).
 
@@ -655,8 +659,65 @@ class PrecisionStudy:
         ax.grid(True, which="major", alpha=0.3)
         ax.legend()
         if path is not None:
-            ax.figure.savefig(path, dpi=100, bbox_inches="tight")
+            _save_figure(ax.figure, path, dpi=100, bbox_inches="tight")
         return ax
+
+
+def _umask() -> int:
+    """The process's umask, read without changing it where Linux tells it (``os.umask`` sets
+    it, which another thread could see)."""
+    try:
+        with open("/proc/self/status", encoding="ascii") as f:
+            for line in f:
+                if line.startswith("Umask:"):
+                    return int(line.split()[1], 8)
+    except (OSError, ValueError):
+        pass
+    mask = os.umask(0o022)
+    os.umask(mask)
+    return mask
+
+
+def _save_figure(figure: Any, path: Any, **savefig: Any) -> None:
+    """Saves a matplotlib ``figure`` to ``path`` whole or not at all.
+
+    The format is the extension's (``ValueError`` naming the extensions matplotlib writes
+    otherwise). The figure is drawn into a temporary file in the target's folder (a symbolic
+    link's target, so the link keeps naming the plot), flushed and synced, given the old file's
+    permissions (a new file's: read and write for all, less the umask), then renamed over the
+    target with ``os.replace``. On any failure the temporary file is removed, the old file is
+    left as it was, and the error is raised.
+    """
+    import stat
+    import tempfile
+
+    name = os.fspath(path)
+    ext = os.path.splitext(name)[1][1:].lower()
+    supported = figure.canvas.get_supported_filetypes()
+    if ext not in supported:
+        expected = ", ".join("." + e for e in sorted(supported))
+        raise ValueError(f"{name}: the plot's format is chosen by its extension, one of {expected}")
+    target = os.path.realpath(name)
+    try:
+        mode = stat.S_IMODE(os.stat(target).st_mode)
+    except FileNotFoundError:
+        mode = 0o666 & ~_umask()
+    tmp = tempfile.NamedTemporaryFile(
+        dir=os.path.dirname(target), prefix=f".{os.path.basename(target)}.", suffix=".tmp", delete=False
+    )
+    try:
+        with tmp:
+            figure.savefig(tmp, format=ext, **savefig)
+            tmp.flush()
+            os.fsync(tmp.fileno())
+        os.chmod(tmp.name, mode)
+        os.replace(tmp.name, target)
+    except BaseException:
+        try:
+            os.unlink(tmp.name)
+        except FileNotFoundError:
+            pass
+        raise
 
 
 def precision_sweep(
