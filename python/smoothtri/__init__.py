@@ -27,6 +27,10 @@ Conventions, for every function:
 - Queries release the GIL and run on ``threads`` threads (``None``: every core); results do not
   depend on the thread count. Do not modify the input arrays from another thread during a
   call.
+- A :class:`Scene` may be shared by any number of Python threads: queries, ``report`` and
+  :func:`precision_sweep` read an immutable snapshot of the current pose, and
+  :meth:`Scene.update` replaces that snapshot when it is done; no call waits for another
+  while it holds the GIL, so nothing deadlocks (see :meth:`Scene.update`).
 """
 
 from __future__ import annotations
@@ -278,7 +282,9 @@ class Scene:
             field=field,
             threads=_threads(threads),
         )
-        self._report: Optional[BuildReport] = None
+        # The report of one pose, and the pose's number (NativeScene.pose): valid while the
+        # scene is at that pose.
+        self._report: Optional[Tuple[int, BuildReport]] = None
 
     @classmethod
     def from_mesh(cls, mesh: Mesh, **options: Any) -> "Scene":
@@ -308,11 +314,15 @@ class Scene:
 
     @property
     def report(self) -> BuildReport:
-        """What the build did: patches, rejected triangles by reason, remedied triangles,
-        cracks, memory."""
-        if self._report is None:
-            self._report = BuildReport(**self._native.report)
-        return self._report
+        """What the build (or the last :meth:`update`) did: patches, rejected triangles by
+        reason, remedied triangles, cracks, memory. The current pose's, also while other
+        threads update the scene (the cached report is tagged with its pose)."""
+        cached = self._report
+        if cached is None or cached[0] != self._native.pose:
+            d = dict(self._native.report)
+            cached = (d.pop("pose"), BuildReport(**d))
+            self._report = cached
+        return cached[1]
 
     def update(self, vertices: ArrayLike, normals: ArrayLike, *, threads: Optional[int] = None) -> None:
         """Moves the scene to new vertex positions and normals in place (an animated mesh's
@@ -322,8 +332,13 @@ class Scene:
         ``Scene(vertices, normals, faces, ...)`` bit for bit; the BVH's boxes are refitted (or
         the tree rebuilt when a refit has grown too costly), so hits agree with a fresh
         scene's within their ``t_error``. A triangle that degenerates is skipped until it is a
-        triangle again (counted in :attr:`report`). Queries running on other threads finish
-        first; the update waits for them.
+        triangle again (counted in :attr:`report`).
+
+        Threads: queries running on other threads are not waited for, nor do they wait for the
+        update: each query answers the pose current when it started, whole (never a mix of
+        two poses), and queries started after ``update`` returned answer the new pose. Updates
+        from several threads run one at a time; the last to run wins. While an update runs,
+        the scene is held twice in memory (the pose being read and the one being made).
 
         Args:
             vertices: ``(V, 3)`` positions, any real dtype; ``V`` as at the build.

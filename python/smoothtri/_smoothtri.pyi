@@ -35,7 +35,8 @@ precision."""
 FloatArray = npt.NDArray[np.floating[Any]]
 
 class NativeScene:
-    """The core's scene of a mesh in one precision; thread-safe, moved by ``update``."""
+    """The core's scene of a mesh in one precision; thread-safe (an immutable snapshot per
+    pose), moved by ``update``."""
 
     def __init__(
         self,
@@ -58,6 +59,8 @@ class NativeScene:
     def vertex_count(self) -> int: ...
     @property
     def triangle_count(self) -> int: ...
+    @property
+    def pose(self) -> int: ...
     @property
     def report(self) -> Dict[str, Any]: ...
     def update(self, vertices: Any, normals: Any, *, threads: Optional[int] = None) -> None: ...

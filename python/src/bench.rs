@@ -78,7 +78,7 @@ pub fn rust_baseline(
     let threads = Threads::new(threads)?;
     let o = Reals2::new(origins, "origins", 3, "(R, 3)")?;
     let d = Reals2::new(directions, "directions", 3, "(R, 3)")?;
-    Ok(match &scene.get().read()?.built {
+    Ok(match &scene.get().snapshot().built {
         Built::F32(s) => run(py, s, &o, &d, budget, &threads),
         Built::F64(s) => run(py, s, &o, &d, budget, &threads),
     })

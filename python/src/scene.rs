@@ -2,7 +2,7 @@
 //! batched queries. The Python class `smoothtri.Scene` wraps it (argument defaults, result
 //! types, docs).
 
-use std::sync::{RwLock, RwLockReadGuard};
+use std::sync::{Arc, Mutex, PoisonError};
 
 use glam::DVec3;
 use numpy::{PyArray1, PyArray2};
@@ -28,23 +28,38 @@ pub enum Built {
     F64(OwnedScene<f64>),
 }
 
-/// A scene and the mesh of its current pose.
+/// A scene and the mesh of its current pose: never changed once shared (an update makes a
+/// new one).
 pub struct Posed {
     /// The scene.
     pub built: Built,
     /// The mesh it was built from or last updated to (`f64`, as given): the precision study
     /// rebuilds it in the other precision.
     pub mesh: Mesh,
+    /// The number of updates that led to this pose: 0 for the build, then one more for each
+    /// successful update.
+    pub pose: u64,
 }
 
-/// A scene built from numpy arrays (`smoothtri.Scene` wraps it). Its queries release the GIL
-/// and may run from several Python threads at once; `update` moves it to a new pose, waiting
-/// for the queries in flight (it takes the lock only with the GIL released, so a query
-/// holding the lock can always finish).
+/// A scene built from numpy arrays (`smoothtri.Scene` wraps it), safe to share between Python
+/// threads.
+///
+/// Concurrency: the current pose is an immutable snapshot, an `Arc<Posed>`, behind a mutex
+/// that is held only to clone or replace that `Arc` (nothing else happens under it: no Python
+/// call, no query, no release or re-acquisition of the GIL), so taking it can never wait on the
+/// GIL nor on a query. A query takes the snapshot, releases the GIL and runs on it; it answers
+/// the pose current when it started, whatever updates land meanwhile. `update` releases the GIL,
+/// takes the `updating` mutex (updates run one at a time, in the order they take it: the last
+/// one wins), moves a copy of the current scene to the new pose and only then swaps the
+/// snapshot; queries never wait for it, nor it for them. The copy is the core's in-place
+/// update of a clone, so the answers are the in-place update's bit for bit; the scene exists
+/// twice while an update runs.
 #[pyclass(frozen, module = "smoothtri._smoothtri")]
 pub struct NativeScene {
-    /// The scene and its pose.
-    posed: RwLock<Posed>,
+    /// The current pose (held only to clone or swap the `Arc`).
+    posed: Mutex<Arc<Posed>>,
+    /// Held (without the GIL) by the update in progress, so that updates run one at a time.
+    updating: Mutex<()>,
     /// The options it was built with.
     pub options: BuildOptions,
     /// Triangles given (fixed: updates keep the index buffer).
@@ -52,11 +67,10 @@ pub struct NativeScene {
 }
 
 impl NativeScene {
-    /// The scene and its pose, for reading.
-    pub fn read(&self) -> PyResult<RwLockReadGuard<'_, Posed>> {
-        self.posed
-            .read()
-            .map_err(|_| PyValueError::new_err("internal: an update of this scene panicked"))
+    /// The current pose: a snapshot that later updates leave as it is. Takes the snapshot's
+    /// mutex only to clone the `Arc` (never poisoned in effect: nothing under it can panic).
+    pub fn snapshot(&self) -> Arc<Posed> {
+        Arc::clone(&self.posed.lock().unwrap_or_else(PoisonError::into_inner))
     }
 }
 
@@ -429,13 +443,21 @@ impl NativeScene {
         };
         Ok(NativeScene {
             triangles: mesh.triangles.len(),
-            posed: RwLock::new(Posed { built, mesh }),
+            posed: Mutex::new(Arc::new(Posed {
+                built,
+                mesh,
+                pose: 0,
+            })),
+            updating: Mutex::new(()),
             options,
         })
     }
 
     /// Moves the scene to new vertex positions and normals (the same faces): the core's
-    /// update in place, equal to a fresh build of them.
+    /// update, equal to a fresh build of them, of a copy that then replaces the current
+    /// snapshot (queries in flight finish on the pose they started on). Errors (the scene
+    /// then unchanged): `ValueError` for bad arrays or another vertex count, `BuildError` when
+    /// the core refuses the update.
     #[pyo3(signature = (vertices, normals, *, threads = None))]
     fn update<'py>(
         &self,
@@ -458,44 +480,55 @@ impl NativeScene {
         let threads = Threads::new(threads)?;
         let options = self.options;
         py.detach(|| {
-            let mut posed = self.posed.write().map_err(|_| {
-                PyValueError::new_err("internal: an update of this scene panicked")
-            })?;
-            let count = posed.mesh.positions.len();
+            // Updates one at a time, taken without the GIL; a panic of an earlier update left
+            // the snapshot as it was, so the lock is usable.
+            let _one_at_a_time = self.updating.lock().unwrap_or_else(PoisonError::into_inner);
+            let old = self.snapshot();
+            let count = old.mesh.positions.len();
             if positions.len() != count {
                 return Err(PyValueError::new_err(format!(
                     "vertices has {} rows but the scene was built from {count}: an update keeps the vertices and faces",
                     positions.len()
                 )));
             }
-            let moved = Mesh {
+            let mesh = Mesh {
                 positions,
                 normals,
-                triangles: core::mem::take(&mut posed.mesh.triangles),
+                triangles: old.mesh.triangles.clone(),
             };
-            let result = match &mut posed.built {
-                Built::F32(s) => update_in(&moved, s, options, &threads),
-                Built::F64(s) => update_in(&moved, s, options, &threads),
+            // The core's update in place, of a copy: queries keep reading `old` meanwhile.
+            let mut built = match &old.built {
+                Built::F32(s) => Built::F32(s.clone()),
+                Built::F64(s) => Built::F64(s.clone()),
             };
-            match result {
-                Ok(()) => {
-                    posed.mesh = moved;
-                    Ok(())
-                }
-                Err(e) => {
-                    posed.mesh.triangles = moved.triangles;
-                    Err(BuildError::new_err(e.to_string()))
-                }
+            match &mut built {
+                Built::F32(s) => update_in(&mesh, s, options, &threads),
+                Built::F64(s) => update_in(&mesh, s, options, &threads),
             }
+            .map_err(|e| BuildError::new_err(e.to_string()))?;
+            let new = Arc::new(Posed {
+                built,
+                mesh,
+                pose: old.pose + 1,
+            });
+            let previous = core::mem::replace(
+                &mut *self.posed.lock().unwrap_or_else(PoisonError::into_inner),
+                new,
+            );
+            // The old pose is freed here, outside the lock, unless a query still reads it
+            // (then at that query's end).
+            drop(previous);
+            drop(old);
+            Ok(())
         })
     }
 
     /// `"f32"` or `"f64"`.
     #[getter]
     fn precision(&self) -> &'static str {
-        match self.read().map(|p| matches!(p.built, Built::F32(_))) {
-            Ok(false) => "f64",
-            _ => "f32",
+        match self.snapshot().built {
+            Built::F32(_) => "f32",
+            Built::F64(_) => "f64",
         }
     }
 
@@ -516,8 +549,8 @@ impl NativeScene {
 
     /// The number of vertices given.
     #[getter]
-    fn vertex_count(&self) -> PyResult<usize> {
-        Ok(self.read()?.mesh.positions.len())
+    fn vertex_count(&self) -> usize {
+        self.snapshot().mesh.positions.len()
     }
 
     /// The number of triangles given.
@@ -526,14 +559,24 @@ impl NativeScene {
         self.triangles
     }
 
-    /// What the build did, as a dict (see `smoothtri.BuildReport`).
+    /// The number of updates that led to the current pose: 0 after the build, one more after
+    /// each successful update.
+    #[getter]
+    fn pose(&self) -> u64 {
+        self.snapshot().pose
+    }
+
+    /// What the build (or the last update) did, as a dict (see `smoothtri.BuildReport`), plus
+    /// `"pose"`: the [`pose`](Self::pose) it describes, all of one snapshot.
     #[getter]
     fn report<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let (r, memory) = match &self.read()?.built {
+        let posed = self.snapshot();
+        let (r, memory) = match &posed.built {
             Built::F32(s) => (*s.scene().report(), s.scene().memory_bytes()),
             Built::F64(s) => (*s.scene().report(), s.scene().memory_bytes()),
         };
         let d = PyDict::new(py);
+        d.set_item("pose", posed.pose)?;
         d.set_item("triangles", r.triangles)?;
         d.set_item("patches", r.patches)?;
         let rejected = PyDict::new(py);
@@ -578,7 +621,7 @@ impl NativeScene {
         let budget = parse_budget(iterations, "iterations")?;
         let args = ray_args(py, origins, directions, t_min, t_max)?;
         let threads = Threads::new(threads)?;
-        match &self.read()?.built {
+        match &self.snapshot().built {
             Built::F32(s) => intersect_in(py, s, &args, budget, &threads, out),
             Built::F64(s) => intersect_in(py, s, &args, budget, &threads, out),
         }
@@ -601,7 +644,7 @@ impl NativeScene {
         let budget = parse_budget(iterations, "iterations")?;
         let args = ray_args(py, origins, directions, t_min, t_max)?;
         let threads = Threads::new(threads)?;
-        match &self.read()?.built {
+        match &self.snapshot().built {
             Built::F32(s) => occluded_in(py, s, &args, budget, &threads, out),
             Built::F64(s) => occluded_in(py, s, &args, budget, &threads, out),
         }
@@ -636,7 +679,7 @@ impl NativeScene {
             )));
         }
         let threads = Threads::new(threads)?;
-        match &self.read()?.built {
+        match &self.snapshot().built {
             Built::F32(s) => evaluate_in(py, s, &triangles, &bary, &threads, out),
             Built::F64(s) => evaluate_in(py, s, &triangles, &bary, &threads, out),
         }

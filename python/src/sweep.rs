@@ -187,7 +187,8 @@ pub fn precision_sweep<'py>(
         t_min: PerRay::All(0.0),
         t_max: PerRay::All(f64::INFINITY),
     };
-    let posed = base.read()?;
+    // One snapshot for the whole study: an update meanwhile does not mix two poses.
+    let posed = base.snapshot();
     let (own32, own64) = match &posed.built {
         Built::F32(s) => (Some(s), None),
         Built::F64(s) => (None, Some(s)),
