@@ -57,6 +57,17 @@
 /**
  * A built scene in single precision (opaque; it lives inside the memory given to
  * `st_scene_build`).
+ *
+ * Threads: the one allowed pattern of concurrent use. Between updates a scene is immutable:
+ * any number of threads may query it at once (`st_intersect1`, `st_occluded1`,
+ * `st_intersect8`, `st_intersect1M`, `st_patch_bounds`, `st_patch_intersect`,
+ * `st_patch_of_triangle`, `st_scene_get_info`), with no lock. `st_scene_update` needs the
+ * scene alone: call it between frames, after every query on that scene has returned (join
+ * the tracing threads, or wait at a barrier), and start queries again only after it has
+ * returned. Not allowed, and not detected (the library takes no lock; in C it is a data
+ * race, undefined behaviour): an update while another thread queries the same scene, two
+ * updates of one scene at once, and freeing or reusing the scene's memory while any call on
+ * it runs. Different scenes are independent: each may be updated while others are queried.
  */
 typedef struct st_scene st_scene;
 
@@ -825,6 +836,9 @@ st_status st_scene_build_f64(void *memory,
  * Work: that of a build without the pairing of shared edges and, when it refits, without
  * the BVH's build; single-threaded, no allocation. An Embree user geometry over the patches
  * (`smoothtri_embree.h`) must be committed again, as its bounds moved.
+ *
+ * Threads: only between frames, with no query of this scene running on any thread (see
+ * [`st_scene`]): tracers joined, update, then trace again.
  *
  * # Safety
  * `scene` is NULL or a scene from [`st_scene_build`] whose memory is still valid, and no

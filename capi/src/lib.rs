@@ -13,8 +13,9 @@
 //!   them until the caller frees them (there is no destroy function);
 //! - vertex input is strided in bytes, so interleaved vertex buffers need no copy;
 //! - every query takes a `const` scene and is thread-safe; only [`st_scene_update`] changes
-//!   a scene (one built with [`ST_BUILD_UPDATABLE`]), with no query running; there is no
-//!   global state;
+//!   a scene (one built with [`ST_BUILD_UPDATABLE`]), with no query running: many tracers,
+//!   joined, then the update between frames ([`st_scene`] says what is not allowed); there is
+//!   no global state;
 //! - a NULL pointer or a short buffer is an error status (or, for the `void` queries, a miss),
 //!   never a crash; panics never cross the boundary (the core does not panic; each entry point
 //!   also catches one and returns [`ST_ERROR_INTERNAL`]).
@@ -227,6 +228,9 @@ pub unsafe extern "C" fn st_scene_build_f64(
 /// Work: that of a build without the pairing of shared edges and, when it refits, without
 /// the BVH's build; single-threaded, no allocation. An Embree user geometry over the patches
 /// (`smoothtri_embree.h`) must be committed again, as its bounds moved.
+///
+/// Threads: only between frames, with no query of this scene running on any thread (see
+/// [`st_scene`]): tracers joined, update, then trace again.
 ///
 /// # Safety
 /// `scene` is NULL or a scene from [`st_scene_build`] whose memory is still valid, and no

@@ -383,6 +383,17 @@ pub struct st_scene_info {
 
 /// A built scene in single precision (opaque; it lives inside the memory given to
 /// `st_scene_build`).
+///
+/// Threads: the one allowed pattern of concurrent use. Between updates a scene is immutable:
+/// any number of threads may query it at once (`st_intersect1`, `st_occluded1`,
+/// `st_intersect8`, `st_intersect1M`, `st_patch_bounds`, `st_patch_intersect`,
+/// `st_patch_of_triangle`, `st_scene_get_info`), with no lock. `st_scene_update` needs the
+/// scene alone: call it between frames, after every query on that scene has returned (join
+/// the tracing threads, or wait at a barrier), and start queries again only after it has
+/// returned. Not allowed, and not detected (the library takes no lock; in C it is a data
+/// race, undefined behaviour): an update while another thread queries the same scene, two
+/// updates of one scene at once, and freeing or reusing the scene's memory while any call on
+/// it runs. Different scenes are independent: each may be updated while others are queried.
 pub struct st_scene {
     _opaque: [u8; 0],
 }

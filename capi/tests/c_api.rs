@@ -1,6 +1,10 @@
 //! C programs a user would write (`tests/c/`), compiled with `cc -std=c99 -Wall -Wextra
-//! -Werror -pedantic` against the header and the static library and run under valgrind when
-//! it is installed (the error test and one scene test; the others run natively).
+//! -Werror -pedantic` against the header and the static library, each run twice: under
+//! valgrind's memcheck (the README example, the error test and one scene test; the others
+//! natively, valgrind being too slow for them) and compiled with AddressSanitizer and
+//! UndefinedBehaviorSanitizer; both runs must succeed and print the same. A missing valgrind
+//! or sanitizer runtime skips its run, unless `SMOOTHTRI_REQUIRE_VALGRIND` or
+//! `SMOOTHTRI_REQUIRE_SANITIZERS` is set (CI sets both): then it fails.
 //! `update_test.c` moves an updatable scene every frame and checks each frame alone. `scene_test.c` prints every mesh, ray and hit; each hit is compared here,
 //! bit for bit, with the Rust API's on the same mesh and ray.
 #![allow(
@@ -17,31 +21,49 @@ use std::path::PathBuf;
 use glam::{DVec3, Vec3};
 use smoothtri::{BuildOptions, LineField, OwnedScene, Ray, SceneHit, Vertices};
 
-/// The C program `tests/c/{name}.c`, compiled once per run of this file: the tests that run
-/// one program share it (compiling it for each, in parallel, would replace the file under a
-/// test that is running it).
-fn c_program(name: &str) -> PathBuf {
-    static BUILT: std::sync::Mutex<Vec<(String, PathBuf)>> = std::sync::Mutex::new(Vec::new());
+/// The C program `tests/c/{name}.c`, compiled once per run of this file for each build (plain
+/// for native and valgrind runs, with the sanitizers): the tests that run one program share it
+/// (compiling it for each, in parallel, would replace the file under a test that is running it).
+fn c_program(name: &str, mode: common::Mode) -> PathBuf {
+    static BUILT: std::sync::Mutex<Vec<(String, bool, PathBuf)>> =
+        std::sync::Mutex::new(Vec::new());
+    let sanitized = mode == common::Mode::Sanitizers;
     let mut built = BUILT
         .lock()
         .unwrap_or_else(std::sync::PoisonError::into_inner);
-    if let Some((_, exe)) = built.iter().find(|(n, _)| n == name) {
+    if let Some((_, _, exe)) = built.iter().find(|(n, s, _)| n == name && *s == sanitized) {
         return exe.clone();
     }
-    let exe = compile_program(name);
-    built.push((name.to_string(), exe.clone()));
+    let exe = compile_program(name, mode);
+    built.push((name.to_string(), sanitized, exe.clone()));
     exe
 }
 
-fn compile_program(name: &str) -> PathBuf {
-    let dir = common::scratch(name);
+fn compile_program(name: &str, mode: common::Mode) -> PathBuf {
+    let sanitized = mode == common::Mode::Sanitizers;
+    let dir = common::scratch(&format!("{name}{}", if sanitized { "-san" } else { "" }));
     let src = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(format!("tests/c/{name}.c"));
     let exe = dir.join(name);
     let lib = common::static_lib();
     let mut extra = vec![lib.to_str().unwrap()];
     extra.extend_from_slice(common::NATIVE_LIBS);
-    common::compile_c(&[src], &exe, common::Lang::C99, &extra);
+    common::compile_for(mode, &[src], &exe, common::Lang::C99, &extra);
     exe
+}
+
+/// Runs `tests/c/{name}.c` in every mode ([`common::modes`]: under valgrind when `memcheck`,
+/// else natively, and built with AddressSanitizer and UndefinedBehaviorSanitizer); every run
+/// must succeed and print the same. Returns what they printed.
+fn run_c(name: &str, args: &[&str], memcheck: bool) -> String {
+    let mut first: Option<String> = None;
+    for mode in common::modes(memcheck) {
+        let out = common::run_in(mode, &c_program(name, mode), args);
+        match &first {
+            None => first = Some(out),
+            Some(f) => assert_eq!(*f, out, "{name} printed otherwise in {mode:?}"),
+        }
+    }
+    first.unwrap()
 }
 
 #[test]
@@ -57,8 +79,7 @@ fn readme_example_is_this_file_and_runs() {
         readme.contains(&format!("```c\n{src}```")),
         "README.md's C example differs from capi/tests/c/readme_example.c"
     );
-    let exe = c_program("readme_example");
-    let out = common::run(&exe, &[], false);
+    let out = run_c("readme_example", &[], true);
     // t = 3 − √(1 − 0.3² − 0.2²) on the unit sphere; the normal is radial.
     let t = 3.0 - (1.0f64 - 0.09 - 0.04).sqrt();
     assert!(out.starts_with(&format!("t = {t:.6}")), "{out}");
@@ -70,16 +91,14 @@ fn readme_example_is_this_file_and_runs() {
 
 #[test]
 fn an_animated_scene_updates_every_frame() {
-    let exe = c_program("update_test");
-    // Natively: under valgrind the debug library's 200 builds and updates take minutes.
-    let out = common::run(&exe, &[], false);
+    // Natively and with the sanitizers: under valgrind its 200 builds and updates take minutes.
+    let out = run_c("update_test", &[], false);
     assert!(out.contains("all checks passed"), "{out}");
 }
 
 #[test]
 fn bad_input_gives_the_documented_status() {
-    let exe = c_program("errors_test");
-    let out = common::run(&exe, &[], true);
+    let out = run_c("errors_test", &[], true);
     assert!(out.contains("all checks passed"), "{out}");
 }
 
@@ -122,10 +141,9 @@ fn printed64(h: &SceneHit<f64>) -> Vec<u64> {
 }
 
 fn check_scene_test(flags: u32, iterations: u32, rays: usize, memcheck: bool) {
-    let exe = c_program("scene_test");
     let args = [flags, iterations, rays as u32].map(|x| x.to_string());
     let args: Vec<&str> = args.iter().map(String::as_str).collect();
-    let out = common::run(&exe, &args, memcheck);
+    let out = run_c("scene_test", &args, memcheck);
     let options = BuildOptions {
         seams: flags & 1 != 0,
         field: if flags & 2 != 0 {
@@ -284,4 +302,54 @@ fn c_hits_equal_the_rust_api_at_any_budget() {
     // largest.
     check_scene_test(1, 3, 64, false);
     check_scene_test(0, 64, 64, false);
+}
+
+/// The memory tools fail a run on the errors they exist for (so the runs above prove
+/// something): a program that leaks a block, and one that reads past a heap block, each fail
+/// under valgrind (`--error-exitcode`, definite leaks counted as errors) and with the
+/// sanitizers; a clean program passes both.
+#[test]
+fn valgrind_and_the_sanitizers_fail_a_leak_and_an_overflow() {
+    let dir = common::scratch("memory-tools");
+    // `keep` is volatile so the compiler keeps every allocation; the overflow's index comes
+    // from `argc` (1) so no warning sees it at compile time.
+    let cases = [
+        (
+            "clean",
+            "keep = malloc(16); keep[15] = 1; free((void *)keep);",
+            true,
+        ),
+        ("leak", "keep = malloc(16); keep[0] = 1; keep = 0;", false),
+        (
+            "overflow",
+            "keep = malloc(16); keep[15 + argc] = 1; free((void *)keep);",
+            false,
+        ),
+    ];
+    for (name, body, clean) in cases {
+        let src = dir.join(format!("{name}.c"));
+        std::fs::write(
+            &src,
+            format!(
+                "#include <stdlib.h>\nstatic char *volatile keep;\nint main(int argc, char \
+                 **argv) {{ (void)argc; (void)argv; {body} return 0; }}\n"
+            ),
+        )
+        .unwrap();
+        for mode in common::modes(true) {
+            if mode == common::Mode::Native {
+                continue;
+            }
+            let exe = dir.join(format!("{name}-{mode:?}"));
+            common::compile_for(
+                mode,
+                std::slice::from_ref(&src),
+                &exe,
+                common::Lang::C99,
+                &[],
+            );
+            let result = common::try_run_in(mode, &exe, &[]);
+            assert_eq!(result.is_ok(), clean, "{name} in {mode:?}: {result:?}");
+        }
+    }
 }

@@ -24,14 +24,26 @@ fn embree_scene_with_smooth_patches_beside_triangles_and_instances() {
         eprintln!("skipped: Embree 3 is not installed (apt-get install libembree-dev)");
         return;
     }
-    let dir = common::scratch("embree");
     let src = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/cpp/embree_test.cpp");
-    let exe = dir.join("embree_test");
     let lib = common::static_lib();
     let mut extra = vec![lib.to_str().unwrap(), "-lembree3"];
     extra.extend_from_slice(common::NATIVE_LIBS);
-    common::compile_c(&[src], &exe, common::Lang::Cpp17, &extra);
-    let out = common::run(&exe, &[], false);
+    // Under valgrind and with the sanitizers (each when available, see `common::modes`).
+    let mut out = String::new();
+    for mode in common::modes(true) {
+        let dir = common::scratch(&format!("embree-{mode:?}"));
+        let exe = dir.join("embree_test");
+        common::compile_for(
+            mode,
+            std::slice::from_ref(&src),
+            &exe,
+            common::Lang::Cpp17,
+            &extra,
+        );
+        out = common::run_in(mode, &exe, &[]);
+        assert!(out.contains("all checks passed"), "{mode:?}: {out}");
+    }
+    let dir = common::scratch("embree");
     // The plug-in header is C99 too (a renderer in C includes it the same way).
     let probe = dir.join("probe.c");
     std::fs::write(

@@ -1,12 +1,20 @@
 //! A built scene is immutable and its queries are thread-safe: four threads tracing the same
 //! `const st_scene*` at once get, ray for ray, what one thread gets. Through the C functions
-//! themselves (the rlib), as a C program would call them.
+//! themselves (the rlib), as a C program would call them; and from C with POSIX threads
+//! (`tests/c/threads_test.c`), the one allowed pattern of concurrent use around an update:
+//! threads trace, are joined, the scene is updated with no tracer running, and the threads
+//! trace again, each frame equal to a fresh build of its pose (under valgrind and with the
+//! sanitizers, as `tests/c_api.rs` runs its programs).
 #![allow(
     clippy::unwrap_used,
     clippy::expect_used,
     clippy::panic,
     clippy::indexing_slicing
 )]
+
+mod common;
+
+use std::path::PathBuf;
 
 use smoothtri_capi::*;
 
@@ -111,4 +119,43 @@ fn queries_from_many_threads_equal_one_thread() {
         }
     });
     drop(memory);
+}
+
+/// `tests/c/threads_test.c` under valgrind and with the sanitizers (each when available, see
+/// `common::modes`): four POSIX threads trace one updatable scene at once, are joined, the
+/// scene is updated (a small wobble that refits the tree, then a scramble that rebuilds it),
+/// and they trace again; every thread's answers equal one thread's byte for byte, and each
+/// frame equals a fresh build of its pose (patch by patch bit for bit; the scene's hits as
+/// `st_scene_update` documents).
+#[test]
+fn c_threads_trace_then_an_update_between_frames() {
+    let src = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/c/threads_test.c");
+    let lib = common::static_lib();
+    let mut extra = vec![lib.to_str().unwrap(), "-pthread"];
+    extra.extend_from_slice(common::NATIVE_LIBS);
+    for mode in common::modes(true) {
+        let dir = common::scratch(&format!("threads-{mode:?}"));
+        let exe = dir.join("threads_test");
+        common::compile_for(
+            mode,
+            std::slice::from_ref(&src),
+            &exe,
+            common::Lang::C99,
+            &extra,
+        );
+        // 16 rays under valgrind (about 50 times slower), 256 otherwise.
+        let rays = if mode == common::Mode::Valgrind {
+            "16"
+        } else {
+            "256"
+        };
+        let out = common::run_in(mode, &exe, &[rays]);
+        assert!(out.contains("all checks passed"), "{mode:?}: {out}");
+        for (f, what) in ["built", "refitted", "rebuilt"].into_iter().enumerate() {
+            assert!(
+                out.contains(&format!("frame {f}: {what}")),
+                "{mode:?}: {out}"
+            );
+        }
+    }
 }
