@@ -58,7 +58,7 @@ impl Animation {
                      or --scene twist)"
                 )));
             }
-            let anim = smoothtri_io::load_animated(path)?;
+            let anim = smoothtri_io::load_animated_with(path, &source.load_options())?;
             for w in anim.warnings() {
                 eprintln!("warning: {path}: {w}");
             }

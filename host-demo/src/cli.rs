@@ -23,6 +23,11 @@ use crate::up::Up;
 #[derive(Parser, Debug)]
 #[command(name = "smoothtri", version, about)]
 pub struct Cli {
+    /// Let a glTF file's buffer URIs name files outside its own folder (absolute paths, `..`,
+    /// symlinks out of it); for trusted files only. Buffers must still be regular files of at
+    /// least their byteLength.
+    #[arg(long, global = true)]
+    allow_outside_folder: bool,
     #[command(subcommand)]
     cmd: Cmd,
 }
@@ -343,9 +348,10 @@ pub fn run(cli: Cli) -> Result<()> {
     // A `SMOOTHTRI_ISA` that names no instruction set, or one this CPU lacks, is a usage error
     // here (the C library falls back to the best the CPU has).
     smoothtri_isa::Kernels::from_env().map_err(|e| DemoError::Usage(e.to_string()))?;
+    let allow = cli.allow_outside_folder;
     match cli.cmd {
         Cmd::Render(a) => commands::render::run(RenderOptions {
-            source: a.src.into(),
+            source: a.src.mesh_source(allow),
             mode: a.shot.mode,
             compare: a.compare,
             iterations: a.shot.iterations,
@@ -365,7 +371,7 @@ pub fn run(cli: Cli) -> Result<()> {
             clip: a.anim.clip,
         }),
         Cmd::View(a) => commands::view::run(ViewOptions {
-            source: a.src.into(),
+            source: a.src.mesh_source(allow),
             mode: a.shot.mode,
             iterations: a.shot.iterations,
             precision: a.shot.precision,
@@ -385,7 +391,7 @@ pub fn run(cli: Cli) -> Result<()> {
             clip: a.anim.clip,
         }),
         Cmd::Precision(a) => commands::precision::run(PrecisionOptions {
-            source: a.src.into(),
+            source: a.src.mesh_source(allow),
             csv: a.csv,
             plot: a.plot,
             strip: a.strip,
@@ -396,7 +402,7 @@ pub fn run(cli: Cli) -> Result<()> {
             gpu: a.gpu,
         }),
         Cmd::Trace(a) => commands::trace::run(TraceOptions {
-            source: a.src.into(),
+            source: a.src.mesh_source(allow),
             rays: a.rays,
             mode: a.mode,
             iterations: a.iterations,
@@ -405,18 +411,18 @@ pub fn run(cli: Cli) -> Result<()> {
             normals: a.normals,
         }),
         Cmd::Eval(a) => commands::eval::run(EvalOptions {
-            source: a.src.into(),
+            source: a.src.mesh_source(allow),
             points: a.points,
             precision: a.precision,
             normals: a.normals,
         }),
         Cmd::Inspect(a) => commands::inspect::run(InspectOptions {
-            source: a.src.into(),
+            source: a.src.mesh_source(allow),
             precision: a.precision,
             field: a.field.into(),
         }),
         Cmd::Tessellate(a) => commands::tessellate::run(TessellateOptions {
-            source: a.src.into(),
+            source: a.src.mesh_source(allow),
             level: match a.max_error {
                 Some(max_error) => Level::MaxError {
                     max_error,
@@ -434,11 +440,14 @@ pub fn run(cli: Cli) -> Result<()> {
     }
 }
 
-impl From<Source> for MeshSource {
-    fn from(s: Source) -> Self {
+impl Source {
+    /// The command's [`MeshSource`], glTF buffers allowed outside the file's folder when
+    /// `allow_outside_folder` (`--allow-outside-folder`).
+    fn mesh_source(self, allow_outside_folder: bool) -> MeshSource {
         MeshSource {
-            mesh: s.mesh,
-            scene: s.scene,
+            mesh: self.mesh,
+            scene: self.scene,
+            allow_outside_folder,
         }
     }
 }

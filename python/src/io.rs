@@ -13,6 +13,20 @@ use smoothtri_testkit::Camera;
 use crate::LoadError;
 use crate::arrays::Reals2;
 
+pyo3::create_exception!(
+    _smoothtri,
+    LoadBudgetError,
+    LoadError,
+    "Loading the file would take more memory than its budget (`max_bytes`; the message names the file and the field)."
+);
+
+pyo3::create_exception!(
+    _smoothtri,
+    OutsideFolderError,
+    LoadError,
+    "A glTF buffer URI resolves outside the file's folder (refused unless `allow_outside_folder=True`; the message names the file and the URI)."
+);
+
 /// Rows of vectors as an `(N, 3)` `float64` array.
 fn vec3_array<'py>(py: Python<'py>, v: &[DVec3]) -> PyResult<Bound<'py, PyArray2<f64>>> {
     let flat: Vec<f64> = v.iter().flat_map(|p| p.to_array()).collect();
@@ -21,12 +35,25 @@ fn vec3_array<'py>(py: Python<'py>, v: &[DVec3]) -> PyResult<Bound<'py, PyArray2
     Ok(PyArray2::from_owned_array(py, a))
 }
 
-/// `smoothtri.load`: a mesh file's vertices, normals and faces as a dict of arrays.
+/// `smoothtri.load`: a mesh file's vertices, normals and faces as a dict of arrays, loaded
+/// within `max_bytes` (default `smoothtri_io::DEFAULT_MAX_BYTES`), glTF buffers outside the
+/// file's folder only with `allow_outside_folder`.
 #[pyfunction]
-pub fn load<'py>(py: Python<'py>, path: std::path::PathBuf) -> PyResult<Bound<'py, PyDict>> {
+#[pyo3(signature = (path, *, allow_outside_folder = false, max_bytes = None))]
+pub fn load<'py>(
+    py: Python<'py>,
+    path: std::path::PathBuf,
+    allow_outside_folder: bool,
+    max_bytes: Option<u64>,
+) -> PyResult<Bound<'py, PyDict>> {
     let name = path.to_string_lossy().into_owned();
+    let mut options =
+        smoothtri_io::LoadOptions::default().with_allow_outside_folder(allow_outside_folder);
+    if let Some(m) = max_bytes {
+        options = options.with_max_bytes(m);
+    }
     let loaded = py
-        .detach(|| smoothtri_io::load(&name))
+        .detach(|| smoothtri_io::load_with(&name, &options))
         .map_err(|e| match &e {
             smoothtri_io::Error::Io { source, .. }
                 if source.kind() == std::io::ErrorKind::NotFound =>
@@ -34,6 +61,8 @@ pub fn load<'py>(py: Python<'py>, path: std::path::PathBuf) -> PyResult<Bound<'p
                 PyFileNotFoundError::new_err(e.to_string())
             }
             smoothtri_io::Error::Io { .. } => PyOSError::new_err(e.to_string()),
+            smoothtri_io::Error::Budget { .. } => LoadBudgetError::new_err(e.to_string()),
+            smoothtri_io::Error::OutsideFolder { .. } => OutsideFolderError::new_err(e.to_string()),
             _ => LoadError::new_err(e.to_string()),
         })?;
     let m = &loaded.mesh;

@@ -14,6 +14,9 @@ pub struct MeshSource {
     pub mesh: Option<String>,
     /// A built-in scene name (see [`scenes::SCENE_NAMES`]).
     pub scene: Option<String>,
+    /// Whether a glTF file's buffers may lie outside its folder
+    /// ([`smoothtri_io::LoadOptions::allow_outside_folder`], `--allow-outside-folder`).
+    pub allow_outside_folder: bool,
 }
 
 impl MeshSource {
@@ -23,7 +26,7 @@ impl MeshSource {
     /// a usage error.
     pub fn load(&self, default_torus: bool) -> Result<(String, Mesh)> {
         if let Some(path) = &self.mesh {
-            let loaded = smoothtri_io::load(path)?;
+            let loaded = smoothtri_io::load_with(path, &self.load_options())?;
             for w in &loaded.warnings {
                 eprintln!("warning: {path}: {w}");
             }
@@ -46,6 +49,12 @@ impl MeshSource {
         let mesh = scenes::builtin(&name)
             .ok_or_else(|| DemoError::Usage(format!("unknown scene '{name}'")))?;
         Ok((format!("{name} (built-in)"), mesh))
+    }
+
+    /// The loaders' options for this source: the default budget, and buffers outside the
+    /// file's folder as [`MeshSource::allow_outside_folder`] says.
+    pub fn load_options(&self) -> smoothtri_io::LoadOptions {
+        smoothtri_io::LoadOptions::default().with_allow_outside_folder(self.allow_outside_folder)
     }
 
     /// The up axis a camera uses for this source: `up` when given, otherwise `y` for mesh files
