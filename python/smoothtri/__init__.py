@@ -44,15 +44,19 @@ import numpy as np
 
 from . import _smoothtri
 from ._smoothtri import ACCURACY, SUPPORTED_ITERATIONS, BuildError, LoadError
+from ._smoothtri import DEFAULT_MAX_BYTES, LoadBudgetError, OutsideFolderError
 
 __all__ = [
     "ACCURACY",
     "SUPPORTED_ITERATIONS",
     "BuildError",
     "BuildReport",
+    "DEFAULT_MAX_BYTES",
     "Hits",
+    "LoadBudgetError",
     "LoadError",
     "Mesh",
+    "OutsideFolderError",
     "PrecisionStudy",
     "Scene",
     "SurfacePoints",
@@ -89,7 +93,12 @@ class Mesh:
     warnings: Tuple[str, ...] = ()
 
 
-def load(path: Union[str, "os.PathLike[str]"]) -> Mesh:
+def load(
+    path: Union[str, "os.PathLike[str]"],
+    *,
+    allow_outside_folder: bool = False,
+    max_bytes: Optional[int] = None,
+) -> Mesh:
     """Reads a mesh file: OBJ, PLY (ASCII or binary), glTF or GLB, chosen by extension.
 
     Polygons are fan-triangulated, vertices deduplicated per (position, normal) pair, all
@@ -97,12 +106,22 @@ def load(path: Union[str, "os.PathLike[str]"]) -> Mesh:
     Where the file has no normals, angle-weighted vertex normals are computed
     (``Mesh.computed_normals``).
 
+    Loading is bounded and confined: every count in the file is checked against the bytes it
+    holds, and the file, its buffers and what they decode to may take at most ``max_bytes``
+    (``None``: ``DEFAULT_MAX_BYTES``, 2 GiB). A glTF buffer URI must name a regular file
+    inside the file's own folder; ``allow_outside_folder=True`` lifts the folder rule for
+    trusted files. Images are never read.
+
     Raises:
         FileNotFoundError, OSError: the file cannot be read.
+        LoadBudgetError: loading would take more than ``max_bytes`` (a ``LoadError``).
+        OutsideFolderError: a glTF buffer lies outside the file's folder (a ``LoadError``).
         LoadError: the file is malformed, of another format, or holds no triangle (the
             message names the file and the line or element).
     """
-    d = _smoothtri.load(os.fspath(path))
+    d = _smoothtri.load(
+        os.fspath(path), allow_outside_folder=allow_outside_folder, max_bytes=max_bytes
+    )
     return Mesh(
         vertices=d["vertices"],
         normals=d["normals"],

@@ -18,6 +18,16 @@ class LoadError(ValueError):
     """A mesh file is malformed or of an unknown format (names the file and the line or
     element)."""
 
+class LoadBudgetError(LoadError):
+    """Loading the file would take more memory than ``max_bytes`` (names the file and the
+    field)."""
+
+class OutsideFolderError(LoadError):
+    """A glTF buffer URI resolves outside the file's folder (names the file and the URI)."""
+
+DEFAULT_MAX_BYTES: int
+"""The default ``max_bytes`` of :func:`load`: 2 GiB."""
+
 SUPPORTED_ITERATIONS: List[int]
 """The iteration budgets ``N`` the queries accept: 0..=16, 20, 24, 32, 40."""
 HIT_FIELDS: List[str]
@@ -104,7 +114,12 @@ class NativeScene:
         out: Optional[Tuple[np.ndarray, np.ndarray, np.ndarray]] = None,
     ) -> Tuple[FloatArray, FloatArray, FloatArray]: ...
 
-def load(path: Union[str, PathLike[str]]) -> Dict[str, Any]:
+def load(
+    path: Union[str, PathLike[str]],
+    *,
+    allow_outside_folder: bool = False,
+    max_bytes: Optional[int] = None,
+) -> Dict[str, Any]:
     """``vertices`` (V, 3) float64, ``normals`` (V, 3) float64, ``faces`` (F, 3) int64,
     ``computed_normals`` bool, ``warnings`` list of str."""
 
