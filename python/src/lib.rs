@@ -49,7 +49,10 @@ fn _smoothtri(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("BuildError", py.get_type::<BuildError>())?;
     m.add("LoadError", py.get_type::<LoadError>())?;
     m.add("LoadBudgetError", py.get_type::<io::LoadBudgetError>())?;
-    m.add("OutsideFolderError", py.get_type::<io::OutsideFolderError>())?;
+    m.add(
+        "OutsideFolderError",
+        py.get_type::<io::OutsideFolderError>(),
+    )?;
     m.add("DEFAULT_MAX_BYTES", smoothtri_io::DEFAULT_MAX_BYTES)?;
     m.add("SUPPORTED_ITERATIONS", budget::Budget::all())?;
     m.add("HIT_FIELDS", scene::HIT_FIELDS.to_vec())?;
