@@ -96,7 +96,7 @@ impl Image {
         }
     }
 
-    /// Writes a PNG (`-` for stdout).
+    /// Writes a PNG (`-` for stdout) whole or not at all ([`crate::output::write`]).
     pub fn write_png(&self, path: &str) -> Result<()> {
         let mut buf = Vec::new();
         {
@@ -108,20 +108,7 @@ impl Image {
             w.write_image_data(&self.data)
                 .map_err(|e| DemoError::output(path, e))?;
         }
-        write_bytes(path, &buf)
-    }
-}
-
-/// Writes bytes to a file, or to stdout for `-`.
-pub fn write_bytes(path: &str, bytes: &[u8]) -> Result<()> {
-    use std::io::Write;
-    if path == "-" {
-        let mut out = std::io::stdout().lock();
-        out.write_all(bytes)
-            .and_then(|_| out.flush())
-            .map_err(|e| DemoError::io(path, e))
-    } else {
-        std::fs::write(path, bytes).map_err(|e| DemoError::io(path, e))
+        crate::output::write(path, &buf)
     }
 }
 

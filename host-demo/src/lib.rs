@@ -11,7 +11,9 @@
 //!   (`render --time`, `view --animate`).
 //! - [`commands`]: one module per subcommand, each with a plain options struct and `run`;
 //!   [`cli`]: argument parsing (clap) and dispatch to them.
-//! - [`image`] (PNG, labels), [`csvio`] (CSV in and out), [`error`] ([`DemoError`]).
+//! - [`image`] (PNG, labels), [`csvio`] (CSV in and out), [`error`] ([`DemoError`]);
+//!   [`output`]: every file a command writes, checked before the work and written whole or
+//!   not at all.
 
 pub mod animate;
 pub mod cli;
@@ -20,6 +22,7 @@ pub mod csvio;
 pub mod error;
 pub mod gpu;
 pub mod image;
+pub mod output;
 pub mod peers;
 pub mod renderer;
 pub mod tessellate;

@@ -111,5 +111,5 @@ pub fn eval<F: Prec>(mesh: &Mesh, points_path: &str, normals: Normals) -> Result
             vec3::<F>(sn)
         );
     }
-    crate::image::write_bytes("-", out.as_bytes())
+    crate::output::write("-", out.as_bytes())
 }

@@ -14,6 +14,7 @@ use smoothtri_testkit::Camera;
 use super::source::MeshSource;
 use crate::error::{DemoError, Result};
 use crate::image::{Image, heat};
+use crate::output::Format;
 use crate::tracer::{Mode, Prec, Precision, Scene, tracer};
 use crate::up::Up;
 
@@ -42,7 +43,18 @@ pub struct PrecisionOptions {
 
 /// Runs the study on [`PrecisionOptions::source`] (the torus when unset): the table on stdout,
 /// and the CSV, plot and strip where asked.
+///
+/// Before any work the outputs are checked ([`crate::output::check`]): `--csv` a `.csv` (or
+/// `-`), `--plot` an `.svg`, `--strip` a `.png`, none the `--mesh` file nor another output.
 pub fn run(a: PrecisionOptions) -> Result<()> {
+    crate::output::check(
+        &crate::output::inputs(&[("--mesh", a.source.mesh.as_deref())]),
+        &crate::output::outputs(&[
+            ("--csv", a.csv.as_deref(), Format::Csv),
+            ("--plot", a.plot.as_deref(), Format::Svg),
+            ("--strip", a.strip.as_deref(), Format::Png),
+        ]),
+    )?;
     if a.width == 0 || a.height == 0 || a.width > 4096 || a.height > 4096 {
         return Err(DemoError::Usage(
             "--width and --height must be in 1..=4096".into(),
@@ -73,7 +85,7 @@ pub fn run(a: PrecisionOptions) -> Result<()> {
     }
     print!("{}", study.table());
     if let Some(csv) = &a.csv {
-        crate::image::write_bytes(csv, study.csv().as_bytes())?;
+        crate::output::write(csv, study.csv().as_bytes())?;
     }
     if let Some(plot) = &a.plot {
         study.plot(plot, &name)?;
@@ -456,7 +468,7 @@ impl Study {
                 .map_err(|e| err(&e))?;
             root.present().map_err(|e| err(&e))?;
         }
-        crate::image::write_bytes(path, svg.as_bytes())
+        crate::output::write(path, svg.as_bytes())
     }
 }
 

@@ -16,6 +16,7 @@ use crate::animate::{Animation, check_time, frame};
 use crate::error::{DemoError, Result};
 use crate::gpu::{open_gpu, render_gpu};
 use crate::image::Image;
+use crate::output::Format;
 use crate::tracer::{Mode, Normals, Prec, Precision, Scene, tracer};
 use crate::up::Up;
 
@@ -248,7 +249,17 @@ fn render_panel_gpu(
 
 /// Renders [`RenderOptions::source`] (the torus when unset) to a PNG and reports the ray rate
 /// and the crack count on stdout (stderr when the PNG goes to stdout).
+///
+/// Before any work the outputs are checked ([`crate::output::check`]): `--out` a `.png` (or
+/// `-`), `--mask` a `.pbm`, neither the `--mesh` file nor each other.
 pub fn run(a: RenderOptions) -> Result<()> {
+    crate::output::check(
+        &crate::output::inputs(&[("--mesh", a.source.mesh.as_deref())]),
+        &crate::output::outputs(&[
+            ("--out", Some(a.out.as_str()), Format::Png),
+            ("--mask", a.mask.as_deref(), Format::Pbm),
+        ]),
+    )?;
     if a.width == 0 || a.height == 0 || a.width > 16384 || a.height > 16384 {
         return Err(DemoError::Usage(
             "--width and --height must be in 1..=16384".into(),
@@ -339,7 +350,7 @@ pub fn run(a: RenderOptions) -> Result<()> {
     image.write_png(&a.out)?;
     if let Some(mask) = &a.mask {
         let p = &panels[0];
-        crate::image::write_bytes(
+        crate::output::write(
             mask,
             crate::renderer::mask_pbm(a.width, a.height, &p.mask).as_bytes(),
         )?;
@@ -421,7 +432,7 @@ fn render_peers(a: &RenderOptions) -> Result<()> {
                 ..crate::renderer::PixelHit::default()
             })
             .collect();
-        crate::image::write_bytes(
+        crate::output::write(
             mask,
             crate::renderer::mask_pbm(a.width, a.height, &hits).as_bytes(),
         )?;

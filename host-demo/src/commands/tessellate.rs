@@ -9,6 +9,7 @@ use smoothtri_testkit::Camera;
 
 use super::source::MeshSource;
 use crate::error::{DemoError, Result};
+use crate::output::Format;
 use crate::tessellate::{
     Level, Tessellation, max_distance, max_distance_to, surface_distance_to, tessellate,
 };
@@ -39,7 +40,9 @@ pub struct TessellateOptions {
 /// Largest uniform level and `--max-level` accepted.
 pub const MAX_LEVEL: u32 = 256;
 
-/// Checks the options that need no mesh: the level, the error target and the output format.
+/// Checks the options that need no mesh: the level, the error target, the picture's size and
+/// the outputs ([`crate::output::check`]: `--out` an `.obj`, `.ply` or `.glb`, `--picture` a
+/// `.png`, neither the `--mesh` file nor each other).
 fn check(a: &TessellateOptions) -> Result<()> {
     match a.level {
         Level::Uniform(l) if !(1..=MAX_LEVEL).contains(&l) => {
@@ -64,29 +67,22 @@ fn check(a: &TessellateOptions) -> Result<()> {
         }
         Level::Uniform(_) => {}
     }
-    if !matches!(
-        smoothtri_io::extension(&a.out).as_deref(),
-        Some("obj" | "ply" | "glb")
-    ) {
-        return Err(DemoError::Usage(format!(
-            "--out {}: the output format is chosen by extension: .obj, .ply or .glb",
-            a.out
-        )));
-    }
-    if let Some(p) = &a.picture {
+    if a.picture.is_some() {
         let (w, h) = a.size;
         if w == 0 || h == 0 || w > 16384 || h > 16384 {
             return Err(DemoError::Usage(
                 "--width and --height must be in 1..=16384".into(),
             ));
         }
-        if p == &a.out {
-            return Err(DemoError::Usage(
-                "--picture and --out name the same file".into(),
-            ));
-        }
     }
-    Ok(())
+    // The output format is chosen by extension; neither output may be the input or the other.
+    crate::output::check(
+        &crate::output::inputs(&[("--mesh", a.source.mesh.as_deref())]),
+        &crate::output::outputs(&[
+            ("--out", Some(a.out.as_str()), Format::Mesh),
+            ("--picture", a.picture.as_deref(), Format::Png),
+        ]),
+    )
 }
 
 /// Loads the mesh, tessellates it, writes `--out` and prints the report on stdout.
@@ -133,7 +129,9 @@ fn run_in<F: Prec>(a: &TessellateOptions, name: &str, mesh: &Mesh) -> Result<Str
         t.mesh.triangles.len(),
         t.mesh.positions.len()
     );
-    let bytes = smoothtri_io::save(&t.mesh, &a.out, F::PRECISION.into(), &comment)?;
+    let encoded = smoothtri_io::encode(&t.mesh, &a.out, F::PRECISION.into(), &comment)?;
+    crate::output::write(&a.out, &encoded)?;
+    let bytes = encoded.len();
     let secs = start.elapsed().as_secs_f64();
     let diag = mesh.diagonal();
     let dist = max_distance(&t, &scene);

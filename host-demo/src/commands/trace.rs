@@ -37,7 +37,7 @@ pub fn run(a: TraceOptions) -> Result<()> {
             Precision::F32 => crate::peers::trace_csv::<f32>(&mesh, peer, &read_rays(&a.rays)?)?,
             Precision::F64 => crate::peers::trace_csv::<f64>(&mesh, peer, &read_rays(&a.rays)?)?,
         };
-        return crate::image::write_bytes("-", out.as_bytes());
+        return crate::output::write("-", out.as_bytes());
     }
     if a.mode != Mode::Smooth {
         return Err(DemoError::Usage(format!(
@@ -95,7 +95,7 @@ pub fn trace<F: Prec>(
             }
         }
     }
-    crate::image::write_bytes("-", out.as_bytes())
+    crate::output::write("-", out.as_bytes())
 }
 
 /// The rays of `rays_path` (`-` for stdin) in precision `F`.

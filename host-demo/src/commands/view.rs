@@ -47,6 +47,7 @@ use crate::commands::render::build_scene;
 use crate::error::{DemoError, Result};
 use crate::gpu::{frame_view, gpu_error, gpu_scene, gpu_update, open_gpu, read_frame};
 use crate::image::{Image, heat};
+use crate::output::Format;
 use crate::renderer::{PixelHit, Rendered};
 use crate::tracer::{Mode, Normals, Prec, Precision, Scene, tracer};
 use crate::up::Up;
@@ -656,7 +657,7 @@ impl Viewer {
             image.write_png(path)?;
         }
         if let Some(path) = &self.options.mask {
-            crate::image::write_bytes(
+            crate::output::write(
                 path,
                 crate::renderer::mask_pbm(image.width, image.height, &hits).as_bytes(),
             )?;
@@ -865,7 +866,17 @@ fn no_display(e: impl std::fmt::Display) -> DemoError {
 }
 
 /// Opens the viewer; returns when its window closes (or, headless, after the frames).
+///
+/// Before any work the outputs are checked ([`crate::output::check`]): `--screenshot` a `.png`,
+/// `--mask` a `.pbm`, neither the `--mesh` file nor each other.
 pub fn run(o: ViewOptions) -> Result<()> {
+    crate::output::check(
+        &crate::output::inputs(&[("--mesh", o.source.mesh.as_deref())]),
+        &crate::output::outputs(&[
+            ("--screenshot", o.screenshot.as_deref(), Format::Png),
+            ("--mask", o.mask.as_deref(), Format::Pbm),
+        ]),
+    )?;
     if o.width == 0 || o.height == 0 || o.width > 16384 || o.height > 16384 {
         return Err(DemoError::Usage(
             "--width and --height must be in 1..=16384".into(),
