@@ -10,7 +10,7 @@ use common::*;
 use std::sync::Arc;
 
 use glam::DVec3;
-use smoothtri::internal::TWIST_TERMS;
+use smoothtri::internal::{CRACK_REACH, MAX_CRACK_REACH, ROUNDING_ULPS, TWIST_TERMS};
 use smoothtri::mesh::Seam;
 use smoothtri::{BuildOptions, LineField, NORMAL_CLAMP_DEG, OwnedScene, Patch, Vertices};
 use smoothtri_gpu::{
@@ -20,18 +20,49 @@ use smoothtri_testkit::Mesh;
 use smoothtri_testkit::scenes::{builtin, tilted_normal_sphere};
 use smoothtri_testkit::twist::{twist_pose, twisting_torus};
 
+/// The error bound of one side's arithmetic, in units of `f32::EPSILON` times the patch's
+/// length scale `L` (the record's `scale`: 4 × longest edge + |origin|): every value a patch
+/// record holds (frame, local vertices, normals and line field, sampled heights and their
+/// range, box, band) is within this of its exact value, on the CPU and on the device.
+///
+/// Derivation (a budget, like `ROUNDING_ULPS` itself: validated by the tests rather than
+/// proven for every conditioning). Each side's value is the exact one plus the roundings on
+/// its path, and their sum is the kernel's rounding budget, `smoothtri::internal::ROUNDING_ULPS`
+/// = 16 ulps of `L` (core/src/kernel/budget.rs: a few ulps per stage, the frame's map, the
+/// local point, the sphere-root heights), which the device's kernel is held to as well
+/// (gpu/src/kernel.wgsl ROUNDING_ULPS, gpu/tests/parity.rs). The device's passes are the CPU's
+/// operations in the CPU's order (gpu/src/update/patch.wgsl) in WGSL's `f32`, whose accuracy
+/// (the WGSL spec, "Floating Point Accuracy") is: `+`, `−`, `×` correctly rounded (½ ulp, as
+/// on the CPU); `x / y` within 2.5 ulp; `inverseSqrt` within 2 ulp, and `sqrt` inherited from
+/// `1 / inverseSqrt` (2 + 2.5 + ½ = 5 ulp). A normalisation `v · (1 / sqrt(v · v))` (the frame
+/// axes, the unit normals) is so within 5 + 2.5 + 3 × ½ = 9 ulps of the unit vector (the CPU's:
+/// 2), and a path's few normalisations and divisions (the line directions `n / n.z`, the
+/// curvatures, the heights' sphere roots) stay within the 16 ulps of `L` on the patches the
+/// build accepts: not degenerate (`DEGENERATE_RATIO`), normals within `NORMAL_CLAMP_DEG` of the
+/// face, and `L` ≥ 4 × the longest edge ≥ every local length. Values of size 1 (axes, normals,
+/// directions) are measured against `max(L, |value|, 1)`.
+const SIDE_ULPS: f32 = ROUNDING_ULPS as f32;
+
 /// The largest difference allowed between a device record's value and the CPU's, scaled by
-/// the larger of the patch's length scale (4 × longest edge + |origin|), the value and 1: the
-/// two differ by the rounding of the sampled heights (the kernel's height evaluation against
-/// the CPU's lanes, `tests/parity.rs`) and of single operations.
-const RECORD_TOL: f32 = 4e-6;
+/// the larger of the patch's length scale `L`, the value and 1: each side is within
+/// [`SIDE_ULPS`] of the exact value, so the two are within twice that of each other.
+const RECORD_TOL: f32 = 2.0 * SIDE_ULPS * f32::EPSILON;
 
 /// The largest difference allowed between the gap a wall's reach stands for on the device and
-/// on the CPU (the reach is `CRACK_REACH` = 4 gaps over the wall's altitude), in units of
-/// `f32::EPSILON` times the patch's length scale: on meshes whose neighbours share their curves
-/// the gap is rounding, of the heights on both and of the points' placement, in `f32` relative
-/// to the patches' origins on the device and in `f64` on the CPU.
-const GAP_TOL_EPS: f32 = 4.0;
+/// on the CPU (the reach is `CRACK_REACH` gaps over the wall's altitude), in units of
+/// `f32::EPSILON` times the patch's length scale: the gap is the distance between two surface
+/// points, one on each side of the shared edge, each of which is within [`RECORD_TOL`] `· L`
+/// on the device of the CPU's (a point of the patch, as its record's values), so the two
+/// gaps are within twice that.
+const GAP_TOL_EPS: f32 = 2.0 * RECORD_TOL / f32::EPSILON;
+
+/// The relative rounding of the tree's cost on the two sides, beyond what the boxes' bounds
+/// move it (`cost_bound`): a slot's half area `xy + yz + zx` from correctly rounded
+/// differences, products and sums of positive terms is within 2.5 ulps, times its count ½
+/// more; the device sums a node's four slots in `f32` (1.5 more: 4.5) and divides by the
+/// root's half area (2.5); the CPU computes the half areas in `f32` (2.5 each for the slots
+/// and the root) and sums in `f64`. 4.5 + 2.5 + 2.5 + 2.5 = 12 ulps.
+const COST_ROUNDING: f64 = 12.0 * f32::EPSILON as f64;
 
 /// The largest angle allowed between the seamless shading normal of a device-fitted seam and
 /// of the CPU's, in degrees, at points across each patch: the fits agree to the rounding of
@@ -41,11 +72,6 @@ const SEAM_NORMAL_TOL_DEG: f64 = 0.005;
 /// The largest angle allowed between a vertex normal generated on the device (`f32`) and the
 /// CPU's (`f64`), in degrees.
 const NORMAL_TOL_DEG: f64 = 1e-4;
-
-/// The largest relative difference allowed between the refitted tree's cost on the device and
-/// the CPU's (`BuildReport::bvh_cost`) where the reaches agree: the boxes' rounding. Reaches
-/// that differ widen it (`step`).
-const TREE_COST_TOL: f64 = 4e-6;
 
 /// Where a record's reaches ride: value 3 of each edge's fourth `vec4` (`smooth_record`).
 const REACH_SLOTS: [usize; 3] = [4 * 13 + 3, 4 * 18 + 3, 4 * 23 + 3];
@@ -140,15 +166,104 @@ fn on_device(gpu: &Arc<Gpu>, m: &Mesh, seams: bool) -> (OwnedScene<f32>, GpuScen
     (cpu, gs, up)
 }
 
+/// The most a corner of the box of the patch whose CPU record is `want` may move between the
+/// device and the CPU through its reaches, when each reach's gap is within [`GAP_TOL_EPS`] of
+/// the CPU's (as `compare` asserts): 0 for a placeholder.
+///
+/// The reach over wall `j` (the edge from vertex `j + 1` to `j + 2`, of length `len`) is
+/// `min(CRACK_REACH · gap · len / (2 · area), MAX_CRACK_REACH)`, so a gap off by `dg` moves it by
+/// `dm ≤ min(CRACK_REACH · dg · len / (2 · area), MAX_CRACK_REACH)`. The box's corners are the
+/// shell's at the widened triangle's corners (`shell_box`): corner `c`'s barycentrics move by
+/// `dm` towards `c` and away from `j`, which moves the point by `dm` times the vector between
+/// the two shell corners at the same height, at most `lever` (the longest such vector over the
+/// shell's lowest and highest section); the frame is orthonormal, so each world coordinate
+/// moves by at most that length. Summed over the three walls.
+fn reach_box_bound(want: &[f32]) -> f32 {
+    let (l, p1x, p2x, p2y) = (want[3], want[15], want[19], want[23]);
+    let two_area = p1x * p2y;
+    if two_area.is_nan() || two_area <= 0.0 {
+        return 0.0;
+    }
+    let p = [[0.0, 0.0, 0.0], [p1x, 0.0, 0.0], [p2x, p2y, 0.0]];
+    // The line directions: x and y in the vertex rows, z beside each edge's dot products.
+    let d = [
+        [want[27], want[31], want[59]],
+        [want[35], want[36], want[79]],
+        [want[37], want[38], want[99]],
+    ];
+    let dz = d[0][2].min(d[1][2]).min(d[2][2]);
+    let sigma = [want[7] / dz, want[11] / dz];
+    let dist = |a: usize, b: usize, s: f32| {
+        (0..3)
+            .map(|k| (p[a][k] + d[a][k] * s) - (p[b][k] + d[b][k] * s))
+            .map(|x| x * x)
+            .sum::<f32>()
+            .sqrt()
+    };
+    let lever = [(0, 1), (1, 2), (2, 0)]
+        .iter()
+        .flat_map(|&(a, b)| sigma.map(|s| dist(a, b, s)))
+        .fold(0.0f32, f32::max);
+    let dg = GAP_TOL_EPS * f32::EPSILON * l;
+    (0..3)
+        .map(|j| {
+            let len = dist((j + 1) % 3, (j + 2) % 3, 0.0);
+            let dm = (CRACK_REACH as f32 * dg * len / two_area).min(MAX_CRACK_REACH as f32);
+            dm * lever
+        })
+        .sum()
+}
+
+/// How far the refitted tree's cost may be from the CPU's, relative to it: the cost (slot
+/// half areas times counts, over the root's half area; core/src/bvh/build.rs `tree_cost`) of
+/// the CPU's boxes with every coordinate moved by up to `delta` outwards (inwards for the
+/// root), and the other way round, plus [`COST_ROUNDING`].
+fn cost_bound(nodes: &[GpuNode], delta: f64) -> f64 {
+    let used = |n: &GpuNode, s: usize| n.child[s] != smoothtri::BVH_EMPTY_SLOT;
+    let half_area = |e: [f64; 3], grow: f64| {
+        let e = e.map(|x| (x + 2.0 * grow).max(0.0));
+        e[0] * e[1] + e[1] * e[2] + e[2] * e[0]
+    };
+    let extent =
+        |n: &GpuNode, s: usize| [0, 1, 2].map(|a| f64::from(n.hi[a][s]) - f64::from(n.lo[a][s]));
+    let sum = |grow: f64| -> f64 {
+        nodes
+            .iter()
+            .flat_map(|n| (0..4).filter(|&s| used(n, s)).map(move |s| (n, s)))
+            .map(|(n, s)| half_area(extent(n, s), grow) * f64::from(n.count[s].max(1)))
+            .sum()
+    };
+    let root = &nodes[0];
+    let root_extent = [0, 1, 2].map(|a| {
+        let slots = || (0..4).filter(|&s| used(root, s));
+        let hi = slots()
+            .map(|s| f64::from(root.hi[a][s]))
+            .fold(f64::MIN, f64::max);
+        let lo = slots()
+            .map(|s| f64::from(root.lo[a][s]))
+            .fold(f64::MAX, f64::min);
+        hi - lo
+    });
+    let cost = sum(0.0) / half_area(root_extent, 0.0);
+    let up = sum(delta) / half_area(root_extent, -delta);
+    let down = sum(-delta) / half_area(root_extent, delta);
+    (up - cost).abs().max((cost - down).abs()) / cost + COST_ROUNDING
+}
+
 /// What one comparison saw.
 #[derive(Debug, Default)]
 struct Seen {
     worst: f32,
     /// In units of ε times the patch's scale ([`GAP_TOL_EPS`]).
     worst_reach: f32,
-    /// Barycentric.
+    /// Barycentric; reported, never a tolerance.
     widest_reach_difference: f32,
     largest_scale: f32,
+    /// The largest [`reach_box_bound`] of a patch.
+    reach_bound: f32,
+    /// The tree's cost's allowed relative difference ([`cost_bound`]), where the nodes were
+    /// compared.
+    cost_tol: f64,
     worst_seam_deg: f64,
     fitted_edges: usize,
     free_edges: usize,
@@ -171,9 +286,10 @@ fn compare(name: &str, gs: &GpuScene, up: &GpuUpdate, cpu: &OwnedScene<f32>, nod
     for (t, p) in patches.iter().enumerate() {
         let want = smooth_record(&p.data());
         let got = &records[t * PATCH_VEC4 * 4..(t + 1) * PATCH_VEC4 * 4];
-        // A box's corners are the shell's over the triangle widened by the reaches: two
-        // reaches that differ by `dr` (barycentric) move them by at most `2·dr` times the
-        // patch's extent, which its length scale bounds.
+        // The box's corners move with the reaches by at most `reach_box_bound` (from the CPU's
+        // record and the gaps' bound); the reaches' measured difference is only reported.
+        let reach_bound = reach_box_bound(&want);
+        seen.reach_bound = seen.reach_bound.max(reach_bound);
         let dr = REACH_SLOTS
             .iter()
             .map(|&k| (got[k] - want[k]).abs())
@@ -213,7 +329,7 @@ fn compare(name: &str, gs: &GpuScene, up: &GpuUpdate, cpu: &OwnedScene<f32>, nod
                 continue;
             }
             let tol = if (16..24).contains(&k) {
-                RECORD_TOL + 2.0 * dr * want[3] / scale.max(w.abs())
+                RECORD_TOL + reach_bound / scale.max(w.abs())
             } else {
                 RECORD_TOL
             };
@@ -268,22 +384,24 @@ fn compare(name: &str, gs: &GpuScene, up: &GpuUpdate, cpu: &OwnedScene<f32>, nod
     if nodes {
         let cpu_nodes: Vec<GpuNode> = s.bvh().nodes().iter().map(GpuNode::from_node).collect();
         assert_eq!(gpu_nodes.len(), cpu_nodes.len(), "{name}");
-        // The root's box sets the scale of every node's.
+        // A node's box is the union of its patches' boxes, so each coordinate is one patch's
+        // and within that patch's bound: RECORD_TOL of the larger of its length scale and the
+        // coordinate (the root's box bounds every coordinate), plus its reaches' bound.
         let root = cpu_nodes[0];
         let scale = (0..3)
             .flat_map(|a| (0..4).map(move |s| (a, s)))
             .filter(|&(_, s)| root.child[s] != smoothtri::BVH_EMPTY_SLOT)
             .map(|(a, s)| root.lo[a][s].abs().max(root.hi[a][s].abs()))
-            .fold(1.0f32, f32::max);
+            .fold(seen.largest_scale.max(1.0), f32::max);
+        let delta = RECORD_TOL * scale + seen.reach_bound;
+        seen.cost_tol = cost_bound(&cpu_nodes, f64::from(delta));
         for (i, (g, w)) in gpu_nodes.iter().zip(&cpu_nodes).enumerate() {
             assert_eq!((g.child, g.count), (w.child, w.count), "{name}: node {i}");
             for a in 0..3 {
                 for s in 0..4 {
                     for (x, y) in [(g.lo[a][s], w.lo[a][s]), (g.hi[a][s], w.hi[a][s])] {
                         assert!(
-                            (x - y).abs()
-                                <= RECORD_TOL * scale.max(y.abs())
-                                    + 2.0 * seen.widest_reach_difference * seen.largest_scale,
+                            (x - y).abs() <= delta,
                             "{name}: node {i}, slot {s}, axis {a}: device {x:e}, CPU {y:e}"
                         );
                     }
@@ -327,12 +445,12 @@ fn step(
         // The same tree refitted to boxes equal within rounding: the same cost.
         let cost = up.tree_cost().expect("the tree's cost");
         let d = (cost - report.bvh_cost).abs() / report.bvh_cost;
-        // Reaches that differ by `dr` move a box's corners by up to `2·dr` of its patch's
-        // extent: its half area by up to about `8·dr` of itself.
-        let tol = TREE_COST_TOL + 8.0 * f64::from(seen.widest_reach_difference);
+        // The boxes' bound moved through the cost's formula (`cost_bound`).
+        let tol = seen.cost_tol;
         assert!(
             d <= tol,
-            "{name}: tree cost {cost} on the device, {} on the CPU",
+            "{name}: tree cost {cost} on the device, {} on the CPU (relative difference {d:e}, \
+             allowed {tol:e})",
             report.bvh_cost
         );
     }
