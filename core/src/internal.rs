@@ -29,6 +29,17 @@ pub fn without_band<F: crate::Float>(patch: &crate::Patch<F>) -> crate::Patch<F>
     }
 }
 
+/// The edge parameters `t_s = (1 − cos((2s + 1)π / (2·CRACK_SAMPLES))) / 2` at which crack
+/// closure measures the gap and the seam fit samples (its [`FIT_NODES`] of them), as the CPU's
+/// builder computes them (`f64`, `libm::cos`): for a port of the update, so that it samples the
+/// same points.
+///
+/// # Panics
+/// Never.
+pub fn crack_nodes() -> [f64; CRACK_SAMPLES] {
+    crate::mesh::sampling::Nodes::new().all()
+}
+
 /// The seam fit's least-squares map from the [`FIT_SAMPLES`] tilt samples of an edge (at the
 /// nodes [`FIT_NODES`]) to its [`TWIST_TERMS`] coefficients, `c = P·y`, as the CPU's fit
 /// computes it once per build (`f64`): for a port of the fit.

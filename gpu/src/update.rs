@@ -5,7 +5,7 @@
 
 use std::sync::Arc;
 
-use smoothtri::internal::{CRACK_SAMPLES, seam_fit_matrix};
+use smoothtri::internal::{crack_nodes, seam_fit_matrix};
 use smoothtri::mesh::{SharedEdge, shared_edges};
 use smoothtri::{BVH_EMPTY_SLOT, Bvh, LineField, NORMAL_CLAMP_DEG};
 use wgpu::util::DeviceExt;
@@ -182,11 +182,8 @@ impl GpuUpdate {
         for w in [edges, u32::from(seams), 0, 0] {
             eparams.extend_from_slice(&w.to_ne_bytes());
         }
-        for s in 0..CRACK_SAMPLES {
-            // The CPU's nodes (core/src/mesh/sampling.rs `Nodes`) and the barycentrics of both
-            // sides, in f64 and rounded once.
-            let a = (2 * s + 1) as f64 * std::f64::consts::PI / (2 * CRACK_SAMPLES) as f64;
-            let t = 0.5 * (1.0 - a.cos());
+        for t in crack_nodes() {
+            // The CPU's nodes and the barycentrics of both sides, in f64 and rounded once.
             for x in [t as f32, (1.0 - t) as f32, (1.0 - (1.0 - t)) as f32, 0.0] {
                 eparams.extend_from_slice(&x.to_ne_bytes());
             }

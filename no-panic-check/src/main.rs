@@ -298,7 +298,11 @@ fn seams<F: Float>(patches: &[Patch<F>], ray: &Ray<F>) -> u32 {
     if let Err(e) = shared_edges(&tris, 9, &mut scratch[..5]) {
         acc += display_len(&e);
     }
-    // The seam fit's map a port of the fit uploads.
+    // The crack nodes and the seam fit's map a port of the update uploads.
+    acc += smoothtri::internal::crack_nodes()
+        .iter()
+        .filter(|t| (0.0..=1.0).contains(*t))
+        .count() as u32;
     acc += smoothtri::internal::seam_fit_matrix()
         .iter()
         .flatten()

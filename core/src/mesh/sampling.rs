@@ -58,6 +58,11 @@ impl Nodes {
         }
     }
 
+    /// All the nodes, in order.
+    pub(crate) fn all(&self) -> [f64; EDGE_SAMPLES] {
+        self.t
+    }
+
     /// Node `s` (0.5 out of range).
     #[inline(always)]
     pub(crate) fn t(&self, s: usize) -> f64 {
