@@ -794,3 +794,9 @@ def precision_sweep(
     )
     d["precision"] = tuple(d["precision"])
     return PrecisionStudy(**d)
+
+
+# The trimesh drop-in, imported here so that ``import smoothtri`` alone makes
+# ``smoothtri.trimesh.Intersector`` reachable, as the README uses it (it needs only numpy;
+# trimesh itself is imported by the caller, if at all). Last: it imports names defined above.
+from . import trimesh  # noqa: E402
