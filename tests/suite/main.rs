@@ -24,4 +24,5 @@ mod shell;
 mod stress_meshes;
 mod torus;
 mod update;
+mod update_props;
 mod watertight;
