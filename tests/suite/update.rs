@@ -386,6 +386,35 @@ fn the_tree_is_refitted_then_rebuilt() {
     );
 }
 
+/// With the shared field, an update that refits keeps the tree's order: the per-vertex remedy
+/// must not borrow the order's room for its flags while a refit will read it (a finding of the
+/// `scene_update` fuzz target, `fuzz/corpus/scene_update/`).
+#[test]
+fn a_shared_field_refit_keeps_the_trees_order() {
+    for (name, m) in [
+        ("torus", scenes::torus(8, 8, 1.0, 0.4)),
+        ("teapot", scenes::teapot(4)),
+    ] {
+        let mut options = BuildOptions {
+            field: LineField::Vertex,
+            ..BuildOptions::default()
+        };
+        let mut scene = owned::<f32>(&m, &mut options);
+        let mut before = scene.scene().bvh().order().to_vec();
+        let moved = twisted(&m, 0.01);
+        let r = update(&mut scene, &moved, &mut options).unwrap();
+        assert!(r.bvh_refitted, "{name}: a small motion refits");
+        let mut after = scene.scene().bvh().order().to_vec();
+        before.sort_unstable();
+        after.sort_unstable();
+        assert_eq!(after, before, "{name}: the refitted tree's order");
+        let fresh = owned::<f32>(&moved, &mut options);
+        let hits = same_hits(name, &scene.scene(), &fresh.scene(), &rays(&m, 64, 5));
+        // The rays aim within 0.4 of the bounds' diagonal of the middle: the teapot takes 16.
+        assert!(hits >= 10, "{name}: {hits} hits");
+    }
+}
+
 /// An update on rayon's pool, or in the most shuffled chunk order, equals one on the calling
 /// thread bit for bit; a `DynamicScene` in caller storage equals an `OwnedScene`.
 #[test]

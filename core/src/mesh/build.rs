@@ -190,13 +190,16 @@ pub(crate) fn slots(indices: &[[u32; 3]], triangles: &mut [[u32; 3]], ids: &mut 
 
 /// Step 2, on [`LineField::Vertex`]: the per-vertex remedy
 /// ([`clamp_vertex_normals`](super::clamp_vertex_normals)) over the slots' triangles, into
-/// `parts.clamped`, its patch constructions on `executor`.
+/// `parts.clamped`, its patch constructions on `executor` when `order_free` (the BVH's order
+/// holds no tree to refit, so it can lend its room to the remedy's per-triangle flags), serial
+/// otherwise; both give the same bits.
 fn vertex_normals<T: Float, F: Float>(
     positions: &Vertices<'_, T>,
     normals: &Vertices<'_, T>,
     parts: &mut Parts<'_, F>,
     slots: usize,
     executor: &impl Executor,
+    order_free: bool,
 ) -> Result<VertexClampReport, BuildError> {
     for (i, (p, n)) in parts
         .vertex_positions
@@ -210,14 +213,15 @@ fn vertex_normals<T: Float, F: Float>(
         }
     }
     let triangles = parts.triangles.get(..slots).ok_or(BuildError::TooLarge)?;
-    // The BVH's order, not yet in use, holds the remedy's per-triangle flags.
+    // The BVH's order, when no refit will read it, holds the remedy's per-triangle flags.
+    let pool = order_free.then_some((&mut *parts.order, executor));
     Ok(remedy(
         parts.vertex_positions,
         parts.vertex_normals,
         triangles,
         parts.clamped,
         parts.clamps,
-        Some((&mut *parts.order, executor)),
+        pool,
     )?)
 }
 
@@ -337,7 +341,11 @@ pub(crate) fn run<T: Float, F: Float, O: BuildObserver, E: Executor>(
     // 2. The per-vertex remedy (shared field only).
     if options.field == LineField::Vertex {
         observer.stage(BuildStage::VertexNormals);
-        report.vertex_clamps = Some(vertex_normals(positions, normals, parts, slots, executor)?);
+        // An update may refit the tree whose order `parts.order` holds: keep it intact.
+        let order_free = known.is_none_or(|b| b.nodes == 0);
+        report.vertex_clamps = Some(vertex_normals(
+            positions, normals, parts, slots, executor, order_free,
+        )?);
     }
     // 3. One patch per slot.
     observer.stage(BuildStage::Patches);
