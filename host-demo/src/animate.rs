@@ -1,13 +1,13 @@
 //! Animation in the demo (`render --time`, `view --animate`): an [`Animation`] poses a glTF
 //! file's clip ([`smoothtri_io::AnimatedMesh`]) or the twisting torus
-//! ([`smoothtri_testkit::twist`], `--scene twist`) into a mesh, frame by frame, turned upright
+//! ([`smoothtri_host::twist`], `--scene twist`) into a mesh, frame by frame, turned upright
 //! like the static mesh; [`Animation::sphere`] frames the whole clip for a camera that stays put;
 //! [`scene_of_pose`] is the one place a posed mesh becomes a scene.
 
 use glam::DVec3;
+use smoothtri_host::Camera;
+use smoothtri_host::twist::{TWIST_DEMO_SIDE, TWIST_PERIOD, twist_pose, twisting_torus};
 use smoothtri_io::{AnimatedMesh, Mesh};
-use smoothtri_testkit::Camera;
-use smoothtri_testkit::twist::{TWIST_DEMO_SIDE, TWIST_PERIOD, twist_pose, twisting_torus};
 
 use crate::commands::MeshSource;
 use crate::error::{DemoError, Result};

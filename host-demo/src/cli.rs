@@ -4,7 +4,7 @@
 use std::process::ExitCode;
 
 use clap::{Args, Parser, Subcommand};
-use smoothtri_testkit::scenes::SCENE_NAMES;
+use smoothtri_host::scenes::SCENE_NAMES;
 
 use crate::commands::eval::EvalOptions;
 use crate::commands::inspect::InspectOptions;

@@ -6,7 +6,7 @@
 use std::sync::Arc;
 
 use smoothtri_gpu::{FrameStats, FrameView, Gpu, GpuFrame, GpuScene, Shading};
-use smoothtri_testkit::{Camera, SHADOW_OFFSET_F32};
+use smoothtri_host::{Camera, SHADOW_OFFSET_F32};
 
 use crate::error::{DemoError, Result};
 use crate::image::Image;

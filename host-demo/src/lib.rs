@@ -2,7 +2,7 @@
 //!
 //! - Meshes come from [`smoothtri_io`] (the [`Mesh`](smoothtri_io::Mesh) type, the file loaders
 //!   and writers) and the built-in scenes, the camera and the builder's executor from
-//!   [`smoothtri_testkit`]; [`up`]: the up axis of a mesh ([`up::Up`]).
+//!   [`smoothtri_host`]; [`up`]: the up axis of a mesh ([`up::Up`]).
 //! - [`tracer`]: patches and BVH of a mesh in a [`Precision`] ([`Scene`]), and the smooth, flat
 //!   and Phong ray queries; [`renderer`]: shading an image on the CPU; [`gpu`]: the same on the
 //!   GPU (`smoothtri-gpu`), for every command with `--gpu`.

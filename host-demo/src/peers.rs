@@ -27,8 +27,8 @@ use crate::error::{DemoError, Result};
 use crate::image::Image;
 use crate::renderer::{background, shade};
 use crate::tracer::{Mode, Prec, Precision, Scene, smooth_tracer, tracer};
+use smoothtri_host::Camera;
 use smoothtri_io::Mesh;
-use smoothtri_testkit::Camera;
 
 /// A terminator fix for flat triangles with interpolated normals (`render --terminator`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, clap::ValueEnum)]

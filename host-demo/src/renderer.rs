@@ -8,7 +8,7 @@ use std::io::IsTerminal;
 use glam::DVec3;
 use rayon::prelude::*;
 use smoothtri::{Hit, Ray};
-use smoothtri_testkit::{Camera, SHADOW_OFFSET_F32, SHADOW_OFFSET_F64};
+use smoothtri_host::{Camera, SHADOW_OFFSET_F32, SHADOW_OFFSET_F64};
 
 use crate::image::Image;
 use crate::tracer::{Prec, Precision, Scene, Tracer};

@@ -605,7 +605,7 @@ pub fn surface_distance_to<F: Prec>(scene: &Scene<F>, dist: impl Fn(DVec3) -> f6
 #[cfg(test)]
 mod tests {
     use super::*;
-    use smoothtri_testkit::scenes;
+    use smoothtri_host::scenes;
 
     /// Every undirected output edge is used by exactly two triangles, in opposite directions:
     /// the output is closed and consistently oriented, without T-junctions.

@@ -1,5 +1,5 @@
 //! The up axis ([`Up`], `--up`) that says which way a mesh stands, and the exact rotation that
-//! turns a mesh into the camera's z-up frame ([`smoothtri_testkit::Camera`]).
+//! turns a mesh into the camera's z-up frame ([`smoothtri_host::Camera`]).
 
 use glam::DVec3;
 use smoothtri_io::Mesh;
@@ -71,7 +71,7 @@ impl Up {
     }
 }
 
-/// The up axis of a built-in scene ([`smoothtri_testkit::scenes::builtin`]), the default of
+/// The up axis of a built-in scene ([`smoothtri_host::scenes::builtin`]), the default of
 /// `--up` for it: `z` for all four (the torus lies in the xy plane, the teapot stands on it, the
 /// sphere and the cube are symmetric).
 pub fn builtin_up(_name: &str) -> Up {

@@ -7,8 +7,8 @@ use numpy::ndarray::Array2;
 use pyo3::exceptions::{PyFileNotFoundError, PyOSError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
+use smoothtri_host::Camera;
 use smoothtri_io::Mesh;
-use smoothtri_testkit::Camera;
 
 use crate::LoadError;
 use crate::arrays::Reals2;

@@ -75,8 +75,8 @@ fn _smoothtri(m: &Bound<'_, PyModule>) -> PyResult<()> {
     // Where the renders start secondary rays, as a fraction of the scene's bounding-box
     // diagonal (the trimesh intersector's multiple hits step past a hit by it).
     let offset = pyo3::types::PyDict::new(py);
-    offset.set_item("f32", smoothtri_testkit::SHADOW_OFFSET_F32)?;
-    offset.set_item("f64", smoothtri_testkit::SHADOW_OFFSET_F64)?;
+    offset.set_item("f32", smoothtri_host::SHADOW_OFFSET_F32)?;
+    offset.set_item("f64", smoothtri_host::SHADOW_OFFSET_F64)?;
     m.add("SECONDARY_RAY_OFFSET", offset)?;
     Ok(())
 }

@@ -10,8 +10,8 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
 use smoothtri::{BuildOptions, LineField, OwnedScene};
+use smoothtri_host::RayonExecutor;
 use smoothtri_io::Mesh;
-use smoothtri_testkit::RayonExecutor;
 
 use crate::BuildError;
 use crate::arrays::{self, Bound1, Reals2};

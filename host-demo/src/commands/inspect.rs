@@ -5,8 +5,8 @@ use std::fmt::Write as _;
 
 use smoothtri::mesh::Seam;
 use smoothtri::{LineField, Patch};
+use smoothtri_host::{EDGE_SAMPLES, cracks};
 use smoothtri_io::Mesh;
-use smoothtri_testkit::{EDGE_SAMPLES, cracks};
 
 use super::source::MeshSource;
 use crate::error::Result;

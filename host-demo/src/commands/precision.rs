@@ -8,8 +8,8 @@ use std::sync::Arc;
 use glam::DVec3;
 use smoothtri::Ray;
 use smoothtri_gpu::{Gpu, GpuScene};
+use smoothtri_host::Camera;
 use smoothtri_io::Mesh;
-use smoothtri_testkit::Camera;
 
 use super::source::MeshSource;
 use crate::error::{DemoError, Result};

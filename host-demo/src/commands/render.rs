@@ -9,8 +9,8 @@ use std::sync::Arc;
 
 use smoothtri::LineField;
 use smoothtri_gpu::Gpu;
+use smoothtri_host::Camera;
 use smoothtri_io::Mesh;
-use smoothtri_testkit::Camera;
 
 use crate::animate::{Animation, check_time, frame};
 use crate::error::{DemoError, Result};

@@ -1,8 +1,8 @@
 //! [`MeshSource`]: a command's mesh, from a file (`--mesh PATH`) or a built-in scene
 //! (`--scene NAME`), loaded and turned upright for the camera.
 
+use smoothtri_host::scenes;
 use smoothtri_io::Mesh;
-use smoothtri_testkit::scenes;
 
 use crate::error::{DemoError, Result};
 use crate::up::{Up, builtin_up};

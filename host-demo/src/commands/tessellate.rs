@@ -4,8 +4,8 @@
 
 use std::fmt::Write as _;
 
+use smoothtri_host::Camera;
 use smoothtri_io::Mesh;
-use smoothtri_testkit::Camera;
 
 use super::source::MeshSource;
 use crate::error::{DemoError, Result};
@@ -193,7 +193,7 @@ fn run_in<F: Prec>(a: &TessellateOptions, name: &str, mesh: &Mesh) -> Result<Str
         .source
         .scene
         .as_deref()
-        .and_then(smoothtri_testkit::scenes::exact_distance)
+        .and_then(smoothtri_host::scenes::exact_distance)
     {
         let _ = writeln!(
             s,

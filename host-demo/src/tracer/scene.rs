@@ -9,8 +9,8 @@ use smoothtri::{
     BuildObserver, BuildOptions, BuildReport, BuildStage, Bvh, Float, Hit, LineField, OwnedScene,
     Patch, PatchError,
 };
+use smoothtri_host::RayonExecutor;
 use smoothtri_io::Mesh;
-use smoothtri_testkit::RayonExecutor;
 
 use super::modes::Normals;
 use super::precision::Prec;
