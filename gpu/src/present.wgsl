@@ -1,6 +1,6 @@
-// Presents a frame of the frame pass (kernel.wgsl `frame`: one packed RGBA8 colour per pixel,
-// row-major) in a window: a full-screen triangle whose fragments read the frame's pixel under
-// them, scaled to the window (nearest pixel). The colours are already gamma-encoded; for an
+// Presents a frame of the frame pass (gpu/src/kernel/frame.wgsl `frame`: one packed RGBA8 colour
+// per pixel, row-major) in a window: a full-screen triangle whose fragments read the frame's pixel
+// under them, scaled to the window (nearest pixel). The colours are already gamma-encoded; for an
 // sRGB swap chain they are decoded so the window shows the frame's bytes.
 
 struct Blit {

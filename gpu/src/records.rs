@@ -1,6 +1,6 @@
 //! Record packing: the bytes the shader reads for one BVH node ([`GpuNode`]), one smooth patch
 //! ([`smooth_record`]), one flat triangle ([`flat_record`]) and one patch's seam
-//! ([`seam_record`]), each laid out as `kernel.wgsl` loads it.
+//! ([`seam_record`]), each laid out as the shader (`gpu/src/kernel/records.wgsl`) loads it.
 
 use smoothtri::PatchData;
 use smoothtri::mesh::Seam;
@@ -96,7 +96,7 @@ fn sub(a: [f32; 3], b: [f32; 3]) -> [f32; 3] {
 
 /// The smooth record of one patch: its data and the CPU kernel's per-patch precomputation
 /// (`core/src/surface/lanes/`, `Prepared`), in `f32` with the CPU's arithmetic; layout in
-/// `kernel.wgsl` (`load_patch`).
+/// `gpu/src/kernel/records.wgsl` (`load_patch`).
 pub fn smooth_record(pd: &PatchData<f32>) -> [f32; PATCH_VEC4 * 4] {
     let [p0, p1, p2] = pd.p;
     let [n0, n1, n2] = pd.n;

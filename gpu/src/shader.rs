@@ -2,8 +2,34 @@
 //! budgets (bracketing samples, traversal stack, iteration budgets, record and ray layouts), and
 //! the shading normal a pipeline writes ([`Shading`]).
 
-/// The shader (WGSL), as compiled by [`Gpu::new`](crate::Gpu::new).
-pub const SHADER: &str = include_str!("kernel.wgsl");
+/// The shader (WGSL), as compiled by [`Gpu::new`](crate::Gpu::new): one file per stage in
+/// `gpu/src/kernel/`, in the order of their dependencies as the core's layers are (the
+/// parameters and bindings; the records and boxes; the surface's height; the clip; bracketing
+/// and refinement; the exact normal; the flat baseline; the traversal; the seamless and Phong
+/// shading normals; the batch entry points; the frame entry point).
+pub const SHADER: &str = concat!(
+    include_str!("kernel/params.wgsl"),
+    "\n",
+    include_str!("kernel/records.wgsl"),
+    "\n",
+    include_str!("kernel/surface.wgsl"),
+    "\n",
+    include_str!("kernel/clip.wgsl"),
+    "\n",
+    include_str!("kernel/refine.wgsl"),
+    "\n",
+    include_str!("kernel/normal.wgsl"),
+    "\n",
+    include_str!("kernel/flat.wgsl"),
+    "\n",
+    include_str!("kernel/traversal.wgsl"),
+    "\n",
+    include_str!("kernel/seams.wgsl"),
+    "\n",
+    include_str!("kernel/batch.wgsl"),
+    "\n",
+    include_str!("kernel/frame.wgsl"),
+);
 
 /// The scene update's passes (WGSL, one file per pass in `gpu/src/update/`), compiled after
 /// [`SHADER`] with its patch records and nodes writable ([`GpuUpdate`](crate::GpuUpdate)).

@@ -30,7 +30,7 @@ use smoothtri_testkit::twist::{twist_pose, twisting_torus};
 /// its path, and their sum is the kernel's rounding budget, `smoothtri::internal::ROUNDING_ULPS`
 /// = 16 ulps of `L` (core/src/kernel/budget.rs: a few ulps per stage, the frame's map, the
 /// local point, the sphere-root heights), which the device's kernel is held to as well
-/// (gpu/src/kernel.wgsl ROUNDING_ULPS, gpu/tests/parity.rs). The device's passes are the CPU's
+/// (gpu/src/kernel/params.wgsl ROUNDING_ULPS, gpu/tests/parity.rs). The device's passes are the CPU's
 /// operations in the CPU's order (gpu/src/update/patch.wgsl) in WGSL's `f32`, whose accuracy
 /// (the WGSL spec, "Floating Point Accuracy") is: `+`, `−`, `×` correctly rounded (½ ulp, as
 /// on the CPU); `x / y` within 2.5 ulp; `inverseSqrt` within 2 ulp, and `sqrt` inherited from

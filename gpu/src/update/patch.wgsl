@@ -1,8 +1,8 @@
-// The scene update's passes (gpu/src/update.rs `GpuUpdate`), one file each, compiled after
-// kernel.wgsl (whose height evaluation they sample the surface with) with `patches` and
+// The scene update's passes (gpu/src/update.rs `GpuUpdate`), one file each, compiled after the
+// kernel's shader (gpu/src/kernel/; its height evaluation samples the surface) with `patches` and
 // `nodes` bound read_write: this file (the bindings and constants they share, and the patches),
-// cracks.wgsl (crack closure and the boxes), seams.wgsl (the seam fits), tree.wgsl (the refit)
-// and normals.wgsl (vertex normals of a mesh without any).
+// cracks.wgsl (crack closure and the boxes), seams.wgsl (the seam fits), tree.wgsl (the refit) and
+// normals.wgsl (vertex normals of a mesh without any).
 //
 // The per-patch step: one invocation per triangle slot builds the patch of its triangle from
 // vertex buffers already on the device and writes its record in the layout `load_patch` reads
