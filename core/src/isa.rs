@@ -25,19 +25,118 @@
 //! # Panics
 //! No function panics.
 
+/// The one list of the kernel's ray queries, from which the per-instruction-set entry points
+/// (this module), the run-time dispatch (`smoothtri-isa`'s `Kernels`) and the tests that hold
+/// every instruction set to the same bits (`tests/suite/isa.rs`) are generated. Not part of the
+/// public API: its form may change with any release.
+///
+/// `for_each_query!(callback, extra tokens…)` invokes `callback! { (extra tokens…) entries… }`
+/// with one entry per query of its table, in this form:
+///
+/// ```text
+/// { name: scene_closest_hit, doc: "Scene::closest_hit", same: "the same hit, bit for bit",
+///   generics: [], params: (scene: &Scene<'_, F>, ray: &Ray<F>, …), returns: Option<…>,
+///   lanes: (l) scene.closest_hit_with(ray, [t_min, t_max], n, l),
+///   core: scene.closest_hit(ray, t_min, t_max, n) }
+/// ```
+///
+/// `name` is the entry point's name in every layer; `doc` the core query it equals (`same` says
+/// how); `generics` the query's `const … : usize` parameters besides the precision `F`;
+/// `params` and `returns` its signature; `lanes` its body given the lane calls `l`
+/// (`&impl Heights<F>`) of an instruction set; `core` the core's own query, which the
+/// baseline runs. Adding a query is one entry here (CONTRIBUTING.md, "Adding a query").
+#[doc(hidden)]
+#[macro_export]
+macro_rules! for_each_query {
+    ($callback:ident $(, $($extra:tt)*)?) => {
+        // The table: name, the core query it equals and how, const generics besides `F`, the
+        // receiver, the answer, the body over lane calls `l`, the core's own query. Every query
+        // also takes the parameters in brackets.
+        $crate::for_each_query! { @entries $callback ($($($extra)*)?)
+            [ray: &$crate::Ray<F>, t_min: F, t_max: F, n: usize] []
+            scene_closest_hit "Scene::closest_hit" "the same hit, bit for bit" []
+                (scene: &$crate::Scene<'_, F>) -> Option<$crate::SceneHit<F>>,
+                (l) scene.closest_hit_with(ray, [t_min, t_max], n, l),
+                scene.closest_hit(ray, t_min, t_max, n);
+            scene_any_hit "Scene::any_hit" "the same answer" []
+                (scene: &$crate::Scene<'_, F>) -> bool,
+                (l) scene.any_hit_with(ray, [t_min, t_max], n, l),
+                scene.any_hit(ray, t_min, t_max, n);
+            bvh_closest_hit "Bvh::closest_hit" "the same hit, bit for bit" []
+                (bvh: &$crate::Bvh<'_, F>) -> Option<$crate::Hit<F>>,
+                (l) bvh.closest_hit_with(ray, [t_min, t_max], n, l),
+                bvh.closest_hit(ray, t_min, t_max, n);
+            bvh_any_hit "Bvh::any_hit" "the same answer" []
+                (bvh: &$crate::Bvh<'_, F>) -> bool,
+                (l) bvh.any_hit_with(ray, [t_min, t_max], n, l),
+                bvh.any_hit(ray, t_min, t_max, n);
+            patch_intersect "Patch::intersect" "the same hit, bit for bit" []
+                (patch: &$crate::Patch<F>) -> Option<$crate::Hit<F>>,
+                (l) $crate::kernel::intersect_stats::<F, { $crate::kernel::DEFAULT_SAMPLES }>(
+                    patch, ray, [t_min, t_max], n, l).0,
+                patch.intersect(ray, t_min, t_max, n);
+            patch_intersect_stats "Patch::intersect_stats"
+                "the same hit and statistics, bit for bit" [K]
+                (patch: &$crate::Patch<F>) -> (Option<$crate::Hit<F>>, $crate::KernelStats),
+                (l) $crate::kernel::intersect_stats::<F, K>(patch, ray, [t_min, t_max], n, l),
+                patch.intersect_stats::<K>(ray, t_min, t_max, n);
+        }
+    };
+    // One table row at a time into the entry form, the rows done in the second brackets.
+    (@entries $callback:ident ($($extra:tt)*) [$($common:tt)*] [$($done:tt)*]
+        $name:ident $doc:literal $same:literal [$($k:ident)?]
+        ($recv:ident: $rt:ty) -> $ret:ty, ($l:ident) $lanes:expr, $core:expr; $($rest:tt)*
+    ) => {
+        $crate::for_each_query! { @entries $callback ($($extra)*) [$($common)*] [$($done)* {
+            name: $name, doc: $doc, same: $same, generics: [$($k)?],
+            params: ($recv: $rt, $($common)*), returns: $ret, lanes: ($l) $lanes, core: $core,
+        }] $($rest)* }
+    };
+    (@entries $callback:ident ($($extra:tt)*) [$($common:tt)*] [$($done:tt)*]) => {
+        $callback! { ($($extra)*) $($done)* }
+    };
+}
+
+/// The entry points of one instruction set, from [`for_each_query!`]'s list: each query
+/// compiled with the features `$features`, its lane calls those of `lanes()`.
+#[cfg(any(target_arch = "x86", target_arch = "x86_64"))]
+macro_rules! entry_points {
+    (
+        ($features:literal)
+        $({ name: $name:ident, doc: $doc:literal, same: $same:literal, generics: [$($k:ident)?],
+            params: ($($p:ident: $t:ty),* $(,)?), returns: $ret:ty, lanes: ($l:ident) $lanes:expr,
+            core: $core:expr $(,)? })*
+    ) => {
+        $(
+            #[doc = concat!("[`", $doc, "`](crate::", $doc, ") compiled with [`FEATURES`]: ", $same, ".")]
+            ///
+            /// # Safety
+            /// Safe to call from code compiled with [`FEATURES`]; elsewhere the call is
+            /// `unsafe`, and the CPU must have every feature of [`FEATURES`] (running an
+            /// instruction the CPU lacks is undefined behaviour).
+            /// # Panics
+            /// Never.
+            #[target_feature(enable = $features)]
+            pub fn $name<F: Float $(, const $k: usize)?>($($p: $t),*) -> $ret {
+                let $l = &lanes();
+                $lanes
+            }
+        )*
+    };
+}
+
 #[cfg(any(target_arch = "x86", target_arch = "x86_64"))]
 macro_rules! kernels {
     ($name:ident, $features:literal, $doc:literal) => {
         #[doc = $doc]
         pub mod $name {
+            use crate::kernel::Heights;
             use crate::kernel::heights::{self, Calls};
             use crate::kernel::refine::ESTIMATE_POINTS;
-            use crate::kernel::{Heights, KernelStats, intersect_stats};
             use crate::num::lanes::LANES;
             use crate::num::real::Float;
             use crate::num::vec::V3;
             use crate::surface::lanes::Prepared;
-            use crate::{Bvh, Hit, Patch, Ray, Scene, SceneHit, kernel::DEFAULT_SAMPLES};
 
             /// The target features this module's functions are compiled with, as
             /// `#[target_feature(enable = …)]` names them: the CPU must have every one.
@@ -78,120 +177,7 @@ macro_rules! kernels {
                 )
             }
 
-            /// [`Scene::closest_hit`] compiled with [`FEATURES`]: the same hit, bit for bit.
-            ///
-            /// # Safety
-            /// Safe to call from code compiled with [`FEATURES`]; elsewhere the call is
-            /// `unsafe`, and the CPU must have every feature of [`FEATURES`] (running an
-            /// instruction the CPU lacks is undefined behaviour).
-            /// # Panics
-            /// Never.
-            #[target_feature(enable = $features)]
-            pub fn scene_closest_hit<F: Float>(
-                scene: &Scene<'_, F>,
-                ray: &Ray<F>,
-                t_min: F,
-                t_max: F,
-                n: usize,
-            ) -> Option<SceneHit<F>> {
-                scene.closest_hit_with(ray, [t_min, t_max], n, &lanes())
-            }
-
-            /// [`Scene::any_hit`] compiled with [`FEATURES`]: the same answer.
-            ///
-            /// # Safety
-            /// Safe to call from code compiled with [`FEATURES`]; elsewhere the call is
-            /// `unsafe`, and the CPU must have every feature of [`FEATURES`] (running an
-            /// instruction the CPU lacks is undefined behaviour).
-            /// # Panics
-            /// Never.
-            #[target_feature(enable = $features)]
-            pub fn scene_any_hit<F: Float>(
-                scene: &Scene<'_, F>,
-                ray: &Ray<F>,
-                t_min: F,
-                t_max: F,
-                n: usize,
-            ) -> bool {
-                scene.any_hit_with(ray, [t_min, t_max], n, &lanes())
-            }
-
-            /// [`Bvh::closest_hit`] compiled with [`FEATURES`]: the same hit, bit for bit.
-            ///
-            /// # Safety
-            /// Safe to call from code compiled with [`FEATURES`]; elsewhere the call is
-            /// `unsafe`, and the CPU must have every feature of [`FEATURES`] (running an
-            /// instruction the CPU lacks is undefined behaviour).
-            /// # Panics
-            /// Never.
-            #[target_feature(enable = $features)]
-            pub fn bvh_closest_hit<F: Float>(
-                bvh: &Bvh<'_, F>,
-                ray: &Ray<F>,
-                t_min: F,
-                t_max: F,
-                n: usize,
-            ) -> Option<Hit<F>> {
-                bvh.closest_hit_with(ray, [t_min, t_max], n, &lanes())
-            }
-
-            /// [`Bvh::any_hit`] compiled with [`FEATURES`]: the same answer.
-            ///
-            /// # Safety
-            /// Safe to call from code compiled with [`FEATURES`]; elsewhere the call is
-            /// `unsafe`, and the CPU must have every feature of [`FEATURES`] (running an
-            /// instruction the CPU lacks is undefined behaviour).
-            /// # Panics
-            /// Never.
-            #[target_feature(enable = $features)]
-            pub fn bvh_any_hit<F: Float>(
-                bvh: &Bvh<'_, F>,
-                ray: &Ray<F>,
-                t_min: F,
-                t_max: F,
-                n: usize,
-            ) -> bool {
-                bvh.any_hit_with(ray, [t_min, t_max], n, &lanes())
-            }
-
-            /// [`Patch::intersect`] compiled with [`FEATURES`]: the same hit, bit for bit.
-            ///
-            /// # Safety
-            /// Safe to call from code compiled with [`FEATURES`]; elsewhere the call is
-            /// `unsafe`, and the CPU must have every feature of [`FEATURES`] (running an
-            /// instruction the CPU lacks is undefined behaviour).
-            /// # Panics
-            /// Never.
-            #[target_feature(enable = $features)]
-            pub fn patch_intersect<F: Float>(
-                patch: &Patch<F>,
-                ray: &Ray<F>,
-                t_min: F,
-                t_max: F,
-                n: usize,
-            ) -> Option<Hit<F>> {
-                intersect_stats::<F, DEFAULT_SAMPLES>(patch, ray, [t_min, t_max], n, &lanes()).0
-            }
-
-            /// [`Patch::intersect_stats`] compiled with [`FEATURES`]: the same hit and
-            /// statistics, bit for bit.
-            ///
-            /// # Safety
-            /// Safe to call from code compiled with [`FEATURES`]; elsewhere the call is
-            /// `unsafe`, and the CPU must have every feature of [`FEATURES`] (running an
-            /// instruction the CPU lacks is undefined behaviour).
-            /// # Panics
-            /// Never.
-            #[target_feature(enable = $features)]
-            pub fn patch_intersect_stats<F: Float, const K: usize>(
-                patch: &Patch<F>,
-                ray: &Ray<F>,
-                t_min: F,
-                t_max: F,
-                n: usize,
-            ) -> (Option<Hit<F>>, KernelStats) {
-                intersect_stats::<F, K>(patch, ray, [t_min, t_max], n, &lanes())
-            }
+            crate::for_each_query!(entry_points, $features);
         }
     };
 }

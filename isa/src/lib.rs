@@ -24,7 +24,7 @@ use std::ffi::CStr;
 use std::fmt;
 use std::sync::OnceLock;
 
-use smoothtri::{Bvh, Float, Hit, KernelStats, Patch, Ray, Scene, SceneHit};
+use smoothtri::{Bvh, Float, Hit, Patch, Ray, Scene, SceneHit};
 
 /// The environment variable that overrides the choice of [`kernels`]: `sse2`, `avx2` or
 /// `avx512` ([`Isa::name`]; `neon` or `baseline` for [`Isa::Baseline`] elsewhere).
@@ -190,6 +190,25 @@ macro_rules! dispatch {
     };
 }
 
+/// The dispatched queries of [`Kernels`], one per entry of the core's list of queries
+/// (`smoothtri::for_each_query!`): each returns what the core's query of its `doc` returns.
+macro_rules! methods {
+    (
+        ()
+        $({ name: $name:ident, doc: $doc:literal, same: $same:literal, generics: [$($k:ident)?],
+            params: ($($p:ident: $t:ty),* $(,)?), returns: $ret:ty, lanes: ($l:ident) $lanes:expr,
+            core: $core:expr $(,)? })*
+    ) => {
+        $(
+            #[doc = concat!("[`", $doc, "`](smoothtri::", $doc, ") on this instruction set: ", $same, ".")]
+            #[inline]
+            pub fn $name<F: Float $(, const $k: usize)?>(self, $($p: $t),*) -> $ret {
+                dispatch!(self, $core, $name $(::<$k>)? ($($p),*))
+            }
+        )*
+    };
+}
+
 impl Kernels {
     /// The kernels of `isa`, or [`IsaError::Unsupported`] when the CPU lacks it.
     pub fn new(isa: Isa) -> Result<Kernels, IsaError> {
@@ -221,108 +240,7 @@ impl Kernels {
         self.isa
     }
 
-    /// [`Scene::closest_hit`] on this instruction set: the same hit, bit for bit.
-    #[inline]
-    pub fn scene_closest_hit<F: Float>(
-        self,
-        scene: &Scene<'_, F>,
-        ray: &Ray<F>,
-        t_min: F,
-        t_max: F,
-        n: usize,
-    ) -> Option<SceneHit<F>> {
-        dispatch!(
-            self,
-            scene.closest_hit(ray, t_min, t_max, n),
-            scene_closest_hit(scene, ray, t_min, t_max, n)
-        )
-    }
-
-    /// [`Scene::any_hit`] on this instruction set: the same answer.
-    #[inline]
-    pub fn scene_any_hit<F: Float>(
-        self,
-        scene: &Scene<'_, F>,
-        ray: &Ray<F>,
-        t_min: F,
-        t_max: F,
-        n: usize,
-    ) -> bool {
-        dispatch!(
-            self,
-            scene.any_hit(ray, t_min, t_max, n),
-            scene_any_hit(scene, ray, t_min, t_max, n)
-        )
-    }
-
-    /// [`Bvh::closest_hit`] on this instruction set: the same hit, bit for bit.
-    #[inline]
-    pub fn bvh_closest_hit<F: Float>(
-        self,
-        bvh: &Bvh<'_, F>,
-        ray: &Ray<F>,
-        t_min: F,
-        t_max: F,
-        n: usize,
-    ) -> Option<Hit<F>> {
-        dispatch!(
-            self,
-            bvh.closest_hit(ray, t_min, t_max, n),
-            bvh_closest_hit(bvh, ray, t_min, t_max, n)
-        )
-    }
-
-    /// [`Bvh::any_hit`] on this instruction set: the same answer.
-    #[inline]
-    pub fn bvh_any_hit<F: Float>(
-        self,
-        bvh: &Bvh<'_, F>,
-        ray: &Ray<F>,
-        t_min: F,
-        t_max: F,
-        n: usize,
-    ) -> bool {
-        dispatch!(
-            self,
-            bvh.any_hit(ray, t_min, t_max, n),
-            bvh_any_hit(bvh, ray, t_min, t_max, n)
-        )
-    }
-
-    /// [`Patch::intersect`] on this instruction set: the same hit, bit for bit.
-    #[inline]
-    pub fn patch_intersect<F: Float>(
-        self,
-        patch: &Patch<F>,
-        ray: &Ray<F>,
-        t_min: F,
-        t_max: F,
-        n: usize,
-    ) -> Option<Hit<F>> {
-        dispatch!(
-            self,
-            patch.intersect(ray, t_min, t_max, n),
-            patch_intersect(patch, ray, t_min, t_max, n)
-        )
-    }
-
-    /// [`Patch::intersect_stats`] on this instruction set: the same hit and statistics, bit for
-    /// bit.
-    #[inline]
-    pub fn patch_intersect_stats<F: Float, const K: usize>(
-        self,
-        patch: &Patch<F>,
-        ray: &Ray<F>,
-        t_min: F,
-        t_max: F,
-        n: usize,
-    ) -> (Option<Hit<F>>, KernelStats) {
-        dispatch!(
-            self,
-            patch.intersect_stats::<K>(ray, t_min, t_max, n),
-            patch_intersect_stats::<K>(patch, ray, t_min, t_max, n)
-        )
-    }
+    smoothtri::for_each_query!(methods);
 }
 
 /// The process's kernels, chosen once (at the first call): those [`Kernels::from_env`] gives,

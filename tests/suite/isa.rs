@@ -60,6 +60,41 @@ fn rays<F: P>(m: &Mesh) -> Vec<Ray<F>> {
         .collect()
 }
 
+/// One comparison per entry of the core's list of queries (`smoothtri::for_each_query!`):
+/// `q::NAME(k, args…)` runs the core's query and `k`'s of that name, asserts they are the same
+/// bits and returns the core's answer. A query the tests below never call is a dead-code
+/// warning, an error in CI's lints: each entry of the list is compared.
+mod q {
+    use super::same;
+    use crate::common::P;
+    use smoothtri_isa::Kernels;
+
+    macro_rules! comparisons {
+        (
+            ()
+            $({ name: $name:ident, doc: $doc:literal, same: $same:literal, generics: [$($k:ident)?],
+                params: ($($p:ident: $t:ty),* $(,)?), returns: $ret:ty, lanes: ($l:ident) $lanes:expr,
+                core: $core:expr $(,)? })*
+        ) => {
+            $(
+                #[doc = concat!("`", $doc, "` on `k` against the core's: ", $same, ".")]
+                pub fn $name<F: P $(, const $k: usize)?>(k: Kernels, $($p: $t),*) -> $ret {
+                    let want = $core;
+                    let got = k.$name $(::<F, $k>)? ($($p),*);
+                    assert!(
+                        same(&want, &got),
+                        "{} {}: {want:?} != {got:?}",
+                        k.isa(),
+                        stringify!($name)
+                    );
+                    want
+                }
+            )*
+        };
+    }
+    smoothtri::for_each_query!(comparisons);
+}
+
 /// Every query of `k` on the scene of `m` equals the core's: returns the hits compared.
 fn scene_queries<F: P>(k: Kernels, m: &Mesh, seams: bool) -> usize {
     let owned = owned::<F>(m, seams);
@@ -69,35 +104,13 @@ fn scene_queries<F: P>(k: Kernels, m: &Mesh, seams: bool) -> usize {
     let mut hits = 0;
     for ray in rays::<F>(m) {
         for n in BUDGETS {
-            let (want, got) = (
-                scene.closest_hit(&ray, F::ZERO, inf, n),
-                k.scene_closest_hit(&scene, &ray, F::ZERO, inf, n),
-            );
-            assert!(
-                same(&want, &got),
-                "{} N = {n}: {want:?} != {got:?}",
-                k.isa()
-            );
-            hits += usize::from(want.is_some());
-            let (want, got) = (
-                bvh.closest_hit(&ray, F::ZERO, inf, n),
-                k.bvh_closest_hit(bvh, &ray, F::ZERO, inf, n),
-            );
-            assert!(
-                same(&want, &got),
-                "{} N = {n}: {want:?} != {got:?}",
-                k.isa()
-            );
+            let hit = q::scene_closest_hit(k, &scene, &ray, F::ZERO, inf, n);
+            hits += usize::from(hit.is_some());
+            let hit = q::bvh_closest_hit(k, bvh, &ray, F::ZERO, inf, n);
             // Shadow rays up to half-way to the hit, or to the far side of the scene.
-            let far = want.map_or(F::from_f64(10.0), |h| h.t * F::from_f64(0.5));
-            assert_eq!(
-                scene.any_hit(&ray, F::ZERO, far, n),
-                k.scene_any_hit(&scene, &ray, F::ZERO, far, n),
-            );
-            assert_eq!(
-                bvh.any_hit(&ray, F::ZERO, far, n),
-                k.bvh_any_hit(bvh, &ray, F::ZERO, far, n),
-            );
+            let far = hit.map_or(F::from_f64(10.0), |h| h.t * F::from_f64(0.5));
+            q::scene_any_hit(k, &scene, &ray, F::ZERO, far, n);
+            q::bvh_any_hit(k, bvh, &ray, F::ZERO, far, n);
         }
     }
     hits
@@ -140,27 +153,9 @@ fn patch_tests<F: P>(k: Kernels) {
             let (o, d) = random_ray(&mut rng, 1.5);
             let ray = Ray::new(F::v(o), F::v(d));
             for n in BUDGETS {
-                let want = patch.intersect_stats::<6>(&ray, F::ZERO, inf, n);
-                let got = k.patch_intersect_stats::<F, 6>(&patch, &ray, F::ZERO, inf, n);
-                assert!(
-                    same(&want, &got),
-                    "{} N = {n}: {want:?} != {got:?}",
-                    k.isa()
-                );
-                let want = patch.intersect_stats::<14>(&ray, F::ZERO, inf, n);
-                let got = k.patch_intersect_stats::<F, 14>(&patch, &ray, F::ZERO, inf, n);
-                assert!(
-                    same(&want, &got),
-                    "{} N = {n}: {want:?} != {got:?}",
-                    k.isa()
-                );
-                let want = patch.intersect(&ray, F::ZERO, inf, n);
-                let got = k.patch_intersect(&patch, &ray, F::ZERO, inf, n);
-                assert!(
-                    same(&want, &got),
-                    "{} N = {n}: {want:?} != {got:?}",
-                    k.isa()
-                );
+                q::patch_intersect_stats::<F, 6>(k, &patch, &ray, F::ZERO, inf, n);
+                q::patch_intersect_stats::<F, 14>(k, &patch, &ray, F::ZERO, inf, n);
+                q::patch_intersect(k, &patch, &ray, F::ZERO, inf, n);
             }
         }
     }
