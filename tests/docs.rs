@@ -4,6 +4,9 @@
 //!   crate or its folder); `CHANGELOG.md` is history and exempt;
 //! - every section a file cites by title (`README, "Limits"`, `docs/METHOD.md "The shell"`)
 //!   or by anchor (`docs/MEASUREMENTS.md#…`) is a heading or a bold lead-in of that document;
+//! - every name a comment cites beside a source file (`gpu/src/shader.rs` `PATCH_VEC4`,
+//!   `core/src/surface/field.rs SECTION_NEWTON_STEPS`, in Rust, WGSL, C and Markdown alike) is
+//!   in that file;
 //! - the core's comments carry no "before → after" figures and no dates: those belong in
 //!   `docs/MEASUREMENTS.md` and the CHANGELOG;
 //! - the README is a guide of at most [`README_MAX_LINES`] lines.
@@ -334,6 +337,112 @@ fn every_cited_section_exists() {
     assert!(
         bad.is_empty(),
         "{} missing sections:\n{}",
+        bad.len(),
+        bad.join("\n")
+    );
+}
+
+/// The names cited right after a source file's path in `text` (flattened: a citation may break
+/// across comment lines): a backticked name (`` `GpuScene::closest_hit` ``, `` `traverse` ``)
+/// or a bare constant (`SECTION_NEWTON_STEPS`), each as the identifier to look for (the last
+/// segment of a path or method call) with the cited file.
+fn cited_names(text: &str, tops: &[String]) -> Vec<(String, String)> {
+    let flat = flatten(text);
+    let mut out = Vec::new();
+    for (_, p) in cited_paths(&flat, tops) {
+        if !(p.ends_with(".rs") || p.ends_with(".wgsl")) {
+            continue;
+        }
+        let mut from = 0;
+        while let Some(at) = flat[from..].find(p.as_str()) {
+            let start = from + at + p.len();
+            from = start;
+            let rest = &flat[start..];
+            let after = rest.trim_start_matches(['`', ' ', '(', ',']);
+            let skipped = &rest[..rest.len() - after.len()];
+            let token: String = after
+                .chars()
+                .take_while(|&c| c.is_ascii_alphanumeric() || matches!(c, '_' | ':' | '.' | '/'))
+                .collect();
+            let token = token.trim_end_matches([':', '.']);
+            let last = token.rsplit([':', '.']).next().unwrap_or("");
+            let file_like = token.contains('/')
+                || ["rs", "wgsl", "md", "h", "c", "py", "toml", "json"].contains(&last);
+            let backticked = skipped.ends_with('`');
+            let constant = last.len() > 3
+                && last.contains('_')
+                && last
+                    .chars()
+                    .all(|c| c.is_ascii_uppercase() || c.is_ascii_digit() || c == '_');
+            if !file_like
+                && last.starts_with(|c: char| c.is_ascii_alphabetic() || c == '_')
+                && (backticked || constant && !skipped.contains(','))
+            {
+                out.push((p.clone(), last.to_owned()));
+            }
+        }
+    }
+    out.sort();
+    out.dedup();
+    out
+}
+
+/// Whether `word` occurs in `text` as a whole identifier.
+fn has_word(text: &str, word: &str) -> bool {
+    let ident = |c: char| c.is_ascii_alphanumeric() || c == '_';
+    text.match_indices(word).any(|(i, _)| {
+        !text[..i].chars().next_back().is_some_and(ident)
+            && !text[i + word.len()..].chars().next().is_some_and(ident)
+    })
+}
+
+#[test]
+fn every_cited_name_is_in_its_file() {
+    let tops = top_dirs();
+    let mut bad = Vec::new();
+    let mut cited = 0;
+    for f in files() {
+        let name = rel(&f);
+        if HISTORY.contains(&name.as_str()) || name == "docs/MEASUREMENTS.md" {
+            continue;
+        }
+        let Ok(text) = std::fs::read_to_string(&f) else {
+            continue;
+        };
+        for (p, word) in cited_names(&text, &tops) {
+            let bases = [
+                Some(root()),
+                crate_dir(&f),
+                f.parent().map(Path::to_path_buf),
+            ];
+            let Some(target) = bases
+                .into_iter()
+                .flatten()
+                .map(|b| b.join(&p))
+                .find(|t| t.is_file())
+            else {
+                continue;
+            };
+            cited += 1;
+            let body = std::fs::read_to_string(&target).unwrap_or_default();
+            // A name ending in `_` is a prefix (`scene_tilted_sphere_*`).
+            let found = if word.ends_with('_') {
+                body.contains(&word)
+            } else {
+                has_word(&body, &word)
+            };
+            if !found {
+                bad.push(format!("{name}: `{p}` has no `{word}`"));
+            }
+        }
+    }
+    assert!(
+        cited > 20,
+        "only {cited} cited names found: is the scan broken?"
+    );
+    assert!(
+        bad.is_empty(),
+        "{} names not in the file cited:\n{}",
         bad.len(),
         bad.join("\n")
     );
