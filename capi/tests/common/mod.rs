@@ -88,6 +88,14 @@ fn required(name: &str) -> bool {
     std::env::var_os(name).is_some_and(|v| !v.is_empty())
 }
 
+/// Whether the C programs run natively only: `SMOOTHTRI_C_NATIVE_ONLY` is set. CI sets it when
+/// it runs the C tests again for each narrower instruction set (`SMOOTHTRI_ISA`): those runs
+/// test the kernel's bits, the memory tools' findings do not depend on the instruction set and
+/// were checked in the first run, and valgrind cannot run AVX-512 code anyway.
+fn native_only() -> bool {
+    required("SMOOTHTRI_C_NATIVE_ONLY")
+}
+
 /// Whether valgrind can run here: `true` when it is installed; `false` (the caller then runs
 /// the program natively, saying so) when it is not, unless `SMOOTHTRI_REQUIRE_VALGRIND` is
 /// set, which fails the test instead.
@@ -179,8 +187,12 @@ pub enum Mode {
 
 /// The modes a C or C++ test program runs in: under valgrind (or natively when `memcheck` is
 /// false: valgrind is too slow for it) and with the sanitizers, each when available (see
-/// [`valgrind_available`], [`sanitizers_available`]).
+/// [`valgrind_available`], [`sanitizers_available`]); natively only under
+/// `SMOOTHTRI_C_NATIVE_ONLY` ([`native_only`]).
 pub fn modes(memcheck: bool) -> Vec<Mode> {
+    if native_only() {
+        return vec![Mode::Native];
+    }
     let mut modes = vec![if memcheck && valgrind_available() {
         Mode::Valgrind
     } else {
@@ -255,7 +267,7 @@ pub fn try_run_in(mode: Mode, exe: &Path, args: &[&str]) -> Result<String, Strin
 /// installed; see [`run_in`]) and returns its standard output; fails the test on a non-zero
 /// exit.
 pub fn run(exe: &Path, args: &[&str], memcheck: bool) -> String {
-    let mode = if memcheck && valgrind_available() {
+    let mode = if memcheck && !native_only() && valgrind_available() {
         Mode::Valgrind
     } else {
         Mode::Native
