@@ -5,7 +5,6 @@ use super::*;
 /// `count` copies of `good`, each with one to four random bytes changed (half the time a digit
 /// by a digit, so that JSON numbers change but stay numbers), from a xorshift generator seeded
 /// with `seed`: the corrupted files the never-panic tests feed the loaders.
-#[cfg(test)]
 pub(crate) fn corruptions(good: &[u8], seed: u64, count: usize) -> impl Iterator<Item = Vec<u8>> {
     let mut state = seed;
     let mut next = move || {
