@@ -37,8 +37,7 @@ pub fn load_with(path: &str, options: &LoadOptions) -> Result<LoadedMesh> {
         "obj, .ply, .gltf or .glb",
         &["obj", "ply", "gltf", "glb"],
     )?;
-    let budget = Budget::new(path, options);
-    let bytes = read_file(path, &budget)?;
+    let (bytes, budget) = read_file(path, options)?;
     parse_budgeted(&bytes, path, options, &budget)
 }
 
@@ -69,9 +68,12 @@ pub fn parse(bytes: &[u8], path: &str) -> Result<LoadedMesh> {
 /// would take more than `options.max_bytes`, and for glTF buffers
 /// [`Error::OutsideFolder`] and [`Error::Resource`].
 pub fn parse_with(bytes: &[u8], path: &str, options: &LoadOptions) -> Result<LoadedMesh> {
-    let budget = Budget::new(path, options);
-    budget.charge_typed("the file's size", bytes.len() as u64, 1)?;
-    parse_budgeted(bytes, path, options, &budget)
+    parse_budgeted(
+        bytes,
+        path,
+        options,
+        &Budget::charged(path, options, bytes)?,
+    )
 }
 
 /// [`parse_with`] of a file whose bytes are already charged to `budget`.

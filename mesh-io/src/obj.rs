@@ -6,15 +6,14 @@ use glam::DVec3;
 
 use crate::error::{Error, Result};
 use crate::mesh::{FloatWidth, LoadedMesh, Mesh};
-use crate::options::{BYTES_PER_POSITION, BYTES_PER_TRIANGLE, Budget, LoadOptions, read_file};
-use crate::weld::Builder;
+use crate::options::{BYTES_PER_POSITION, Budget, LoadOptions, read_file};
+use crate::weld::{Builder, charge_face};
 
 /// Reads and parses an OBJ file (invalid UTF-8 is replaced, not rejected) within the default
 /// [`LoadOptions`]; [`Error::Io`] when it cannot be read, [`Error::Budget`] when it is larger
 /// than the budget, else as [`parse`].
 pub fn load(path: &str) -> Result<LoadedMesh> {
-    let budget = Budget::new(path, &LoadOptions::default());
-    let bytes = read_file(path, &budget)?;
+    let (bytes, budget) = read_file(path, &LoadOptions::default())?;
     parse_budgeted(&String::from_utf8_lossy(&bytes), path, &budget)
 }
 
@@ -142,22 +141,13 @@ pub(crate) fn parse_budgeted(text: &str, path: &str, budget: &Budget) -> Result<
                     }
                     corners.push((vi, vn));
                 }
-                if corners.len() < 3 {
-                    return Err(Error::parse(
-                        path,
-                        line,
-                        format!("face with {} vertices (need at least 3)", corners.len()),
-                    ));
-                }
-                budget
-                    .charge(corners.len() as u64 - 2, BYTES_PER_TRIANGLE)
-                    .map_err(|()| {
-                        budget.typed(Error::parse(
-                            path,
-                            line,
-                            format!("'f' ({} triangles)", corners.len() - 2),
-                        ))
-                    })?;
+                charge_face(
+                    budget,
+                    corners.len(),
+                    |m| Error::parse(path, line, m),
+                    |n| format!("face with {n} vertices (need at least 3)"),
+                    |n| format!("'f' ({n} triangles)"),
+                )?;
                 for k in 1..corners.len() - 1 {
                     tris.push([corners[0], corners[k], corners[k + 1]]);
                 }
@@ -201,6 +191,7 @@ pub fn write(mesh: &Mesh, width: FloatWidth, comment: &str) -> Vec<u8> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::options::BYTES_PER_TRIANGLE;
 
     fn ok(text: &str) -> LoadedMesh {
         parse(text, "t.obj").unwrap()

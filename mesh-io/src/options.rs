@@ -99,6 +99,14 @@ impl Budget {
         }
     }
 
+    /// A fresh budget of `options` for the file `path` whose `bytes` are already in memory,
+    /// the bytes charged to it first ([`Error::Budget`] when they alone pass it).
+    pub fn charged(path: &str, options: &LoadOptions, bytes: &[u8]) -> Result<Self> {
+        let budget = Budget::new(path, options);
+        budget.charge_typed("the file's size", bytes.len() as u64, 1)?;
+        Ok(budget)
+    }
+
     /// Charges `count` items of `size` bytes for `field`; past the budget, the error names the
     /// field and what was needed.
     pub fn charge_typed(&self, field: &str, count: u64, size: u64) -> Result<()> {
@@ -145,10 +153,11 @@ impl Budget {
     }
 }
 
-/// The bytes of the file `path`, at most `budget`'s remaining bytes: a file larger than the
-/// budget is [`Error::Budget`] (checked on its size before reading, and the read bounded in
-/// case it grows); a file that is not a regular file is [`Error::Io`].
-pub(crate) fn read_file(path: &str, budget: &Budget) -> Result<Vec<u8>> {
+/// The bytes of the file `path` and the fresh budget of `options` they are charged to: a file
+/// larger than the budget is [`Error::Budget`] (checked on its size before reading, and the
+/// read bounded in case it grows); a file that is not a regular file is [`Error::Io`].
+pub(crate) fn read_file(path: &str, options: &LoadOptions) -> Result<(Vec<u8>, Budget)> {
+    let budget = Budget::new(path, options);
     // The kind first, without opening: opening a FIFO would wait for a writer.
     let meta = std::fs::metadata(path).map_err(|e| Error::io(path, e))?;
     if !meta.is_file() {
@@ -171,7 +180,7 @@ pub(crate) fn read_file(path: &str, budget: &Budget) -> Result<Vec<u8>> {
             std::io::Error::new(std::io::ErrorKind::InvalidData, "the file grew while read"),
         ));
     }
-    Ok(out)
+    Ok((out, budget))
 }
 
 /// Decodes the `%XX` escapes of a URI reference (RFC 3986); `None` for a malformed escape or

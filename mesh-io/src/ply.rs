@@ -2,13 +2,14 @@
 //! ([`write()`]) as binary little-endian by hand.
 
 use glam::DVec3;
+use ply_rs_bw::ply::{Property, PropertyAccess, PropertyAccessResult};
 
 use crate::error::{Error, Result};
 use crate::mesh::{FloatWidth, LoadedMesh, Mesh};
-use crate::options::{BYTES_PER_POSITION, BYTES_PER_TRIANGLE, Budget, LoadOptions, read_file};
-use crate::weld::Builder;
+use crate::options::{BYTES_PER_POSITION, Budget, LoadOptions, read_file};
+use crate::weld::{Builder, charge_face};
 
-fn prop_f64(p: &ply_rs_bw::ply::Property) -> Option<f64> {
+fn prop_f64(p: &Property) -> Option<f64> {
     use ply_rs_bw::ply::Property as P;
     Some(match *p {
         P::Char(v) => v as f64,
@@ -23,7 +24,7 @@ fn prop_f64(p: &ply_rs_bw::ply::Property) -> Option<f64> {
     })
 }
 
-fn prop_list(p: &ply_rs_bw::ply::Property) -> Option<Vec<i64>> {
+fn prop_list(p: &Property) -> Option<Vec<i64>> {
     use ply_rs_bw::ply::Property as P;
     Some(match p {
         P::ListChar(v) => v.iter().map(|&x| x as i64).collect(),
@@ -40,8 +41,7 @@ fn prop_list(p: &ply_rs_bw::ply::Property) -> Option<Vec<i64>> {
 /// elements with a `vertex_indices` (or `vertex_index`) list, fan-triangulated; within the
 /// default [`LoadOptions`] ([`Error::Budget`] when the file is larger than the budget).
 pub fn load(path: &str) -> Result<LoadedMesh> {
-    let budget = Budget::new(path, &LoadOptions::default());
-    let bytes = read_file(path, &budget)?;
+    let (bytes, budget) = read_file(path, &LoadOptions::default())?;
     parse_budgeted(&bytes, path, &budget)
 }
 
@@ -124,29 +124,6 @@ struct Vert {
     n: [Option<f64>; 3],
 }
 
-impl ply_rs_bw::ply::PropertyAccess for Vert {
-    fn new() -> Self {
-        Vert::default()
-    }
-    fn set_property(
-        &mut self,
-        key: &str,
-        p: ply_rs_bw::ply::Property,
-    ) -> ply_rs_bw::ply::PropertyAccessResult {
-        let slot = match key {
-            "x" => &mut self.xyz[0],
-            "y" => &mut self.xyz[1],
-            "z" => &mut self.xyz[2],
-            "nx" => &mut self.n[0],
-            "ny" => &mut self.n[1],
-            "nz" => &mut self.n[2],
-            _ => return ply_rs_bw::ply::PropertyAccessResult::Ignored,
-        };
-        *slot = prop_f64(&p);
-        ply_rs_bw::ply::PropertyAccessResult::Set
-    }
-}
-
 /// A face element as the loader keeps it: its `vertex_indices` and `vertex_index` lists.
 #[derive(Default)]
 struct Face {
@@ -154,29 +131,37 @@ struct Face {
     index: Option<Vec<i64>>,
 }
 
-impl ply_rs_bw::ply::PropertyAccess for Face {
-    fn new() -> Self {
-        Face::default()
-    }
-    fn set_property(
-        &mut self,
-        key: &str,
-        p: ply_rs_bw::ply::Property,
-    ) -> ply_rs_bw::ply::PropertyAccessResult {
-        let slot = match key {
-            "vertex_indices" => &mut self.indices,
-            "vertex_index" => &mut self.index,
-            _ => return ply_rs_bw::ply::PropertyAccessResult::Ignored,
-        };
-        *slot = prop_list(&p);
-        ply_rs_bw::ply::PropertyAccessResult::Set
-    }
+/// Implements the parser's `PropertyAccess` for an element the loader keeps: each listed
+/// property (`"key" => field` or `field[index]`, an `Option`) set to what `$read` makes of it,
+/// every other property ignored.
+macro_rules! kept_properties {
+    ($t:ty, $read:ident, $($key:literal => $field:ident $([$i:literal])?),+ $(,)?) => {
+        impl PropertyAccess for $t {
+            fn new() -> Self {
+                <$t>::default()
+            }
+            fn set_property(&mut self, key: &str, p: Property) -> PropertyAccessResult {
+                let slot = match key {
+                    $($key => &mut self.$field $([$i])?,)+
+                    _ => return PropertyAccessResult::Ignored,
+                };
+                *slot = $read(&p);
+                PropertyAccessResult::Set
+            }
+        }
+    };
 }
+
+kept_properties!(
+    Vert, prop_f64,
+    "x" => xyz[0], "y" => xyz[1], "z" => xyz[2], "nx" => n[0], "ny" => n[1], "nz" => n[2],
+);
+kept_properties!(Face, prop_list, "vertex_indices" => indices, "vertex_index" => index);
 
 /// An element the loader does not use: read past, nothing kept.
 struct Skip;
 
-impl ply_rs_bw::ply::PropertyAccess for Skip {
+impl PropertyAccess for Skip {
     fn new() -> Self {
         Skip
     }
@@ -324,20 +309,13 @@ pub(crate) fn parse_budgeted(bytes: &[u8], path: &str, budget: &Budget) -> Resul
             f.indices.as_ref().or(f.index.as_ref()).ok_or_else(|| {
                 Error::format(path, format!("face {fi} has no vertex_indices list"))
             })?;
-        if list.len() < 3 {
-            return Err(Error::format(
-                path,
-                format!("face {fi} has {} vertices (need at least 3)", list.len()),
-            ));
-        }
-        budget
-            .charge(list.len() as u64 - 2, BYTES_PER_TRIANGLE)
-            .map_err(|()| {
-                budget.typed(Error::format(
-                    path,
-                    format!("face {fi} ({} triangles)", list.len() - 2),
-                ))
-            })?;
+        charge_face(
+            budget,
+            list.len(),
+            |m| Error::format(path, m),
+            |n| format!("face {fi} has {n} vertices (need at least 3)"),
+            |n| format!("face {fi} ({n} triangles)"),
+        )?;
         let mut corners = Vec::with_capacity(list.len());
         for &i in list {
             if i < 0 || i as usize >= positions.len() {

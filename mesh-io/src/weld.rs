@@ -1,11 +1,14 @@
-//! From the corners a loader reads to a [`Mesh`]: one vertex per distinct (position, normal)
+//! From the corners a loader reads to a [`Mesh`]: each face checked and its triangles charged
+//! before it is fan-triangulated ([`charge_face`]), one vertex per distinct (position, normal)
 //! pair, and angle-weighted normals ([`angle_weighted_normals`]) where the file has none.
 
 use std::collections::HashMap;
 
 use glam::DVec3;
 
+use crate::error::{Error, Result};
 use crate::mesh::{LoadedMesh, Mesh};
+use crate::options::{BYTES_PER_TRIANGLE, Budget};
 
 /// One triangle corner as a loader reads it: an index into [`Builder::positions`] and the
 /// file's normal for that corner, if it has one.
@@ -70,6 +73,25 @@ impl Builder {
             warnings,
         }
     }
+}
+
+/// Checks a face of `corners` corners before it is fan-triangulated (an OBJ `f` line, a PLY
+/// face) and charges its `corners − 2` triangles to `budget` ([`BYTES_PER_TRIANGLE`] each).
+/// Fewer than three corners is the error `error` makes of `few(corners)`; past the budget,
+/// the budget's error ([`Budget::typed`]) of `error(over(corners − 2))`.
+pub(crate) fn charge_face(
+    budget: &Budget,
+    corners: usize,
+    error: impl FnOnce(String) -> Error,
+    few: impl FnOnce(usize) -> String,
+    over: impl FnOnce(usize) -> String,
+) -> Result<()> {
+    if corners < 3 {
+        return Err(error(few(corners)));
+    }
+    budget
+        .charge(corners as u64 - 2, BYTES_PER_TRIANGLE)
+        .map_err(|()| budget.typed(error(over(corners - 2))))
 }
 
 /// Angle-weighted vertex normals (Thürmer & Wüthrich): each triangle adds its unit face normal

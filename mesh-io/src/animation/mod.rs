@@ -17,21 +17,25 @@
 //!   the first and after the last key.
 //!
 //! Normals: a primitive with `NORMAL` has its normals morphed, then carried by the inverse
-//! transpose of the vertex's matrix (the cofactor matrix where that matrix is singular, for
-//! example a zero scale) and renormalised. A primitive without normals gets angle-weighted
-//! normals ([`angle_weighted_normals_into`]) of the posed positions in every frame, as the
-//! static loader computes them from the file's.
+//! transpose of the vertex's matrix (the cofactor matrix where that matrix is singular, for example
+//! a zero scale) and renormalised. A primitive without normals gets angle-weighted normals
+//! ([`angle_weighted_normals_into`](crate::angle_weighted_normals_into)) of the posed positions in
+//! every frame, as the static loader computes them from the file's.
 //!
 //! The rest pose ([`AnimatedMesh::pose_rest`]: no animation, default weights) equals the static
 //! mesh bit for bit for a mesh without skin whose default morph weights are zero; a skinned
 //! mesh's static load is its bind-pose geometry through its node (the loader does not skin), so
 //! there the two differ by the joints' rest transforms times their inverse bind matrices.
 //!
-//! Malformed animation data is an [`Error`](crate::Error) naming the file and the animation, channel,
-//! sampler, skin, node, mesh, primitive and accessor: joints out of range, weights that do not
-//! sum to one (within [`WEIGHT_SUM_TOLERANCE`]), non-finite keys, matrices or deltas, sampler
+//! Malformed animation data is an [`Error`](crate::Error) naming the file and the animation,
+//! channel, sampler, skin, node, mesh, primitive and accessor: joints out of range, weights that do
+//! not sum to one (within [`WEIGHT_SUM_TOLERANCE`]), non-finite keys, matrices or deltas, sampler
 //! input and output counts that do not match, key times that do not increase, accessors of the
 //! wrong type or outside their buffers, and the specification's other rules on targets.
+//!
+//! The types and entry points are here; [`read`] builds an [`AnimatedMesh`] from a document
+//! with the readers of its parts ([`rest`], [`skin`], [`morph`], [`channels`], every accessor
+//! through [`numbers`]), [`keys`] interpolates a sampler, and [`pose`] writes a pose.
 //!
 //! ```no_run
 //! use glam::DVec3;
@@ -48,21 +52,29 @@
 //! # Ok::<(), smoothtri_io::Error>(())
 //! ```
 
+mod channels;
 mod keys;
+mod morph;
+mod numbers;
+mod pose;
 mod read;
+mod rest;
+mod skin;
 
 use std::fmt;
 use std::ops::Range;
 
-use glam::{DMat3, DMat4, DQuat, DVec3};
+use glam::{DMat3, DMat4, DVec3};
 
 use crate::error::Result;
 use crate::gltf::Trs;
 use crate::mesh::Mesh;
 use crate::options::{Budget, LoadOptions, read_file};
-use crate::weld::angle_weighted_normals_into;
 
 use keys::Keys;
+
+/// What the readers of animation data return: a message (without the file's name) on error.
+type Msg<T> = std::result::Result<T, String>;
 
 /// How far the skin weights of a vertex may sum from one, `|Σ w − 1|`, before the file is
 /// rejected; within it they are divided by their sum, so that every blended matrix is an
@@ -274,7 +286,8 @@ impl std::error::Error for PoseError {}
 /// Reads a `.gltf` or `.glb` file with its animations ([`parse_animated`]), within the default
 /// [`LoadOptions`] ([`load_animated_with`]).
 ///
-/// Returns [`Error::Io`](crate::Error::Io) when the file cannot be read, and the errors of [`parse_animated`].
+/// Returns [`Error::Io`](crate::Error::Io) when the file cannot be read, and the errors of
+/// [`parse_animated`].
 pub fn load_animated(path: &str) -> Result<AnimatedMesh> {
     load_animated_with(path, &LoadOptions::default())
 }
@@ -286,8 +299,7 @@ pub fn load_animated(path: &str) -> Result<AnimatedMesh> {
 /// [`Error::Budget`](crate::Error::Budget) when it is larger than the budget, and the errors of
 /// [`parse_animated_with`].
 pub fn load_animated_with(path: &str, options: &LoadOptions) -> Result<AnimatedMesh> {
-    let budget = Budget::new(path, options);
-    let bytes = read_file(path, &budget)?;
+    let (bytes, budget) = read_file(path, options)?;
     parse_animated_budgeted(&bytes, path, options, &budget)
 }
 
@@ -295,8 +307,9 @@ pub fn load_animated_with(path: &str, options: &LoadOptions) -> Result<AnimatedM
 /// morph targets and animations. A file without animations gives an [`AnimatedMesh`] without
 /// clips, which poses its rest pose only.
 ///
-/// Returns the static loader's errors, [`Error::NoTriangles`](crate::Error::NoTriangles), or an [`Error::Format`](crate::Error::Format) naming
-/// the malformed animation data (see the module documentation).
+/// Returns the static loader's errors, [`Error::NoTriangles`](crate::Error::NoTriangles), or an
+/// [`Error::Format`](crate::Error::Format) naming the malformed animation data (see the module
+/// documentation).
 pub fn parse_animated(bytes: &[u8], path: &str) -> Result<AnimatedMesh> {
     parse_animated_with(bytes, path, &LoadOptions::default())
 }
@@ -304,18 +317,22 @@ pub fn parse_animated(bytes: &[u8], path: &str) -> Result<AnimatedMesh> {
 /// [`parse_animated`] within `options` (see [`LoadOptions`]; `bytes` count against the
 /// budget).
 ///
-/// Returns the errors of [`parse_animated`], [`Error::Budget`](crate::Error::Budget) when the file and what it
-/// decodes to (the mesh, skins, morph targets, animation keys) would take more than
-/// `options.max_bytes`, and for external buffers [`Error::OutsideFolder`](crate::Error::OutsideFolder) and
+/// Returns the errors of [`parse_animated`], [`Error::Budget`](crate::Error::Budget) when the file
+/// and what it decodes to (the mesh, skins, morph targets, animation keys) would take more than
+/// `options.max_bytes`, and for external buffers
+/// [`Error::OutsideFolder`](crate::Error::OutsideFolder) and
 /// [`Error::Resource`](crate::Error::Resource).
 pub fn parse_animated_with(
     bytes: &[u8],
     path: &str,
     options: &LoadOptions,
 ) -> Result<AnimatedMesh> {
-    let budget = Budget::new(path, options);
-    budget.charge_typed("the file's size", bytes.len() as u64, 1)?;
-    parse_animated_budgeted(bytes, path, options, &budget)
+    parse_animated_budgeted(
+        bytes,
+        path,
+        options,
+        &Budget::charged(path, options, bytes)?,
+    )
 }
 
 /// [`parse_animated_with`] of bytes already charged to `budget`.
@@ -428,184 +445,9 @@ impl AnimatedMesh {
         }
         Ok(m)
     }
-
-    fn pose_at(
-        &mut self,
-        at: Option<(usize, f64)>,
-        positions: &mut [DVec3],
-        normals: &mut [DVec3],
-    ) -> Result<(), PoseError> {
-        let n = self.mesh.positions.len();
-        if positions.len() != n || normals.len() != n {
-            return Err(PoseError::Buffers {
-                vertices: n,
-                positions: positions.len(),
-                normals: normals.len(),
-            });
-        }
-        let rig = &self.rig;
-        let s = &mut self.scratch;
-        s.animated.fill(false);
-        s.weights.copy_from_slice(&rig.rest_weights);
-        if let Some((clip, time)) = at {
-            apply_channels(rig, &self.clips[clip], time, s);
-        }
-        pose_nodes(rig, s);
-        pose_parts(rig, s);
-        for (k, &(part, i)) in rig.vertex.iter().enumerate() {
-            let (p, nrm) = pose_vertex(rig, s, part as usize, i as usize);
-            positions[k] = p;
-            normals[k] = nrm;
-        }
-        if let Some(k) = positions.iter().position(|p| !p.is_finite()) {
-            return Err(PoseError::NonFinite { vertex: k });
-        }
-        if rig.computed {
-            angle_weighted_normals_into(
-                positions,
-                self.mesh.triangles.iter().map(|t| t.map(|i| i as usize)),
-                &mut s.computed,
-            );
-            for (k, &(part, _)) in rig.vertex.iter().enumerate() {
-                if rig.prims[rig.parts[part as usize].prim].normals.is_none() {
-                    normals[k] = s.computed[k];
-                }
-            }
-        }
-        Ok(())
-    }
 }
 
-/// Samples every channel of `clip` at `time` into the nodes' properties and weights.
-fn apply_channels(rig: &Rig, clip: &Clip, time: f64, s: &mut Scratch) {
-    for ch in &clip.channels {
-        let v = &mut s.value[..ch.keys.width];
-        ch.keys.sample(time, v);
-        let node = ch.node;
-        if ch.path == Path::Weights {
-            if let Some(r) = &rig.nodes[node].weights {
-                s.weights[r.clone()].copy_from_slice(v);
-            }
-            continue;
-        }
-        if !s.animated[node] {
-            s.animated[node] = true;
-            if let Some(trs) = rig.nodes[node].trs {
-                s.trs[node] = trs;
-            }
-        }
-        let t = &mut s.trs[node];
-        match ch.path {
-            Path::Translation => t.0 = DVec3::new(v[0], v[1], v[2]),
-            Path::Rotation => t.1 = DQuat::from_xyzw(v[0], v[1], v[2], v[3]),
-            Path::Scale => t.2 = DVec3::new(v[0], v[1], v[2]),
-            Path::Weights => {}
-        }
-    }
-}
-
-/// The world matrix of every node of [`Rig::order`] and every joint matrix.
-fn pose_nodes(rig: &Rig, s: &mut Scratch) {
-    for &(node, parent) in &rig.order {
-        let local = if s.animated[node] {
-            let (t, r, sc) = s.trs[node];
-            DMat4::from_scale_rotation_translation(sc, r, t)
-        } else {
-            rig.nodes[node].local
-        };
-        let up = parent.map_or(DMat4::IDENTITY, |p| s.world[p]);
-        s.world[node] = up * local;
-    }
-    for skin in &rig.skins {
-        for (j, (&node, ibm)) in skin.joints.iter().zip(&skin.inverse_bind).enumerate() {
-            s.joints[skin.first + j] = s.world[node] * *ibm;
-        }
-    }
-}
-
-/// How each part is posed this frame (see [`PartPose`]).
-fn pose_parts(rig: &Rig, s: &mut Scratch) {
-    for (k, part) in rig.parts.iter().enumerate() {
-        s.parts[k] = if part.skin.is_some() {
-            PartPose::Skinned
-        } else {
-            let m = part.node.map_or(DMat4::IDENTITY, |n| s.world[n]);
-            PartPose::Rigid {
-                m,
-                normal: normal_matrix(DMat3::from_mat4(m)),
-            }
-        };
-    }
-}
-
-/// The matrix that carries normals under `m`: its inverse transpose, as the static loader
-/// uses; where `m` is singular (or its inverse overflows), [`signed_cofactor`].
-fn normal_matrix(m: DMat3) -> DMat3 {
-    let det = m.determinant();
-    let inv = m.inverse().transpose();
-    if det != 0.0 && det.is_finite() && inv.is_finite() {
-        inv
-    } else {
-        signed_cofactor(m)
-    }
-}
-
-/// The cofactor matrix of `m` times the sign of its determinant: `|det m| · m⁻ᵀ` where `m` is
-/// invertible, so it turns normals as the inverse transpose does (up to their length), without
-/// a division, and stays finite where `m` is singular. Its columns are the cross products of
-/// `m`'s columns.
-fn signed_cofactor(m: DMat3) -> DMat3 {
-    let c = DMat3::from_cols(
-        m.y_axis.cross(m.z_axis),
-        m.z_axis.cross(m.x_axis),
-        m.x_axis.cross(m.y_axis),
-    );
-    if m.x_axis.dot(c.x_axis) < 0.0 { -c } else { c }
-}
-
-/// The posed position and normal of vertex `i` of part `part` (the normal zero where the
-/// primitive has none: computed afterwards).
-fn pose_vertex(rig: &Rig, s: &Scratch, part: usize, i: usize) -> (DVec3, DVec3) {
-    let pt = &rig.parts[part];
-    let prim = &rig.prims[pt.prim];
-    let mut p = prim.positions[i];
-    let mut n = prim.normals.as_ref().map_or(DVec3::ZERO, |ns| ns[i]);
-    if let Some(r) = &pt.weights {
-        for (target, &w) in prim.targets.iter().zip(&s.weights[r.clone()]) {
-            if w == 0.0 {
-                continue;
-            }
-            if let Some(d) = &target.positions {
-                p += d[i] * w;
-            }
-            if let (Some(d), Some(_)) = (&target.normals, &prim.normals) {
-                n += d[i] * w;
-            }
-        }
-    }
-    match s.parts[part] {
-        PartPose::Rigid { m, normal } => (m.transform_point3(p), (normal * n).normalize_or_zero()),
-        PartPose::Skinned => {
-            let (Some(inf), Some(skin)) = (&prim.influences, pt.skin.map(|k| &rig.skins[k])) else {
-                return (p, n.normalize_or_zero());
-            };
-            let at = i * inf.per_vertex;
-            let mut m = DMat4::ZERO;
-            for (&j, &w) in inf.joints[at..at + inf.per_vertex]
-                .iter()
-                .zip(&inf.weights[at..at + inf.per_vertex])
-            {
-                if w != 0.0 {
-                    m += s.joints[skin.first + j as usize] * w;
-                }
-            }
-            (
-                m.transform_point3(p),
-                (signed_cofactor(DMat3::from_mat4(m)) * n).normalize_or_zero(),
-            )
-        }
-    }
-}
-
+#[cfg(test)]
+mod error_tests;
 #[cfg(test)]
 mod tests;

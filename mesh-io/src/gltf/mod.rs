@@ -34,8 +34,7 @@ use crate::weld::{Builder, Corner};
 /// [`LoadOptions`] ([`crate::load_with`] takes others).
 pub fn load(path: &str) -> Result<LoadedMesh> {
     let options = LoadOptions::default();
-    let budget = Budget::new(path, &options);
-    let bytes = read_file(path, &budget)?;
+    let (bytes, budget) = read_file(path, &options)?;
     parse_budgeted(&bytes, path, &options, &budget)
 }
 

@@ -101,6 +101,19 @@ fn triangle(d: &mut Doc) -> (usize, usize) {
     )
 }
 
+/// The `meshes` member of one mesh with one primitive of POSITION `p` and NORMAL `n`.
+fn one_mesh(p: usize, n: usize) -> String {
+    format!(r#""meshes":[{{"primitives":[{{"attributes":{{"POSITION":{p},"NORMAL":{n}}}}}]}}]"#)
+}
+
+/// [`triangle`] as mesh 0 ([`one_mesh`]), drawn by `nodes` (the scenes and nodes: JSON
+/// members without braces).
+fn load_triangle(nodes: &str) -> LoadedMesh {
+    let mut d = Doc::default();
+    let (p, n) = triangle(&mut d);
+    load(&d, &format!("{nodes},{}", one_mesh(p, n)))
+}
+
 fn load(d: &Doc, rest: &str) -> LoadedMesh {
     parse(&d.glb(rest), "s.glb").unwrap()
 }
@@ -117,15 +130,9 @@ fn face(m: &Mesh, t: usize) -> DVec3 {
 
 #[test]
 fn instanced_meshes_are_drawn_once_per_node() {
-    let mut d = Doc::default();
-    let (p, n) = triangle(&mut d);
-    let m = load(
-        &d,
-        &format!(
-            r#""scene":0,"scenes":[{{"nodes":[0,1]}}],
-"nodes":[{{"mesh":0,"translation":[5,0,0]}},{{"mesh":0,"translation":[0,5,0]}}],
-"meshes":[{{"primitives":[{{"attributes":{{"POSITION":{p},"NORMAL":{n}}}}}]}}]"#
-        ),
+    let m = load_triangle(
+        r#""scene":0,"scenes":[{"nodes":[0,1]}],
+"nodes":[{"mesh":0,"translation":[5,0,0]},{"mesh":0,"translation":[0,5,0]}]"#,
     );
     assert!(m.warnings.is_empty(), "{:?}", m.warnings);
     assert_eq!(m.mesh.triangles.len(), 2);
@@ -137,21 +144,15 @@ fn instanced_meshes_are_drawn_once_per_node() {
 
 #[test]
 fn transforms_compose_down_the_hierarchy() {
-    let mut d = Doc::default();
-    let (p, n) = triangle(&mut d);
     // Parent: translate (1, 0, 0) after a 90° turn about z; child: scale 2; grandchild: a
     // matrix translating (0, 0, 3) (column-major). Vertex (1, 0, 0) of the grandchild:
     // (1, 0, 3) → scale (2, 0, 6) → turn (0, 2, 6) → translate (1, 2, 6).
     let h = std::f32::consts::FRAC_1_SQRT_2;
-    let m = load(
-        &d,
-        &format!(
-            r#""scene":0,"scenes":[{{"nodes":[0]}}],
+    let m = load_triangle(&format!(
+        r#""scene":0,"scenes":[{{"nodes":[0]}}],
 "nodes":[{{"translation":[1,0,0],"rotation":[0,0,{h},{h}],"children":[1]}},{{"scale":[2,2,2],"children":[2]}},
-{{"mesh":0,"matrix":[1,0,0,0, 0,1,0,0, 0,0,1,0, 0,0,3,1]}}],
-"meshes":[{{"primitives":[{{"attributes":{{"POSITION":{p},"NORMAL":{n}}}}}]}}]"#
-        ),
-    );
+{{"mesh":0,"matrix":[1,0,0,0, 0,1,0,0, 0,0,1,0, 0,0,3,1]}}]"#
+    ));
     let (v, nn) = m.mesh.triangle(0);
     assert!(close(v[0], DVec3::new(1.0, 0.0, 6.0)), "{v:?}");
     assert!(close(v[1], DVec3::new(1.0, 2.0, 6.0)), "{v:?}");
@@ -168,8 +169,8 @@ fn non_uniform_scale_transforms_normals_by_the_inverse_transpose() {
     let m = load(
         &d,
         &format!(
-            r#""scene":0,"scenes":[{{"nodes":[0]}}],"nodes":[{{"mesh":0,"scale":[1,2,4]}}],
-"meshes":[{{"primitives":[{{"attributes":{{"POSITION":{p},"NORMAL":{n}}}}}]}}]"#
+            r#""scene":0,"scenes":[{{"nodes":[0]}}],"nodes":[{{"mesh":0,"scale":[1,2,4]}}],{}"#,
+            one_mesh(p, n)
         ),
     );
     let (v, nn) = m.mesh.triangle(0);
@@ -188,14 +189,8 @@ fn non_uniform_scale_transforms_normals_by_the_inverse_transpose() {
 
 #[test]
 fn mirroring_transforms_keep_triangles_counter_clockwise() {
-    let mut d = Doc::default();
-    let (p, n) = triangle(&mut d);
-    let m = load(
-        &d,
-        &format!(
-            r#""scene":0,"scenes":[{{"nodes":[0]}}],"nodes":[{{"mesh":0,"scale":[-1,1,1]}}],
-"meshes":[{{"primitives":[{{"attributes":{{"POSITION":{p},"NORMAL":{n}}}}}]}}]"#
-        ),
+    let m = load_triangle(
+        r#""scene":0,"scenes":[{"nodes":[0]}],"nodes":[{"mesh":0,"scale":[-1,1,1]}]"#,
     );
     let (_, nn) = m.mesh.triangle(0);
     assert!(close(nn[0], DVec3::Z), "{nn:?}");
@@ -217,8 +212,8 @@ fn sparse_accessors_are_applied() {
     );
     let n = d.sparse_vec3(3, None, &[0, 1, 2], &[[0.0, 0.0, 1.0]; 3], "");
     let rest = format!(
-        r#""scene":0,"scenes":[{{"nodes":[0]}}],"nodes":[{{"mesh":0}}],
-"meshes":[{{"primitives":[{{"attributes":{{"POSITION":{p},"NORMAL":{n}}}}}]}}]"#
+        r#""scene":0,"scenes":[{{"nodes":[0]}}],"nodes":[{{"mesh":0}}],{}"#,
+        one_mesh(p, n)
     );
     let m = load(&d, &rest);
     let (v, nn) = m.mesh.triangle(0);
@@ -320,9 +315,7 @@ fn skipped_modes_name_the_mesh_and_its_nodes() {
 fn the_default_scene_is_drawn_and_its_absence_handled() {
     let mut d = Doc::default();
     let (p, n) = triangle(&mut d);
-    let meshes = format!(
-        r#""meshes":[{{"primitives":[{{"attributes":{{"POSITION":{p},"NORMAL":{n}}}}}]}}]"#
-    );
+    let meshes = one_mesh(p, n);
     let nodes = r#""nodes":[{"mesh":0,"children":[1]},{"mesh":0,"translation":[0,0,2]},{"mesh":0,"translation":[0,0,9]}]"#;
     // Scene 1 is the default: node 2 only.
     let m = load(
