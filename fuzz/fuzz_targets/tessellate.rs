@@ -1,6 +1,6 @@
 //! Fuzz target `tessellate`: a small arbitrary mesh (up to 8 vertices with normals, up to 8
-//! triangles, raw or bounded coordinates) through `smoothtri_demo::tessellate` at a uniform
-//! level or a `max_error` target, in `f32` or `f64`, then through each writer (OBJ, binary
+//! triangles, raw or bounded coordinates) built as the demo builds it and through
+//! `smoothtri_host::tessellate` at a uniform level or a `max_error` target, in `f32` or `f64`, then through each writer (OBJ, binary
 //! PLY, GLB) and back through the parser of `smoothtri-io` for that format, in memory.
 //!
 //! Asserts: tessellation returns a result or a typed error; an accepted result has finite
@@ -14,9 +14,9 @@
 use arbitrary::Arbitrary;
 use glam::DVec3;
 use libfuzzer_sys::fuzz_target;
-use smoothtri_demo::Precision;
-use smoothtri_demo::tessellate::{Level, tessellate};
-use smoothtri_io::Mesh;
+use smoothtri::{Float, LineField};
+use smoothtri_host::tessellate::{Level, tessellate};
+use smoothtri_io::{FloatWidth, Mesh};
 
 #[derive(Arbitrary, Debug)]
 struct Input {
@@ -68,8 +68,12 @@ fn mesh_of(inp: &Input) -> Option<Mesh> {
     })
 }
 
-fn check<F: smoothtri_demo::Prec>(m: &Mesh, level: Level, prec: Precision) {
-    let Ok((t, scene)) = tessellate::<F>(m, level) else {
+fn check<F: Float>(m: &Mesh, level: Level, width: FloatWidth) {
+    let Ok(owned) = smoothtri_host::build_scene::<F>(m, LineField::Face, false) else {
+        return;
+    };
+    let scene = owned.scene();
+    let Ok(t) = tessellate(m, &scene, level) else {
         return;
     };
     let out = &t.mesh;
@@ -96,11 +100,11 @@ fn check<F: smoothtri_demo::Prec>(m: &Mesh, level: Level, prec: Precision) {
     }
     for ext in ["obj", "ply", "glb"] {
         let path = format!("/nonexistent-smoothtri-fuzz/out.{ext}");
-        let bytes = smoothtri_io::encode(out, &path, prec.into(), "fuzz").expect("encode");
+        let bytes = smoothtri_io::encode(out, &path, width, "fuzz").expect("encode");
         let back = smoothtri_io::parse(&bytes, &path).expect("written file parses back");
         assert_eq!(back.mesh.triangles.len(), out.triangles.len(), "{ext}");
         // f64 files read back exactly; f32 ones (GLB always) to the same f32 values.
-        let exact = prec == Precision::F64 && ext != "glb";
+        let exact = width == FloatWidth::F64 && ext != "glb";
         for (k, tri) in out.triangles.iter().enumerate() {
             let (p, _) = back.mesh.triangle(k);
             for c in 0..3 {
@@ -126,8 +130,8 @@ fuzz_target!(|inp: Input| {
         Level::Uniform(1 + inp.level as u32 % 6)
     };
     if inp.mode & 1 != 0 {
-        check::<f32>(&m, level, Precision::F32);
+        check::<f32>(&m, level, FloatWidth::F32);
     } else {
-        check::<f64>(&m, level, Precision::F64);
+        check::<f64>(&m, level, FloatWidth::F64);
     }
 });

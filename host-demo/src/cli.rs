@@ -15,9 +15,9 @@ use crate::commands::trace::TraceOptions;
 use crate::commands::view::ViewOptions;
 use crate::commands::{self, MeshSource};
 use crate::error::{DemoError, Result};
-use crate::tessellate::Level;
 use crate::tracer::{Field, Mode, Normals, Precision};
 use crate::up::Up;
+use smoothtri_host::tessellate::Level;
 
 /// Ray tracing of smooth surfaces from triangle meshes with vertex normals.
 #[derive(Parser, Debug)]

@@ -6,7 +6,6 @@
 //! - [`tracer`]: patches and BVH of a mesh in a [`Precision`] ([`Scene`]), and the smooth, flat
 //!   and Phong ray queries; [`renderer`]: shading an image on the CPU; [`gpu`]: the same on the
 //!   GPU (`smoothtri-gpu`), for every command with `--gpu`.
-//! - [`tessellate`]: the smooth surface sampled into welded triangles (for other renderers).
 //! - [`animate`]: a glTF file's animation or the twisting torus posed frame by frame
 //!   (`render --time`, `view --animate`).
 //! - [`commands`]: one module per subcommand, each with a plain options struct and `run`;
@@ -25,7 +24,6 @@ pub mod image;
 pub mod output;
 pub mod peers;
 pub mod renderer;
-pub mod tessellate;
 pub mod tracer;
 pub mod up;
 

@@ -10,7 +10,9 @@
 //!   and the exact surfaces they sample; [`twist`]: the twisting torus, a deforming mesh of any
 //!   size with exact normals at any time (the animated scene and the update benchmarks);
 //! - [`cracks()`]: the cracks and normal jumps between neighbouring patches, edge by edge
-//!   (`smoothtri inspect`).
+//!   (`smoothtri inspect`);
+//! - [`tessellate`]: the smooth surface sampled into welded, watertight triangles for other
+//!   renderers (`smoothtri tessellate`), with its measured distance to the surface.
 //!
 //! It sits above the core and the loaders ([`smoothtri_io`], whose [`Mesh`] it re-exports) and
 //! below the demo, the Python package and the tests' kit (`smoothtri-testkit`, which no shipped
@@ -24,6 +26,7 @@ mod executor;
 mod grid;
 pub mod scenes;
 pub mod teapot_data;
+pub mod tessellate;
 pub mod twist;
 
 pub use camera::{Camera, FOV_DEG, SHADOW_OFFSET_F32, SHADOW_OFFSET_F64};

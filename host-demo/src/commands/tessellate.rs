@@ -1,5 +1,5 @@
 //! `smoothtri tessellate`: the smooth surface sampled into welded triangles and written as OBJ,
-//! PLY or GLB for other renderers ([`crate::tessellate`] has the rules), with the measured
+//! PLY or GLB for other renderers ([`smoothtri_host::tessellate`] has the rules), with the measured
 //! distance to the smooth surface and, optionally, a picture of both.
 
 use std::fmt::Write as _;
@@ -10,11 +10,12 @@ use smoothtri_io::Mesh;
 use super::source::MeshSource;
 use crate::error::{DemoError, Result};
 use crate::output::Format;
-use crate::tessellate::{
-    Level, Tessellation, max_distance, max_distance_to, surface_distance_to, tessellate,
-};
-use crate::tracer::{Mode, Prec, Precision};
+use crate::tracer::{Mode, Prec, Precision, Scene};
 use crate::up::Up;
+use smoothtri_host::tessellate::{
+    Level, TessellateError, Tessellation, max_distance, max_distance_to, surface_distance_to,
+    tessellate,
+};
 
 /// Options of `tessellate`.
 #[derive(Clone, Debug)]
@@ -115,10 +116,16 @@ fn level_summary(levels: &[u32]) -> String {
 /// The work of [`run`] in precision `F`; returns the report.
 fn run_in<F: Prec>(a: &TessellateOptions, name: &str, mesh: &Mesh) -> Result<String> {
     let start = std::time::Instant::now();
-    let (t, scene) = tessellate::<F>(mesh, a.level)?;
+    let scene = Scene::<F>::build(mesh)?;
     if let Some(note) = scene.rejected_note() {
         eprintln!("{note}");
     }
+    let t = tessellate(mesh, &scene.core(), a.level).map_err(|e| match e {
+        TessellateError::TooLarge { .. } => DemoError::Usage(format!(
+            "{e}: choose a lower --level or a larger --max-error"
+        )),
+        TessellateError::SceneMismatch { .. } => DemoError::Usage(e.to_string()),
+    })?;
     let level_s = match a.level {
         Level::Uniform(l) => format!("level {l}"),
         Level::MaxError { max_error, .. } => format!("max error {max_error:e}"),
@@ -134,7 +141,7 @@ fn run_in<F: Prec>(a: &TessellateOptions, name: &str, mesh: &Mesh) -> Result<Str
     let bytes = encoded.len();
     let secs = start.elapsed().as_secs_f64();
     let diag = mesh.diagonal();
-    let dist = max_distance(&t, &scene);
+    let dist = max_distance(&t, &scene.core());
     let mut s = String::new();
     let _ = writeln!(
         s,
@@ -199,7 +206,7 @@ fn run_in<F: Prec>(a: &TessellateOptions, name: &str, mesh: &Mesh) -> Result<Str
             s,
             "max distance to the exact {surface}: {:.3e} (the smooth surface itself: {:.3e})",
             max_distance_to(&t, f),
-            surface_distance_to(&scene, f)
+            surface_distance_to(&scene.core(), f)
         );
     }
     if F::PRECISION == Precision::F64 && smoothtri_io::extension(&a.out).as_deref() == Some("glb") {

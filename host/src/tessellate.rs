@@ -1,7 +1,7 @@
 //! Tessellation of the smooth surface: each patch sampled on a grid of sub-triangles, the
 //! samples on shared edges welded, so that other renderers (Embree, OptiX, a GPU rasteriser)
-//! can take the surface with them. Behind `smoothtri tessellate`
-//! ([`crate::commands::tessellate`]).
+//! can take the surface with them. Behind the demo's `smoothtri tessellate`, and fuzzed by
+//! `fuzz/fuzz_targets/tessellate.rs`.
 //!
 //! # Sampling
 //!
@@ -57,11 +57,8 @@ use std::collections::HashMap;
 
 use glam::DVec3;
 use rayon::prelude::*;
-use smoothtri::Patch;
+use smoothtri::{Float, Patch, Scene};
 use smoothtri_io::Mesh;
-
-use crate::error::{DemoError, Result};
-use crate::tracer::{Prec, Scene};
 
 /// How finely each patch is sampled.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -95,7 +92,7 @@ pub struct WeldStats {
 /// coordinates `(w1, w2)` of its three corners in that patch.
 #[derive(Clone, Copy, Debug)]
 pub struct Origin {
-    /// Index into [`Scene::patches`].
+    /// Index into the scene's patches ([`Scene::patches`]).
     pub patch: u32,
     /// `(w1, w2)` of each corner.
     pub bary: [[f64; 2]; 3],
@@ -126,9 +123,9 @@ pub const MAX_TRIANGLES: u64 = 10_000_000;
 /// The largest distance between the flat sub-triangles of `patch` at level `l` and the surface
 /// at the same barycentric parameters, over each sub-triangle's centroid and edge midpoints:
 /// an upper bound of the distance from those points to the surface.
-pub fn patch_error<F: Prec>(patch: &Patch<F>, l: u32) -> f64 {
+pub fn patch_error<F: Float>(patch: &Patch<F>, l: u32) -> f64 {
     let lf = l as f64;
-    let at = |a: f64, b: f64| F::d(patch.point(F::from_f64(a / lf), F::from_f64(b / lf)));
+    let at = |a: f64, b: f64| F::to_dvec3(patch.point(F::from_f64(a / lf), F::from_f64(b / lf)));
     let mut grid = HashMap::new();
     let mut node = |a: u32, b: u32| *grid.entry((a, b)).or_insert_with(|| at(a as f64, b as f64));
     let mut worst = 0.0f64;
@@ -219,7 +216,7 @@ impl Builder {
 }
 
 /// The level of each patch of `scene` for `level`, and how many hit the cap.
-fn patch_levels<F: Prec>(scene: &Scene<F>, level: Level) -> (Vec<u32>, usize) {
+fn patch_levels<F: Float>(scene: &Scene<'_, F>, level: Level) -> (Vec<u32>, usize) {
     match level {
         Level::Uniform(l) => (
             scene
@@ -258,20 +255,71 @@ fn patch_levels<F: Prec>(scene: &Scene<F>, level: Level) -> (Vec<u32>, usize) {
     }
 }
 
-/// Tessellates the smooth surface of `mesh` in precision `F` (see the module documentation).
-/// Fails when the core accepts no triangle, or the output would exceed [`MAX_TRIANGLES`].
-pub fn tessellate<F: Prec>(mesh: &Mesh, level: Level) -> Result<(Tessellation, Scene<F>)> {
-    let scene = Scene::<F>::build(mesh)?;
-    let (levels, capped) = patch_levels(&scene, level);
+/// Why [`tessellate`] declined.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TessellateError {
+    /// The scene was not built from this mesh: it has `scene` triangles, the mesh `mesh`.
+    SceneMismatch {
+        /// Triangles the scene was built from ([`smoothtri::BuildReport::triangles`]).
+        scene: usize,
+        /// Triangles of the mesh.
+        mesh: usize,
+    },
+    /// The output would have `triangles` triangles (before stitching), more than
+    /// [`MAX_TRIANGLES`].
+    TooLarge {
+        /// The count the levels ask for.
+        triangles: u64,
+    },
+}
+
+impl std::fmt::Display for TessellateError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match *self {
+            TessellateError::SceneMismatch { scene, mesh } => write!(
+                f,
+                "the scene has {scene} triangles but the mesh {mesh}: tessellate the mesh the \
+                 scene was built from"
+            ),
+            TessellateError::TooLarge { triangles } => write!(
+                f,
+                "the tessellation would have {triangles} triangles, more than the \
+                 {MAX_TRIANGLES} allowed"
+            ),
+        }
+    }
+}
+
+impl std::error::Error for TessellateError {}
+
+/// Tessellates the smooth surface of `scene`, built from `mesh` (with
+/// [`build_scene`](crate::build_scene) or any [`smoothtri::BuildOptions`]; see the module
+/// documentation). Rejected triangles are counted and skipped.
+///
+/// Returns [`TessellateError::SceneMismatch`] when the scene's triangle count is not the
+/// mesh's, and [`TessellateError::TooLarge`] when the output would exceed [`MAX_TRIANGLES`].
+///
+/// # Panics
+/// Never, for a scene built from `mesh`.
+pub fn tessellate<F: Float>(
+    mesh: &Mesh,
+    scene: &Scene<'_, F>,
+    level: Level,
+) -> Result<Tessellation, TessellateError> {
+    let report = scene.report();
+    if report.triangles != mesh.triangles.len() {
+        return Err(TessellateError::SceneMismatch {
+            scene: report.triangles,
+            mesh: mesh.triangles.len(),
+        });
+    }
+    let (levels, capped) = patch_levels(scene, level);
     let total: u64 = levels.iter().map(|&l| l as u64 * l as u64).sum();
     if total > MAX_TRIANGLES {
-        return Err(DemoError::Usage(format!(
-            "the tessellation would have {total} triangles, more than the {MAX_TRIANGLES} \
-             allowed: choose a lower --level or a larger --max-error"
-        )));
+        return Err(TessellateError::TooLarge { triangles: total });
     }
     // Level of each mesh edge: the largest of its sides' levels.
-    let tri_of = |pi: usize| mesh.triangles[scene.tri_ids()[pi] as usize];
+    let tri_of = |pi: usize| mesh.triangles[scene.triangle_ids()[pi] as usize];
     let edge_key = |a: u32, b: u32| (a.min(b), a.max(b));
     let mut edge_level: HashMap<(u32, u32), (u32, u32)> = HashMap::new();
     for (pi, &l) in levels.iter().enumerate() {
@@ -302,7 +350,7 @@ pub fn tessellate<F: Prec>(mesh: &Mesh, level: Level) -> Result<(Tessellation, S
         }
         let eval = |w1: f64, w2: f64| {
             let (p, n) = patch.point_normal(F::from_f64(w1), F::from_f64(w2));
-            (F::d(p), F::d(n))
+            (F::to_dvec3(p), F::to_dvec3(n))
         };
         let corner_w = [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]];
         // Corners: the input vertex exactly, welded by mesh vertex.
@@ -449,17 +497,14 @@ pub fn tessellate<F: Prec>(mesh: &Mesh, level: Level) -> Result<(Tessellation, S
         weld.mean_gap = gap_sum / weld.welded_samples as f64;
     }
     out.triangles = tris;
-    Ok((
-        Tessellation {
-            mesh: out,
-            origins,
-            levels,
-            capped,
-            rejected: scene.rejected.len(),
-            weld,
-        },
-        scene,
-    ))
+    Ok(Tessellation {
+        mesh: out,
+        origins,
+        levels,
+        capped,
+        rejected: report.triangles - report.patches,
+        weld,
+    })
 }
 
 /// Barycentric sample points of an output triangle for [`max_distance`]: the corners, the edge
@@ -478,14 +523,14 @@ pub const PROBES: [[f64; 3]; 7] = [
 /// Gauss–Newton steps kept inside the triangle: the smallest distance to a surface point met,
 /// so an upper bound of the distance to the patch, and at most the distance to the surface
 /// point at `w` (which `steps = 0` returns).
-pub fn distance_to_patch<F: Prec>(patch: &Patch<F>, q: DVec3, w: [f64; 2], steps: u32) -> f64 {
-    let at = |w: [f64; 2]| F::d(patch.point(F::from_f64(w[0]), F::from_f64(w[1])));
+pub fn distance_to_patch<F: Float>(patch: &Patch<F>, q: DVec3, w: [f64; 2], steps: u32) -> f64 {
+    let at = |w: [f64; 2]| F::to_dvec3(patch.point(F::from_f64(w[0]), F::from_f64(w[1])));
     let mut w = w;
     let mut best = (q - at(w)).length();
     for _ in 0..steps {
         let s = at(w);
         let (d1, d2) = patch.derivatives(F::from_f64(w[0]), F::from_f64(w[1]));
-        let (d1, d2) = (F::d(d1), F::d(d2));
+        let (d1, d2) = (F::to_dvec3(d1), F::to_dvec3(d2));
         let r = q - s;
         let (a, bb, c) = (d1.dot(d1), d1.dot(d2), d2.dot(d2));
         let det = a * c - bb * bb;
@@ -527,7 +572,7 @@ pub struct Distance {
 /// and none at the corners (a corner is a surface point, or the midpoint of two welded ones).
 /// On the torus the steps lower the figure by under 1 %: the parametric distance is already
 /// close to the true one.
-pub fn max_distance<F: Prec>(t: &Tessellation, scene: &Scene<F>) -> Distance {
+pub fn max_distance<F: Float>(t: &Tessellation, scene: &Scene<'_, F>) -> Distance {
     let per: Vec<(f64, u32)> = t
         .mesh
         .triangles
@@ -553,7 +598,7 @@ pub fn max_distance<F: Prec>(t: &Tessellation, scene: &Scene<F>) -> Distance {
     for (d, p) in per {
         if d > out.max {
             out.max = d;
-            out.worst_triangle = scene.tri_ids()[p as usize];
+            out.worst_triangle = scene.triangle_ids()[p as usize];
         }
         if scene.patches()[p as usize].normal_clamp().is_none() {
             out.max_unclamped = out.max_unclamped.max(d);
@@ -580,7 +625,10 @@ pub fn max_distance_to(t: &Tessellation, dist: impl Fn(DVec3) -> f64 + Sync) -> 
 
 /// The largest of `dist` over the smooth surface itself: every patch of `scene` sampled at the
 /// 91 barycentric points `(i/12, j/12)`, `i + j ≤ 12`.
-pub fn surface_distance_to<F: Prec>(scene: &Scene<F>, dist: impl Fn(DVec3) -> f64 + Sync) -> f64 {
+pub fn surface_distance_to<F: Float>(
+    scene: &Scene<'_, F>,
+    dist: impl Fn(DVec3) -> f64 + Sync,
+) -> f64 {
     const K: u32 = 12;
     scene
         .patches()
@@ -594,7 +642,7 @@ pub fn surface_distance_to<F: Prec>(scene: &Scene<F>, dist: impl Fn(DVec3) -> f6
                         F::from_f64(i as f64 / K as f64),
                         F::from_f64(j as f64 / K as f64),
                     );
-                    worst = worst.max(dist(F::d(x)));
+                    worst = worst.max(dist(F::to_dvec3(x)));
                 }
             }
             worst
@@ -605,7 +653,14 @@ pub fn surface_distance_to<F: Prec>(scene: &Scene<F>, dist: impl Fn(DVec3) -> f6
 #[cfg(test)]
 mod tests {
     use super::*;
-    use smoothtri_host::scenes;
+    use crate::scenes;
+    use smoothtri::LineField;
+
+    /// `mesh` built on rayon's pool as the demo builds it, then tessellated.
+    fn tess<F: Float>(mesh: &Mesh, level: Level) -> Tessellation {
+        let owned = crate::build_scene::<F>(mesh, LineField::Face, false).unwrap();
+        tessellate(mesh, &owned.scene(), level).unwrap()
+    }
 
     /// Every undirected output edge is used by exactly two triangles, in opposite directions:
     /// the output is closed and consistently oriented, without T-junctions.
@@ -633,7 +688,7 @@ mod tests {
     fn uniform_counts_follow_the_welding_rule() {
         let torus = scenes::torus(8, 8, 1.0, 0.4);
         for l in [1u32, 2, 3, 4, 8] {
-            let (t, _) = tessellate::<f64>(&torus, Level::Uniform(l)).unwrap();
+            let t = tess::<f64>(&torus, Level::Uniform(l));
             let (v, e, f) = (64, 192, 128);
             let want = v + e * (l - 1) + f * (l - 1) * l.saturating_sub(2) / 2;
             assert_eq!(t.mesh.positions.len() as u32, want, "L = {l}");
@@ -660,7 +715,7 @@ mod tests {
             }
         }
         let l = 3usize;
-        let (t, _) = tessellate::<f32>(&teapot, Level::Uniform(l as u32)).unwrap();
+        let t = tess::<f32>(&teapot, Level::Uniform(l as u32));
         assert_eq!(t.rejected, 0);
         let f = teapot.triangles.len();
         let want = used.len() + edges.len() * (l - 1) + f * (l - 1) * (l - 2) / 2;
@@ -678,31 +733,52 @@ mod tests {
         // The torus's patches get different levels; shared edges take the larger.
         let ico = scenes::icosphere(1, 1.0);
         let torus = scenes::torus(8, 8, 1.0, 0.4);
-        let (t, _) = tessellate::<f64>(
+        let t = tess::<f64>(
             &torus,
             Level::MaxError {
                 max_error: 2e-3,
                 max_level: 16,
             },
-        )
-        .unwrap();
+        );
         let mut distinct = t.levels.clone();
         distinct.sort_unstable();
         distinct.dedup();
         assert!(distinct.len() >= 2, "levels {distinct:?}");
         assert_closed(&t.mesh);
         // The icosphere: one level for all; still closed, and every vertex on the sphere.
-        let (t, _) = tessellate::<f64>(
+        let t = tess::<f64>(
             &ico,
             Level::MaxError {
                 max_error: 1e-3,
                 max_level: 8,
             },
-        )
-        .unwrap();
+        );
         assert_closed(&t.mesh);
         for p in &t.mesh.positions {
             assert!((p.length() - 1.0).abs() < 1e-12);
         }
+    }
+
+    const _: () = assert!(128 * 280 * 280 > MAX_TRIANGLES && 128 * 279 * 279 <= MAX_TRIANGLES);
+
+    #[test]
+    fn typed_errors_for_a_foreign_scene_and_an_oversized_output() {
+        let torus = scenes::torus(8, 8, 1.0, 0.4);
+        let teapot = scenes::teapot(4);
+        let owned = crate::build_scene::<f64>(&torus, LineField::Face, false).unwrap();
+        assert_eq!(
+            tessellate(&teapot, &owned.scene(), Level::Uniform(1)).unwrap_err(),
+            TessellateError::SceneMismatch {
+                scene: 128,
+                mesh: teapot.triangles.len()
+            }
+        );
+        // 128 patches at level 280: 10 035 200 triangles, just over MAX_TRIANGLES.
+        assert_eq!(
+            tessellate(&torus, &owned.scene(), Level::Uniform(280)).unwrap_err(),
+            TessellateError::TooLarge {
+                triangles: 128 * 280 * 280
+            }
+        );
     }
 }
