@@ -117,73 +117,72 @@ static inline void st_embree__bounds(const struct RTCBoundsFunctionArguments *ar
     o->upper_z = b[5];
 }
 
-/* Lane i's ray tested against patch `prim`; on a hit, the candidate's one-lane ray and hit
- * and the filter arguments over them (valid = accept, -1 until a filter refuses it). */
-static inline bool st_embree__candidate_of(const st_scene *scene, unsigned int prim,
-                                           const void *rays, unsigned int N, unsigned int i,
-                                           void *user, unsigned int geom_id,
-                                           struct RTCIntersectContext *context, st_rayhit *rh,
-                                           struct RTCRay *ray1, struct RTCHit *hit1, int *accept,
-                                           struct RTCFilterFunctionNArguments *filter) {
-    rh->ray = st_embree__ray(rays, N, i);
-    rh->hit.prim_id = ST_INVALID_ID;
-    if (!st_patch_intersect(scene, prim, rh)) return false;
-    st_embree__candidate(rh, geom_id, context, ray1, hit1);
-    *accept = -1;
-    filter->valid = accept;
-    filter->geometryUserPtr = user;
-    filter->context = context;
-    filter->ray = (struct RTCRayN *)ray1;
-    filter->hit = (struct RTCHitN *)hit1;
-    filter->N = 1;
+/* One lane's candidate hit: the patch test's ray-hit, the one-lane Embree ray and hit, and
+ * the filter functions' arguments over them (valid = accept: -1 until a filter refuses it). */
+struct st_embree__lane {
+    st_rayhit rh;
+    struct RTCRay ray;
+    struct RTCHit hit;
+    struct RTCFilterFunctionNArguments filter;
+    int accept;
+};
+
+/* Whether lane i of the N-wide `rays` is active (`valid`) and hits patch `prim` of the scene
+ * `user`; if so, fills `c` for the filter functions. */
+static inline bool st_embree__candidate_of(struct st_embree__lane *c, const int *valid,
+                                           void *user, unsigned int prim, const void *rays,
+                                           unsigned int N, unsigned int i, unsigned int geom_id,
+                                           struct RTCIntersectContext *context) {
+    if (valid[i] != -1) return false;
+    c->rh.ray = st_embree__ray(rays, N, i);
+    c->rh.hit.prim_id = ST_INVALID_ID;
+    if (!st_patch_intersect((const st_scene *)user, prim, &c->rh)) return false;
+    st_embree__candidate(&c->rh, geom_id, context, &c->ray, &c->hit);
+    c->accept = -1;
+    c->filter.valid = &c->accept;
+    c->filter.geometryUserPtr = user;
+    c->filter.context = context;
+    c->filter.ray = (struct RTCRayN *)&c->ray;
+    c->filter.hit = (struct RTCHitN *)&c->hit;
+    c->filter.N = 1;
     return true;
 }
+
+/* st_embree__candidate_of for lane i of `rays`, from the callback arguments `args` (those of
+ * the intersect and occluded callbacks share these fields). */
+#define ST_EMBREE_CANDIDATE(c, args, rays, i)                                                  \
+    st_embree__candidate_of((c), (args)->valid, (args)->geometryUserPtr, (args)->primID,       \
+                            (rays), (args)->N, (i), (args)->geomID, (args)->context)
 
 static inline void st_embree__intersect(const struct RTCIntersectFunctionNArguments *args) {
     unsigned int N = args->N, i, l;
     void *rays = args->rayhit;
     float *hits = (float *)args->rayhit + 12 * N;
     for (i = 0; i < N; i++) {
-        st_rayhit rh;
-        struct RTCRay ray1;
-        struct RTCHit hit1;
-        struct RTCFilterFunctionNArguments filter;
-        int accept;
-        if (args->valid[i] != -1) continue;
-        if (!st_embree__candidate_of((const st_scene *)args->geometryUserPtr, args->primID, rays,
-                                     N, i, args->geometryUserPtr, args->geomID, args->context,
-                                     &rh, &ray1, &hit1, &accept, &filter))
-            continue;
-        rtcFilterIntersection(args, &filter);
-        if (accept != -1) continue;
-        ST_EMBREE_F(rays, N, 8, i) = rh.ray.tfar;
-        ST_EMBREE_F(hits, N, 0, i) = hit1.Ng_x;
-        ST_EMBREE_F(hits, N, 1, i) = hit1.Ng_y;
-        ST_EMBREE_F(hits, N, 2, i) = hit1.Ng_z;
-        ST_EMBREE_F(hits, N, 3, i) = hit1.u;
-        ST_EMBREE_F(hits, N, 4, i) = hit1.v;
-        ST_EMBREE_U(hits, N, 5, i) = hit1.primID;
-        ST_EMBREE_U(hits, N, 6, i) = hit1.geomID;
+        struct st_embree__lane c;
+        if (!ST_EMBREE_CANDIDATE(&c, args, rays, i)) continue;
+        rtcFilterIntersection(args, &c.filter);
+        if (c.accept != -1) continue;
+        ST_EMBREE_F(rays, N, 8, i) = c.rh.ray.tfar;
+        ST_EMBREE_F(hits, N, 0, i) = c.hit.Ng_x;
+        ST_EMBREE_F(hits, N, 1, i) = c.hit.Ng_y;
+        ST_EMBREE_F(hits, N, 2, i) = c.hit.Ng_z;
+        ST_EMBREE_F(hits, N, 3, i) = c.hit.u;
+        ST_EMBREE_F(hits, N, 4, i) = c.hit.v;
+        ST_EMBREE_U(hits, N, 5, i) = c.hit.primID;
+        ST_EMBREE_U(hits, N, 6, i) = c.hit.geomID;
         for (l = 0; l < RTC_MAX_INSTANCE_LEVEL_COUNT; l++)
-            ST_EMBREE_U(hits, N, 7 + l, i) = hit1.instID[l];
+            ST_EMBREE_U(hits, N, 7 + l, i) = c.hit.instID[l];
     }
 }
 
 static inline void st_embree__occluded(const struct RTCOccludedFunctionNArguments *args) {
     unsigned int N = args->N, i;
     for (i = 0; i < N; i++) {
-        st_rayhit rh;
-        struct RTCRay ray1;
-        struct RTCHit hit1;
-        struct RTCFilterFunctionNArguments filter;
-        int accept;
-        if (args->valid[i] != -1) continue;
-        if (!st_embree__candidate_of((const st_scene *)args->geometryUserPtr, args->primID,
-                                     args->ray, N, i, args->geometryUserPtr, args->geomID,
-                                     args->context, &rh, &ray1, &hit1, &accept, &filter))
-            continue;
-        rtcFilterOcclusion(args, &filter);
-        if (accept == -1) ST_EMBREE_F(args->ray, N, 8, i) = -INFINITY;
+        struct st_embree__lane c;
+        if (!ST_EMBREE_CANDIDATE(&c, args, args->ray, i)) continue;
+        rtcFilterOcclusion(args, &c.filter);
+        if (c.accept == -1) ST_EMBREE_F(args->ray, N, 8, i) = -INFINITY;
     }
 }
 
@@ -241,6 +240,7 @@ static inline bool st_embree_hit_details(const st_scene *scene, const struct RTC
 
 #undef ST_EMBREE_F
 #undef ST_EMBREE_U
+#undef ST_EMBREE_CANDIDATE
 
 #ifdef __cplusplus
 }

@@ -245,7 +245,7 @@ pub unsafe extern "C" fn st_scene_update(
     normal_stride: usize,
     vertex_count: usize,
 ) -> st_status {
-    let moved = store::Moved {
+    let moved = store::VertexInput {
         positions,
         position_stride,
         normals,
@@ -269,7 +269,7 @@ pub unsafe extern "C" fn st_scene_update_f64(
     normal_stride: usize,
     vertex_count: usize,
 ) -> st_status {
-    let moved = store::Moved {
+    let moved = store::VertexInput {
         positions,
         position_stride,
         normals,

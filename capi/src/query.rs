@@ -9,9 +9,9 @@ use smoothtri_isa::kernels;
 
 use crate::store::{Prec, Stored};
 use crate::types::{
-    ST_ERROR_INDEX_OUT_OF_RANGE, ST_ERROR_INTERNAL, ST_ERROR_INVALID_ARGUMENT,
-    ST_ERROR_NULL_ARGUMENT, ST_ERROR_WRONG_SCENE, ST_INVALID_ID, ST_OK, st_hit, st_hit_f64, st_ray,
-    st_ray_f64, st_rayhit, st_rayhit_f64, st_rayhit8, st_rayhit8_f64, st_status,
+    ST_ERROR_INDEX_OUT_OF_RANGE, ST_ERROR_INTERNAL, ST_ERROR_INVALID_ARGUMENT, ST_INVALID_ID,
+    ST_OK, st_hit, st_hit_f64, st_ray, st_ray_f64, st_rayhit, st_rayhit_f64, st_rayhit8,
+    st_rayhit8_f64, st_status,
 };
 
 /// Runs `f`, swallowing a panic (none is expected: the core does not panic) so that it never
@@ -312,11 +312,9 @@ pub(crate) unsafe fn patch_bounds<F: Prec>(
     prim: u32,
     out: *mut F,
 ) -> st_status {
-    if scene.is_null() || out.is_null() {
-        return ST_ERROR_NULL_ARGUMENT;
-    }
-    let Some(s) = Stored::<F>::from_ptr(scene) else {
-        return ST_ERROR_WRONG_SCENE;
+    let s = match Stored::<F>::with_output(scene, out) {
+        Ok(s) => s,
+        Err(e) => return e,
     };
     let Some(patch) = s.scene().patches().get(prim as usize) else {
         return ST_ERROR_INDEX_OUT_OF_RANGE;
@@ -371,11 +369,9 @@ pub(crate) unsafe fn patch_of_triangle<F: Prec>(
     triangle: u32,
     prim: *mut u32,
 ) -> st_status {
-    if scene.is_null() || prim.is_null() {
-        return ST_ERROR_NULL_ARGUMENT;
-    }
-    let Some(s) = Stored::<F>::from_ptr(scene) else {
-        return ST_ERROR_WRONG_SCENE;
+    let s = match Stored::<F>::with_output(scene, prim) {
+        Ok(s) => s,
+        Err(e) => return e,
     };
     let Some(index) = s.scene().patch_index(triangle) else {
         return ST_ERROR_INDEX_OUT_OF_RANGE;

@@ -107,6 +107,22 @@ impl<F: Prec> Stored<F> {
         Some(unsafe { &mut *p.cast::<Stored<F>>() })
     }
 
+    /// The scene of a call that writes its answer to `out`: [`ST_ERROR_NULL_ARGUMENT`] when
+    /// `scene` or `out` is NULL, [`ST_ERROR_WRONG_SCENE`] when `scene` is not a scene of this
+    /// precision (the checks every such call makes first, in this order).
+    ///
+    /// `scene` must be NULL or point to readable memory of at least 8 bytes, as for
+    /// [`Stored::from_ptr`].
+    pub(crate) fn with_output<'a, T>(
+        scene: *const c_void,
+        out: *mut T,
+    ) -> Result<&'a Stored<F>, st_status> {
+        if scene.is_null() || out.is_null() {
+            return Err(ST_ERROR_NULL_ARGUMENT);
+        }
+        Stored::from_ptr(scene).ok_or(ST_ERROR_WRONG_SCENE)
+    }
+
     /// The scene, for queries.
     pub(crate) fn scene(&self) -> Scene<'_, F> {
         match &self.kept {
@@ -198,6 +214,19 @@ pub(crate) struct Input<T> {
     pub(crate) triangle_count: usize,
     pub(crate) flags: u32,
     pub(crate) iterations: u32,
+}
+
+impl<T> Input<T> {
+    /// The vertex arguments, as `st_scene_update` takes them too.
+    fn vertices(&self) -> VertexInput<T> {
+        VertexInput {
+            positions: self.positions,
+            position_stride: self.position_stride,
+            normals: self.normals,
+            normal_stride: self.normal_stride,
+            vertex_count: self.vertex_count,
+        }
+    }
 }
 
 /// A bump allocator over the caller's memory: hands out aligned, initialised, disjoint parts.
@@ -321,11 +350,10 @@ pub(crate) unsafe fn build_into<F: Prec>(
     input: &Input<F>,
     out: *mut *mut Stored<F>,
 ) -> st_status {
-    let vc = input.vertex_count;
-    let tc = input.triangle_count;
+    let (vertices, vc, tc) = (input.vertices(), input.vertex_count, input.triangle_count);
     if memory.is_null()
         || out.is_null()
-        || (vc > 0 && (input.positions.is_null() || input.normals.is_null()))
+        || vertices.any_null()
         || (tc > 0 && input.indices.is_null())
     {
         return ST_ERROR_NULL_ARGUMENT;
@@ -339,10 +367,7 @@ pub(crate) unsafe fn build_into<F: Prec>(
     if tc == 0 {
         return ST_ERROR_NO_USABLE_TRIANGLES;
     }
-    let (Some(ps), Some(ns)) = (
-        scalar_stride(input.positions, input.position_stride),
-        scalar_stride(input.normals, input.normal_stride),
-    ) else {
+    let Some(strides) = vertices.strides() else {
         return ST_ERROR_INVALID_ARGUMENT;
     };
     if !input.indices.is_aligned() {
@@ -363,16 +388,11 @@ pub(crate) unsafe fn build_into<F: Prec>(
     {
         return ST_ERROR_TOO_LARGE;
     }
-    // SAFETY: the contract makes each attribute readable for `vc` vertices at its stride; the
-    // pointers are non-null (vc > 0) or unused (vc == 0 reads nothing) and aligned (checked).
-    let (positions, normals) = match unsafe {
-        (
-            vertices(input.positions, ps, vc),
-            vertices(input.normals, ns, vc),
-        )
-    } {
-        (Ok(p), Ok(n)) => (p, n),
-        (Err(e), _) | (_, Err(e)) => return e,
+    // SAFETY: the strides are `strides()`'s, no pointer is NULL (checked above), and the
+    // contract makes each attribute readable.
+    let (positions, normals) = match unsafe { vertices.read(strides) } {
+        Ok(v) => v,
+        Err(e) => return e,
     };
     // SAFETY: `indices` is non-null, aligned for `u32` (so for `[u32; 3]`, which has the same
     // alignment) and readable for `3 · tc` values by the contract; the byte length fits in
@@ -450,11 +470,9 @@ pub(crate) unsafe fn build_into<F: Prec>(
 /// # Safety
 /// `scene` NULL or a scene (see [`Stored::from_ptr`]); `info` NULL or writable.
 pub(crate) unsafe fn info<F: Prec>(scene: *const c_void, info: *mut st_scene_info) -> st_status {
-    if scene.is_null() || info.is_null() {
-        return ST_ERROR_NULL_ARGUMENT;
-    }
-    let Some(stored) = Stored::<F>::from_ptr(scene) else {
-        return ST_ERROR_WRONG_SCENE;
+    let stored = match Stored::<F>::with_output(scene, info) {
+        Ok(stored) => stored,
+        Err(e) => return e,
     };
     if !info.is_aligned() {
         return ST_ERROR_INVALID_ARGUMENT;
@@ -487,13 +505,53 @@ pub(crate) unsafe fn info<F: Prec>(scene: *const c_void, info: *mut st_scene_inf
     ST_OK
 }
 
-/// The arguments of `st_scene_update`: the moved vertices.
-pub(crate) struct Moved<T> {
+/// The vertex arguments of `st_scene_build` and `st_scene_update`: positions and normals,
+/// `vertex_count` of each at their byte strides.
+pub(crate) struct VertexInput<T> {
     pub(crate) positions: *const T,
     pub(crate) position_stride: usize,
     pub(crate) normals: *const T,
     pub(crate) normal_stride: usize,
     pub(crate) vertex_count: usize,
+}
+
+impl<F: Float> VertexInput<F> {
+    /// Whether a pointer that is read is NULL (no vertex, nothing is read).
+    fn any_null(&self) -> bool {
+        self.vertex_count > 0 && (self.positions.is_null() || self.normals.is_null())
+    }
+
+    /// The strides of the positions and normals in scalars; `None` when one of them or its
+    /// pointer does not suit `F` (see [`scalar_stride`]).
+    fn strides(&self) -> Option<(usize, usize)> {
+        Some((
+            scalar_stride(self.positions, self.position_stride)?,
+            scalar_stride(self.normals, self.normal_stride)?,
+        ))
+    }
+
+    /// The positions and normals as the core reads them, at their scalar strides.
+    ///
+    /// # Safety
+    /// `strides` is what [`VertexInput::strides`] returned; no pointer is NULL
+    /// ([`VertexInput::any_null`]); each attribute is readable for `vertex_count` vertices at
+    /// its stride (the C API's contract).
+    unsafe fn read<'a>(
+        &self,
+        (ps, ns): (usize, usize),
+    ) -> Result<(Vertices<'a, F>, Vertices<'a, F>), st_status> {
+        let vc = self.vertex_count;
+        // SAFETY: the contract makes each attribute readable for `vc` vertices at its stride;
+        // the pointers are non-null (vc > 0) or unused (vc == 0 reads nothing) and aligned
+        // (checked by `strides`).
+        let (positions, normals) = unsafe {
+            (
+                vertices(self.positions, ps, vc),
+                vertices(self.normals, ns, vc),
+            )
+        };
+        Ok((positions?, normals?))
+    }
 }
 
 /// `st_scene_update` in precision `F`.
@@ -502,9 +560,8 @@ pub(crate) struct Moved<T> {
 /// As `st_scene_update`: `scene` NULL or a scene whose memory is valid, used by nothing else
 /// during the call; the vertices NULL or readable as described, not overlapping the scene's
 /// memory.
-pub(crate) unsafe fn update<F: Prec>(scene: *mut c_void, moved: &Moved<F>) -> st_status {
-    let vc = moved.vertex_count;
-    if scene.is_null() || (vc > 0 && (moved.positions.is_null() || moved.normals.is_null())) {
+pub(crate) unsafe fn update<F: Prec>(scene: *mut c_void, moved: &VertexInput<F>) -> st_status {
+    if scene.is_null() || moved.any_null() {
         return ST_ERROR_NULL_ARGUMENT;
     }
     let Some(stored) = Stored::<F>::from_ptr_mut(scene) else {
@@ -516,22 +573,14 @@ pub(crate) unsafe fn update<F: Prec>(scene: *mut c_void, moved: &Moved<F>) -> st
     let Kept::Dynamic(dynamic, count) = &mut stored.kept else {
         return ST_ERROR_NOT_UPDATABLE;
     };
-    let (Some(ps), Some(ns)) = (
-        scalar_stride(moved.positions, moved.position_stride),
-        scalar_stride(moved.normals, moved.normal_stride),
-    ) else {
+    let Some(strides) = moved.strides() else {
         return ST_ERROR_INVALID_ARGUMENT;
     };
-    // SAFETY: the contract makes each attribute readable for `vc` vertices at its stride; the
-    // pointers are non-null (vc > 0) or unused (vc == 0 reads nothing) and aligned (checked).
-    let (positions, normals) = match unsafe {
-        (
-            vertices(moved.positions, ps, vc),
-            vertices(moved.normals, ns, vc),
-        )
-    } {
-        (Ok(p), Ok(n)) => (p, n),
-        (Err(e), _) | (_, Err(e)) => return e,
+    // SAFETY: the strides are `strides()`'s, no pointer is NULL (checked above), and the
+    // contract makes each attribute readable.
+    let (positions, normals) = match unsafe { moved.read(strides) } {
+        Ok(v) => v,
+        Err(e) => return e,
     };
     match dynamic.update(positions, normals, &mut options) {
         Ok(_) => {

@@ -34,20 +34,8 @@ fn c_program(name: &str, mode: common::Mode) -> PathBuf {
     if let Some((_, _, exe)) = built.iter().find(|(n, s, _)| n == name && *s == sanitized) {
         return exe.clone();
     }
-    let exe = compile_program(name, mode);
+    let exe = common::build_program(&format!("c/{name}.c"), mode, &[]);
     built.push((name.to_string(), sanitized, exe.clone()));
-    exe
-}
-
-fn compile_program(name: &str, mode: common::Mode) -> PathBuf {
-    let sanitized = mode == common::Mode::Sanitizers;
-    let dir = common::scratch(&format!("{name}{}", if sanitized { "-san" } else { "" }));
-    let src = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(format!("tests/c/{name}.c"));
-    let exe = dir.join(name);
-    let lib = common::static_lib();
-    let mut extra = vec![lib.to_str().unwrap()];
-    extra.extend_from_slice(common::NATIVE_LIBS);
-    common::compile_for(mode, &[src], &exe, common::Lang::C99, &extra);
     exe
 }
 

@@ -2,16 +2,11 @@
 //! compiled with `c++ -std=c++17 -Wall -Wextra -Werror -pedantic` against the headers, the
 //! static library and Embree 3 (Debian's `libembree-dev`). Skipped when Embree's headers are
 //! absent, unless `SMOOTHTRI_REQUIRE_EMBREE` is set (CI sets it).
-#![allow(
-    clippy::unwrap_used,
-    clippy::expect_used,
-    clippy::panic,
-    clippy::indexing_slicing
-)]
+#![allow(clippy::unwrap_used)]
 
 mod common;
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 #[test]
 fn embree_scene_with_smooth_patches_beside_triangles_and_instances() {
@@ -24,22 +19,10 @@ fn embree_scene_with_smooth_patches_beside_triangles_and_instances() {
         eprintln!("skipped: Embree 3 is not installed (apt-get install libembree-dev)");
         return;
     }
-    let src = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/cpp/embree_test.cpp");
-    let lib = common::static_lib();
-    let mut extra = vec![lib.to_str().unwrap(), "-lembree3"];
-    extra.extend_from_slice(common::NATIVE_LIBS);
     // Under valgrind and with the sanitizers (each when available, see `common::modes`).
     let mut out = String::new();
     for mode in common::modes(true) {
-        let dir = common::scratch(&format!("embree-{mode:?}"));
-        let exe = dir.join("embree_test");
-        common::compile_for(
-            mode,
-            std::slice::from_ref(&src),
-            &exe,
-            common::Lang::Cpp17,
-            &extra,
-        );
+        let exe = common::build_program("cpp/embree_test.cpp", mode, &["-lembree3"]);
         out = common::run_in(mode, &exe, &[]);
         assert!(out.contains("all checks passed"), "{mode:?}: {out}");
     }
@@ -53,7 +36,8 @@ fn embree_scene_with_smooth_patches_beside_triangles_and_instances() {
     )
     .unwrap();
     let probe_exe = dir.join("probe");
-    common::compile_c(&[probe], &probe_exe, common::Lang::C99, &extra);
+    let link = common::link_flags(&["-lembree3"]);
+    common::compile_c(&[probe], &probe_exe, common::Lang::C99, &link);
     common::run(&probe_exe, &[], false);
     assert!(out.contains("all checks passed"), "{out}");
     println!("{out}");

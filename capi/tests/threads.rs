@@ -5,16 +5,9 @@
 //! threads trace, are joined, the scene is updated with no tracer running, and the threads
 //! trace again, each frame equal to a fresh build of its pose (under valgrind and with the
 //! sanitizers, as `tests/c_api.rs` runs its programs).
-#![allow(
-    clippy::unwrap_used,
-    clippy::expect_used,
-    clippy::panic,
-    clippy::indexing_slicing
-)]
+#![allow(clippy::unwrap_used, clippy::indexing_slicing)]
 
 mod common;
-
-use std::path::PathBuf;
 
 use smoothtri_capi::*;
 
@@ -129,20 +122,8 @@ fn queries_from_many_threads_equal_one_thread() {
 /// `st_scene_update` documents).
 #[test]
 fn c_threads_trace_then_an_update_between_frames() {
-    let src = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/c/threads_test.c");
-    let lib = common::static_lib();
-    let mut extra = vec![lib.to_str().unwrap(), "-pthread"];
-    extra.extend_from_slice(common::NATIVE_LIBS);
     for mode in common::modes(true) {
-        let dir = common::scratch(&format!("threads-{mode:?}"));
-        let exe = dir.join("threads_test");
-        common::compile_for(
-            mode,
-            std::slice::from_ref(&src),
-            &exe,
-            common::Lang::C99,
-            &extra,
-        );
+        let exe = common::build_program("c/threads_test.c", mode, &["-pthread"]);
         // 16 rays under valgrind (about 50 times slower), 256 otherwise.
         let rays = if mode == common::Mode::Valgrind {
             "16"

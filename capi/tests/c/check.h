@@ -1,4 +1,5 @@
-/* The C tests' check macro: reports a failed condition with its place and counts it. */
+/* The C tests' checks: a macro that reports a failed condition with its place and counts it,
+ * and the exit status that sums them up. */
 #ifndef SMOOTHTRI_TEST_CHECK_H
 #define SMOOTHTRI_TEST_CHECK_H
 
@@ -13,5 +14,16 @@ static int failures = 0;
             failures++;                                                                    \
         }                                                                                  \
     } while (0)
+
+/* The program's exit status once every check ran: 1 after a failed check (saying how many on
+ * stderr), else 0 after printing `passed` and a newline (nothing when it is NULL). */
+static inline int check_exit_status(const char *passed) {
+    if (failures) {
+        fprintf(stderr, "%d checks failed\n", failures);
+        return 1;
+    }
+    if (passed != NULL) printf("%s\n", passed);
+    return 0;
+}
 
 #endif

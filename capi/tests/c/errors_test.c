@@ -172,10 +172,5 @@ int main(void) {
     CHECK(ray.tfar == INFINITY);
 
     free(memory);
-    if (failures) {
-        fprintf(stderr, "%d checks failed\n", failures);
-        return 1;
-    }
-    printf("errors_test: all checks passed\n");
-    return 0;
+    return check_exit_status("errors_test: all checks passed");
 }

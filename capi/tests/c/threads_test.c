@@ -24,8 +24,8 @@
 #include <string.h>
 
 #include "check.h"
+#include "test_common.h"
 
-#define PI 3.14159265358979323846
 #define RINGS 8
 #define SEGMENTS 16
 #define RAYS 256 /* at most; the first argument may ask for fewer (a multiple of 8) */
@@ -36,45 +36,8 @@ typedef struct { float p[3], n[3]; } vertex;
 
 static size_t vertex_count, triangle_count;
 static unsigned rays = RAYS;
-static vertex *rest;
+static double *rest; /* the unit sphere's points (test_common.h), also its normals */
 static uint32_t *idx;
-
-/* A latitude-longitude unit sphere with radial normals. */
-static void sphere(void) {
-    unsigned i, j, k = 0;
-    vertex_count = 2 + (size_t)(RINGS - 1) * SEGMENTS;
-    triangle_count = 2 * (size_t)SEGMENTS * (RINGS - 1);
-    rest = (vertex *)calloc(vertex_count, sizeof(vertex));
-    idx = (uint32_t *)calloc(3 * triangle_count, sizeof(uint32_t));
-    rest[0].p[2] = 1;
-    rest[1].p[2] = -1;
-    for (i = 1; i < RINGS; i++) {
-        for (j = 0; j < SEGMENTS; j++) {
-            double th = PI * i / RINGS, ph = 2 * PI * j / SEGMENTS;
-            vertex *x = &rest[2 + (i - 1) * SEGMENTS + j];
-            x->p[0] = (float)(sin(th) * cos(ph));
-            x->p[1] = (float)(sin(th) * sin(ph));
-            x->p[2] = (float)cos(th);
-        }
-    }
-    for (i = 0; i < vertex_count; i++) memcpy(rest[i].n, rest[i].p, sizeof rest[i].n);
-#define RING(i, j) (uint32_t)(2 + ((i) - 1) * SEGMENTS + (j) % SEGMENTS)
-    for (j = 0; j < SEGMENTS; j++) {
-        uint32_t *t = &idx[3 * k++];
-        t[0] = 0; t[1] = RING(1, j); t[2] = RING(1, j + 1);
-        t = &idx[3 * k++];
-        t[0] = 1; t[1] = RING(RINGS - 1, j + 1); t[2] = RING(RINGS - 1, j);
-    }
-    for (i = 1; i + 1 < RINGS; i++) {
-        for (j = 0; j < SEGMENTS; j++) {
-            uint32_t *t = &idx[3 * k++];
-            t[0] = RING(i, j); t[1] = RING(i + 1, j); t[2] = RING(i + 1, j + 1);
-            t = &idx[3 * k++];
-            t[0] = RING(i, j); t[1] = RING(i + 1, j + 1); t[2] = RING(i, j + 1);
-        }
-    }
-#undef RING
-}
 
 /* Pose f: 0 the rest pose, 1 a small wobble of each vertex along its normal, 2 every vertex
  * moved far from its place (a fixed pseudo-random scramble). */
@@ -84,8 +47,10 @@ static void pose(int f, vertex *out) {
     for (i = 0; i < vertex_count; i++) {
         double s = 1.0;
         if (f == 1) s = 1.0 + 0.03 * sin(3.0 * (double)i);
-        out[i] = rest[i];
-        for (k = 0; k < 3; k++) out[i].p[k] = (float)(s * rest[i].p[k]);
+        for (k = 0; k < 3; k++) {
+            out[i].p[k] = (float)(s * rest[3 * i + k]);
+            out[i].n[k] = (float)rest[3 * i + k];
+        }
         if (f == 2) {
             for (k = 0; k < 3; k++) {
                 seed = seed * 1103515245u + 12345u;
@@ -156,15 +121,10 @@ static void *tracer(void *arg) {
     return NULL;
 }
 
-/* A fresh scene of pose f in memory of its own (freed by the caller). */
-static st_scene *fresh_build(const vertex *v, void **memory) {
-    size_t bytes = 0;
-    st_scene *scene = NULL;
-    CHECK(st_scene_required_bytes(vertex_count, triangle_count, ST_BUILD_SEAMS, &bytes) == ST_OK);
-    *memory = malloc(bytes);
-    CHECK(st_scene_build(*memory, bytes, v[0].p, sizeof(vertex), v[0].n, sizeof(vertex),
-                         vertex_count, idx, triangle_count, ST_BUILD_SEAMS, 8, &scene) == ST_OK);
-    return scene;
+/* A scene of the vertices `v` in memory of its own (freed by the caller). */
+static st_scene *build(const vertex *v, uint32_t flags, void **memory) {
+    return build_f(v[0].p, v[0].n, sizeof(vertex), vertex_count, idx, triangle_count, flags, 8,
+                   memory, NULL);
 }
 
 int main(int argc, char **argv) {
@@ -172,7 +132,6 @@ int main(int argc, char **argv) {
     pthread_t threads[THREADS];
     job jobs[THREADS];
     vertex *v;
-    size_t bytes = 0;
     void *memory;
     st_scene *scene = NULL;
     const unsigned flags = ST_BUILD_SEAMS | ST_BUILD_UPDATABLE;
@@ -184,13 +143,10 @@ int main(int argc, char **argv) {
         fprintf(stderr, "usage: threads_test [RAYS: a multiple of 8 from 8 to %d]\n", RAYS);
         return 2;
     }
-    sphere();
+    unit_sphere(RINGS, SEGMENTS, &vertex_count, &triangle_count, &rest, &idx);
     v = (vertex *)calloc(vertex_count, sizeof(vertex));
     pose(0, v);
-    CHECK(st_scene_required_bytes(vertex_count, triangle_count, flags, &bytes) == ST_OK);
-    memory = malloc(bytes);
-    CHECK(st_scene_build(memory, bytes, v[0].p, sizeof(vertex), v[0].n, sizeof(vertex),
-                         vertex_count, idx, triangle_count, flags, 8, &scene) == ST_OK);
+    scene = build(v, flags, &memory);
     if (failures) return 1;
 
     for (f = 0; f < 3; f++) {
@@ -219,7 +175,7 @@ int main(int argc, char **argv) {
         }
 
         /* The same pose built afresh. */
-        fresh = fresh_build(v, &fresh_memory);
+        fresh = build(v, ST_BUILD_SEAMS, &fresh_memory);
         CHECK(st_scene_get_info(fresh, &fresh_info) == ST_OK);
         CHECK(info.patch_count == fresh_info.patch_count);
         CHECK(info.rejected_count == fresh_info.rejected_count);
@@ -270,10 +226,5 @@ int main(int argc, char **argv) {
     free(v);
     free(rest);
     free(idx);
-    if (failures) {
-        fprintf(stderr, "%d checks failed\n", failures);
-        return 1;
-    }
-    printf("all checks passed\n");
-    return 0;
+    return check_exit_status("all checks passed");
 }

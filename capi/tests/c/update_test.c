@@ -20,56 +20,22 @@
 #include <string.h>
 
 #include "check.h"
+#include "test_common.h"
 
-#define PI 3.14159265358979323846
 #define RINGS 12
 #define SEGMENTS 24
 #define RAYS 64
 #define FRAMES 12
+/* The rounding of the rays and vertices, relative to t, beyond a hit's certified t_error. */
+#define F32_ROUNDING 1e-5
+#define F64_ROUNDING 1e-12
 
 typedef struct { float p[3], n[3]; } vertex_f;
 typedef struct { double p[3], n[3]; } vertex_d;
 
 static size_t vertex_count, triangle_count;
-static vertex_d *rest;
+static double *rest; /* the unit sphere's points (test_common.h), also its normals */
 static uint32_t *idx;
-
-/* A latitude-longitude unit sphere with radial normals: its patches are the sphere exactly. */
-static void sphere(void) {
-    unsigned i, j, k = 0;
-    vertex_count = 2 + (size_t)(RINGS - 1) * SEGMENTS;
-    triangle_count = 2 * (size_t)SEGMENTS * (RINGS - 1);
-    rest = (vertex_d *)calloc(vertex_count, sizeof(vertex_d));
-    idx = (uint32_t *)calloc(3 * triangle_count, sizeof(uint32_t));
-    rest[0].p[2] = 1;
-    rest[1].p[2] = -1;
-    for (i = 1; i < RINGS; i++) {
-        for (j = 0; j < SEGMENTS; j++) {
-            double th = PI * i / RINGS, ph = 2 * PI * j / SEGMENTS;
-            vertex_d *x = &rest[2 + (i - 1) * SEGMENTS + j];
-            x->p[0] = sin(th) * cos(ph);
-            x->p[1] = sin(th) * sin(ph);
-            x->p[2] = cos(th);
-        }
-    }
-    for (i = 0; i < vertex_count; i++) memcpy(rest[i].n, rest[i].p, sizeof rest[i].n);
-#define RING(i, j) (uint32_t)(2 + ((i) - 1) * SEGMENTS + (j) % SEGMENTS)
-    for (j = 0; j < SEGMENTS; j++) {
-        uint32_t *t = &idx[3 * k++];
-        t[0] = 0; t[1] = RING(1, j); t[2] = RING(1, j + 1);
-        t = &idx[3 * k++];
-        t[0] = 1; t[1] = RING(RINGS - 1, j + 1); t[2] = RING(RINGS - 1, j);
-    }
-    for (i = 1; i + 1 < RINGS; i++) {
-        for (j = 0; j < SEGMENTS; j++) {
-            uint32_t *t = &idx[3 * k++];
-            t[0] = RING(i, j); t[1] = RING(i + 1, j); t[2] = RING(i + 1, j + 1);
-            t = &idx[3 * k++];
-            t[0] = RING(i, j); t[1] = RING(i + 1, j + 1); t[2] = RING(i, j + 1);
-        }
-    }
-#undef RING
-}
 
 /* Frame f's sphere: radius and centre (frame -1: every vertex at one point). */
 static void frame_sphere(int f, double *radius, double c[3]) {
@@ -90,8 +56,8 @@ static void pose_d(int f, vertex_d *out) {
     frame_sphere(f, &r, c);
     for (i = 0; i < vertex_count; i++) {
         for (k = 0; k < 3; k++) {
-            out[i].p[k] = c[k] + r * rest[i].p[k];
-            out[i].n[k] = rest[i].n[k];
+            out[i].p[k] = c[k] + r * rest[3 * i + k];
+            out[i].n[k] = rest[3 * i + k];
         }
     }
 }
@@ -132,7 +98,30 @@ static double sphere_t(const double o[3], const double d[3], double r, const dou
     return (-b - sqrt(disc)) / a;
 }
 
-static st_rayhit ray_f(int f, unsigned k) {
+/* A hit as the checks read it, in double (exact for a float hit); `hit` 0 on a miss. */
+typedef struct {
+    int hit;
+    uint32_t prim_id;
+    double t, t_error;
+} seen;
+
+static seen seen_of(uint32_t geom_id, uint32_t prim_id, double t, double t_error) {
+    seen x;
+    x.hit = geom_id != ST_INVALID_ID;
+    x.prim_id = prim_id;
+    x.t = t;
+    x.t_error = t_error;
+    return x;
+}
+
+/* The same answer, bit for bit (a miss's t is infinite). */
+static int same(const seen *a, const seen *b) {
+    return a->hit == b->hit && a->prim_id == b->prim_id && a->t == b->t &&
+           a->t_error == b->t_error;
+}
+
+/* Frame f's ray k traced in a float scene. */
+static seen hit_f(const st_scene *s, int f, unsigned k) {
     double o[3], d[3];
     st_rayhit rh;
     memset(&rh, 0, sizeof rh);
@@ -141,10 +130,11 @@ static st_rayhit ray_f(int f, unsigned k) {
     rh.ray.dir_x = (float)d[0]; rh.ray.dir_y = (float)d[1]; rh.ray.dir_z = (float)d[2];
     rh.ray.tnear = 0;
     rh.ray.tfar = INFINITY;
-    return rh;
+    st_intersect1(s, &rh);
+    return seen_of(rh.hit.geom_id, rh.hit.prim_id, rh.ray.tfar, rh.hit.t_error);
 }
 
-static st_rayhit_f64 ray_d(int f, unsigned k) {
+static seen hit_d(const st_scene_f64 *s, int f, unsigned k) {
     double o[3], d[3];
     st_rayhit_f64 rh;
     memset(&rh, 0, sizeof rh);
@@ -153,85 +143,46 @@ static st_rayhit_f64 ray_d(int f, unsigned k) {
     rh.ray.dir_x = d[0]; rh.ray.dir_y = d[1]; rh.ray.dir_z = d[2];
     rh.ray.tnear = 0;
     rh.ray.tfar = INFINITY;
-    return rh;
+    st_intersect1_f64(s, &rh);
+    return seen_of(rh.hit.geom_id, rh.hit.prim_id, rh.ray.tfar, rh.hit.t_error);
 }
 
 /* The hits of frame f's rays in a float scene. */
-static void trace_f(const st_scene *s, int f, st_rayhit *out) {
+static void trace_f(const st_scene *s, int f, seen *out) {
     unsigned k;
-    for (k = 0; k < RAYS; k++) {
-        out[k] = ray_f(f, k);
-        st_intersect1(s, &out[k]);
-    }
+    for (k = 0; k < RAYS; k++) out[k] = hit_f(s, f, k);
 }
 
-static void trace_d(const st_scene_f64 *s, int f, st_rayhit_f64 *out) {
+static void trace_d(const st_scene_f64 *s, int f, seen *out) {
     unsigned k;
-    for (k = 0; k < RAYS; k++) {
-        out[k] = ray_d(f, k);
-        st_intersect1_f64(s, &out[k]);
-    }
+    for (k = 0; k < RAYS; k++) out[k] = hit_d(s, f, k);
 }
 
-static int same_f(const st_rayhit *a, const st_rayhit *b) {
-    return memcmp(&a->ray.tfar, &b->ray.tfar, sizeof(float)) == 0 &&
-           a->hit.prim_id == b->hit.prim_id &&
-           memcmp(&a->hit.t_error, &b->hit.t_error, sizeof(float)) == 0;
-}
-
-/* Checks frame f's float hits against its analytic sphere and a fresh build's hits. */
-static void check_frame_f(int f, const st_rayhit *got, const st_rayhit *fresh, int refitted) {
+/* Checks frame f's hits against its analytic sphere (within t_error plus `rounding` times t) and
+ * a fresh build's hits. */
+static void check_frame(int f, const seen *got, const seen *fresh, int refitted,
+                        double rounding) {
     unsigned k, hits = 0;
     double r, c[3];
     frame_sphere(f, &r, c);
     for (k = 0; k < RAYS; k++) {
         double o[3], d[3], t;
-        const st_rayhit *h = &got[k];
+        const seen *h = &got[k];
         ray_k(f, k, o, d);
         t = sphere_t(o, d, r, c);
         if (f < 0) {
-            CHECK(h->hit.geom_id == ST_INVALID_ID);
+            CHECK(!h->hit);
             continue;
         }
         /* Rays graze the sphere only at tangency; the mesh's edge rings meet it exactly. */
-        if (t > 0 && h->hit.geom_id != ST_INVALID_ID) {
+        if (t > 0 && h->hit) {
             hits++;
-            /* The certified bound plus the float rounding of the ray and the vertices. */
-            CHECK(fabs(h->ray.tfar - t) <= h->hit.t_error + 1e-5 * (1 + t));
+            CHECK(fabs(h->t - t) <= h->t_error + rounding * (1 + t));
         }
-        CHECK((h->hit.geom_id == ST_INVALID_ID) == (fresh[k].hit.geom_id == ST_INVALID_ID));
-        if (h->hit.geom_id != ST_INVALID_ID && fresh[k].hit.geom_id != ST_INVALID_ID) {
-            CHECK(fabs(h->ray.tfar - fresh[k].ray.tfar) <=
-                  h->hit.t_error + fresh[k].hit.t_error);
-            if (!refitted) CHECK(same_f(h, &fresh[k]));
-        }
-    }
-    if (f >= 0) CHECK(hits > RAYS / 4);
-}
-
-static void check_frame_d(int f, const st_rayhit_f64 *got, const st_rayhit_f64 *fresh,
-                          int refitted) {
-    unsigned k, hits = 0;
-    double r, c[3];
-    frame_sphere(f, &r, c);
-    for (k = 0; k < RAYS; k++) {
-        double o[3], d[3], t;
-        const st_rayhit_f64 *h = &got[k];
-        ray_k(f, k, o, d);
-        t = sphere_t(o, d, r, c);
-        if (f < 0) {
-            CHECK(h->hit.geom_id == ST_INVALID_ID);
-            continue;
-        }
-        if (t > 0 && h->hit.geom_id != ST_INVALID_ID) {
-            hits++;
-            CHECK(fabs(h->ray.tfar - t) <= h->hit.t_error + 1e-12 * (1 + t));
-        }
-        CHECK((h->hit.geom_id == ST_INVALID_ID) == (fresh[k].hit.geom_id == ST_INVALID_ID));
-        if (h->hit.geom_id != ST_INVALID_ID && fresh[k].hit.geom_id != ST_INVALID_ID) {
-            CHECK(fabs(h->ray.tfar - fresh[k].ray.tfar) <=
-                  h->hit.t_error + fresh[k].hit.t_error);
-            if (!refitted) CHECK(h->ray.tfar == fresh[k].ray.tfar);
+        CHECK(h->hit == fresh[k].hit);
+        if (h->hit && fresh[k].hit) {
+            CHECK(fabs(h->t - fresh[k].t) <= h->t_error + fresh[k].t_error);
+            if (!refitted) CHECK(same(h, &fresh[k]));
         }
     }
     if (f >= 0) CHECK(hits > RAYS / 4);
@@ -239,13 +190,8 @@ static void check_frame_d(int f, const st_rayhit_f64 *got, const st_rayhit_f64 *
 
 /* A fresh build of frame f's float vertices (flags without ST_BUILD_UPDATABLE). */
 static st_scene *fresh_f(const vertex_f *v, uint32_t flags, void **memory) {
-    size_t bytes = 0;
-    st_scene *s = NULL;
-    CHECK(st_scene_required_bytes(vertex_count, triangle_count, flags, &bytes) == ST_OK);
-    *memory = malloc(bytes);
-    CHECK(st_scene_build(*memory, bytes, v[0].p, sizeof(vertex_f), v[0].n, sizeof(vertex_f),
-                         vertex_count, idx, triangle_count, flags, 8, &s) == ST_OK);
-    return s;
+    return build_f(v[0].p, v[0].n, sizeof(vertex_f), vertex_count, idx, triangle_count, flags, 8,
+                   memory, NULL);
 }
 
 static void run_f(uint32_t flags) {
@@ -255,16 +201,12 @@ static void run_f(uint32_t flags) {
     st_scene_info info;
     vertex_f *v = (vertex_f *)calloc(vertex_count, sizeof(vertex_f));
     vertex_d *scratch = (vertex_d *)calloc(vertex_count, sizeof(vertex_d));
-    st_rayhit got[RAYS], fresh[RAYS], again[RAYS];
+    seen got[RAYS], fresh[RAYS], again[RAYS];
     int f;
 
     pose_f(0, v, scratch);
-    CHECK(st_scene_required_bytes(vertex_count, triangle_count, flags | ST_BUILD_UPDATABLE,
-                                  &bytes) == ST_OK);
-    memory = malloc(bytes);
-    CHECK(st_scene_build(memory, bytes, v[0].p, sizeof(vertex_f), v[0].n, sizeof(vertex_f),
-                         vertex_count, idx, triangle_count, flags | ST_BUILD_UPDATABLE, 8,
-                         &s) == ST_OK);
+    s = build_f(v[0].p, v[0].n, sizeof(vertex_f), vertex_count, idx, triangle_count,
+                flags | ST_BUILD_UPDATABLE, 8, &memory, &bytes);
     CHECK(st_scene_get_info(s, &info) == ST_OK);
     CHECK(info.bytes_used <= bytes && info.update_count == 0);
     for (f = 1; f <= FRAMES; f++) {
@@ -280,13 +222,13 @@ static void run_f(uint32_t flags) {
         trace_f(s, pose, got);
         if (pose < 0) {
             CHECK(info.rejected_count == triangle_count);
-            check_frame_f(pose, got, got, 1);
+            check_frame(pose, got, got, 1, F32_ROUNDING);
             continue;
         }
         CHECK(info.rejected_count == 0);
         fs = fresh_f(v, flags, &fm);
         trace_f(fs, pose, fresh);
-        check_frame_f(pose, got, fresh, (int)info.bvh_refitted);
+        check_frame(pose, got, fresh, (int)info.bvh_refitted, F32_ROUNDING);
         free(fm);
     }
 
@@ -314,7 +256,7 @@ static void run_f(uint32_t flags) {
     trace_f(s, FRAMES, again);
     {
         unsigned k;
-        for (k = 0; k < RAYS; k++) CHECK(same_f(&got[k], &again[k]));
+        for (k = 0; k < RAYS; k++) CHECK(same(&got[k], &again[k]));
     }
 
     /* A scene built without the flag cannot be updated. */
@@ -338,7 +280,7 @@ static void run_d(uint32_t flags) {
     st_scene_f64 *s = NULL, *fs = NULL;
     st_scene_info info;
     vertex_d *v = (vertex_d *)calloc(vertex_count, sizeof(vertex_d));
-    st_rayhit_f64 got[RAYS], fresh[RAYS];
+    seen got[RAYS], fresh[RAYS];
     int f;
 
     pose_d(0, v);
@@ -361,7 +303,7 @@ static void run_d(uint32_t flags) {
                                  &fs) == ST_OK);
         trace_d(s, f, got);
         trace_d(fs, f, fresh);
-        check_frame_d(f, got, fresh, (int)info.bvh_refitted);
+        check_frame(f, got, fresh, (int)info.bvh_refitted, F64_ROUNDING);
     }
     CHECK(st_scene_update_f64(fs, v[0].p, 0, v[0].n, 0, vertex_count) ==
           ST_ERROR_NOT_UPDATABLE);
@@ -372,17 +314,12 @@ static void run_d(uint32_t flags) {
 
 int main(void) {
     uint32_t flags;
-    sphere();
+    unit_sphere(RINGS, SEGMENTS, &vertex_count, &triangle_count, &rest, &idx);
     for (flags = 0; flags < 4; flags++) {
         run_f(flags);
         run_d(flags);
     }
     free(rest);
     free(idx);
-    if (failures) {
-        fprintf(stderr, "%d checks failed\n", failures);
-        return 1;
-    }
-    printf("all checks passed\n");
-    return 0;
+    return check_exit_status("all checks passed");
 }

@@ -1,5 +1,5 @@
 //! Compiling and running C and C++ programs against the header and the static library.
-#![allow(dead_code)]
+#![allow(dead_code, clippy::unwrap_used, clippy::panic)]
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -22,12 +22,14 @@ pub fn scratch(name: &str) -> PathBuf {
 /// The static library cargo built with this test: `cargo test` compiles the library target
 /// with all its crate types into `target/<profile>/deps/` (it copies them up to
 /// `target/<profile>/` only for `cargo build`).
-pub fn static_lib() -> PathBuf {
-    let exe = std::env::current_exe().unwrap();
-    let deps = exe.parent().unwrap();
-    let lib = deps.join("libsmoothtri_capi.a");
-    assert!(lib.exists(), "{} was not built", lib.display());
-    lib
+pub fn static_lib() -> &'static str {
+    static LIB: std::sync::OnceLock<String> = std::sync::OnceLock::new();
+    LIB.get_or_init(|| {
+        let exe = std::env::current_exe().unwrap();
+        let lib = exe.parent().unwrap().join("libsmoothtri_capi.a");
+        assert!(lib.exists(), "{} was not built", lib.display());
+        lib.to_str().unwrap().to_owned()
+    })
 }
 
 /// The system libraries a Rust static library needs on this platform
@@ -41,6 +43,14 @@ pub const NATIVE_LIBS: &[&str] = &[
     "-ldl",
     "-lc",
 ];
+
+/// What a test program links: the static library, `libs`, then the system libraries.
+pub fn link_flags<'a>(libs: &[&'a str]) -> Vec<&'a str> {
+    let mut flags = vec![static_lib()];
+    flags.extend_from_slice(libs);
+    flags.extend_from_slice(NATIVE_LIBS);
+    flags
+}
 
 /// The language of a compile.
 #[derive(Clone, Copy)]
@@ -217,6 +227,26 @@ pub fn compile_for(mode: Mode, sources: &[PathBuf], exe: &Path, lang: Lang, extr
     } else {
         compile_c(sources, exe, lang, extra);
     }
+}
+
+/// Compiles the test program `tests/{source}` (C99 for a `.c` file, C++17 for a `.cpp` one)
+/// for `mode` ([`compile_for`]) into a fresh scratch folder named after it (with `-san` for the
+/// sanitizer build), linked as [`link_flags`] says; returns the executable.
+pub fn build_program(source: &str, mode: Mode, libs: &[&str]) -> PathBuf {
+    let src = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests")
+        .join(source);
+    let name = src.file_stem().unwrap().to_str().unwrap();
+    let sanitized = mode == Mode::Sanitizers;
+    let dir = scratch(&format!("{name}{}", if sanitized { "-san" } else { "" }));
+    let exe = dir.join(name);
+    let lang = if source.ends_with(".cpp") {
+        Lang::Cpp17
+    } else {
+        Lang::C99
+    };
+    compile_for(mode, &[src], &exe, lang, &link_flags(libs));
+    exe
 }
 
 /// Runs `exe` with `args` in `mode` and returns its standard output; fails the test on a
