@@ -163,7 +163,7 @@ fn our_flat_row(n: usize, rays: &[Ray], reps: usize) -> (Row, f64) {
         .map(|t| t.map(|i| mesh.normals[i as usize].as_vec3()))
         .collect();
     let hit = |r: &Ray| {
-        let h = flat.closest(&bvh, r)?;
+        let h = flat.closest_hit(&bvh, r)?;
         let [n0, n1, n2] = normals[h.patch as usize];
         let n = (n0 * (1.0 - h.w1 - h.w2) + n1 * h.w1 + n2 * h.w2).normalize();
         Some(smoothtri::Hit {

@@ -51,7 +51,7 @@ macro_rules! per_patch {
         let mut hits = 0usize;
         for _ in 0..$reps {
             for r in $rays.iter() {
-                hits += $patch.intersect(black_box(r), 0.0, $inf, $n).is_some() as usize;
+                hits += $patch.closest_hit(black_box(r), 0.0, $inf, $n).is_some() as usize;
             }
         }
         hits
@@ -187,7 +187,7 @@ fn run_case(name: &str, reps: usize) -> usize {
             let mut hits = 0;
             for _ in 0..reps {
                 for r in &rays {
-                    hits += flat.closest(&bvh, black_box(r)).is_some() as usize;
+                    hits += flat.closest_hit(&bvh, black_box(r)).is_some() as usize;
                 }
             }
             hits

@@ -20,7 +20,7 @@ macro_rules! smooth32 {
     ($s:expr, $n:literal) => {
         |rays: &[Ray]| {
             rays.iter()
-                .filter(|r| $s.p32.intersect(r, 0.0, f32::INFINITY, $n).is_some())
+                .filter(|r| $s.p32.closest_hit(r, 0.0, f32::INFINITY, $n).is_some())
                 .count()
         }
     };
@@ -29,7 +29,7 @@ macro_rules! smooth64 {
     ($s:expr, $n:literal) => {
         |rays: &[DRay]| {
             rays.iter()
-                .filter(|r| $s.p64.intersect(r, 0.0, f64::INFINITY, $n).is_some())
+                .filter(|r| $s.p64.closest_hit(r, 0.0, f64::INFINITY, $n).is_some())
                 .count()
         }
     };
@@ -199,7 +199,7 @@ fn summary() {
                     || {
                         fast_rays
                             .iter()
-                            .filter(|r| fast.intersect(r, zero, inf, $n).is_some())
+                            .filter(|r| fast.closest_hit(r, zero, inf, $n).is_some())
                             .count()
                     },
                     200,
@@ -232,7 +232,7 @@ fn summary() {
                 .iter()
                 .map(|r| {
                     s.p32
-                        .intersect_stats::<DEFAULT_SAMPLES>(r, 0.0, f32::INFINITY, $n)
+                        .closest_hit_stats::<DEFAULT_SAMPLES>(r, 0.0, f32::INFINITY, $n)
                         .1
                         .height_evals
                 })
@@ -242,7 +242,7 @@ fn summary() {
                 .iter()
                 .map(|r| {
                     s.p64
-                        .intersect_stats::<DEFAULT_SAMPLES>(r, 0.0, f64::INFINITY, $n)
+                        .closest_hit_stats::<DEFAULT_SAMPLES>(r, 0.0, f64::INFINITY, $n)
                         .1
                         .height_evals
                 })

@@ -613,7 +613,7 @@ impl FlatTris {
         BoxBvh::from_parts(self.tris.len(), &self.nodes, &self.order).expect("built")
     }
     #[inline]
-    fn closest(&self, tree: &BoxBvh<'_, f32>, r: &Ray) -> Option<Hit> {
+    fn closest_hit(&self, tree: &BoxBvh<'_, f32>, r: &Ray) -> Option<Hit> {
         let h = tree.closest_with(r, 0.0, f32::MAX, |i, a, b| {
             let (t, w1, w2) = moller_trumbore(self.tris.get(i as usize)?, r, a, b)?;
             Some(Hit {
@@ -722,7 +722,7 @@ impl Tracers {
                 let flat = self.flat.as_ref()?;
                 let tree = flat.tree();
                 for r in rays {
-                    hits += black_box(flat.closest(&tree, black_box(r))).is_some() as usize;
+                    hits += black_box(flat.closest_hit(&tree, black_box(r))).is_some() as usize;
                 }
             }
             2 | 3 => {
@@ -733,7 +733,8 @@ impl Tracers {
                 };
                 let tr = s.as_ref()?.tracer().expect("built");
                 for r in rays {
-                    hits += black_box(tr.closest(black_box(r), 0.0, f32::MAX)).is_some() as usize;
+                    hits +=
+                        black_box(tr.closest_hit(black_box(r), 0.0, f32::MAX)).is_some() as usize;
                 }
             }
             _ => {

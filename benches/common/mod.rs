@@ -183,7 +183,7 @@ impl FlatBvh {
 
     /// The closest hit of `r` (Möller–Trumbore in the leaves; no normal).
     #[inline]
-    pub fn closest(&self, bvh: &Bvh<'_, f32>, r: &Ray) -> Option<smoothtri::Hit> {
+    pub fn closest_hit(&self, bvh: &Bvh<'_, f32>, r: &Ray) -> Option<smoothtri::Hit> {
         bvh.closest_with(r, 0.0, f32::MAX, |id, _, a, b| {
             let (t, w1, w2) =
                 smoothtri::moller_trumbore(self.triangles.get(id as usize)?, r, a, b)?;

@@ -478,7 +478,7 @@ pub unsafe extern "C" fn st_patch_intersect(
 ) -> bool {
     let scene = Stored::<f32>::from_ptr(scene.cast());
     // SAFETY: forwarded contract.
-    query::guard_bool(|| unsafe { query::patch_intersect(scene, prim, rayhit) })
+    query::guard_bool(|| unsafe { query::patch_closest_hit(scene, prim, rayhit) })
 }
 
 /// [`st_patch_intersect`] in double precision.
@@ -493,7 +493,7 @@ pub unsafe extern "C" fn st_patch_intersect_f64(
 ) -> bool {
     let scene = Stored::<f64>::from_ptr(scene.cast());
     // SAFETY: forwarded contract.
-    query::guard_bool(|| unsafe { query::patch_intersect(scene, prim, rayhit) })
+    query::guard_bool(|| unsafe { query::patch_closest_hit(scene, prim, rayhit) })
 }
 
 /// Writes to `*prim` the patch index (`0 .. patch_count`) of input triangle `triangle`, for

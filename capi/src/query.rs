@@ -334,7 +334,7 @@ pub(crate) unsafe fn patch_bounds<F: Prec>(
 ///
 /// # Safety
 /// `rayhit` NULL or valid for reads and writes.
-pub(crate) unsafe fn patch_intersect<R: CRayHit>(
+pub(crate) unsafe fn patch_closest_hit<R: CRayHit>(
     scene: Option<&Stored<R::F>>,
     prim: u32,
     rayhit: *mut R,
@@ -350,7 +350,7 @@ pub(crate) unsafe fn patch_intersect<R: CRayHit>(
     let rh = unsafe { &mut *rayhit };
     let q = rh.query();
     let n = s.iterations as usize;
-    match kernels().patch_intersect(patch, &q.ray, q.tnear, q.tfar, n) {
+    match kernels().patch_closest_hit(patch, &q.ray, q.tnear, q.tfar, n) {
         Some(mut h) => {
             h.patch = prim;
             rh.write_hit(&s.scene().scene_hit(h));

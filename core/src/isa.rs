@@ -70,16 +70,16 @@ macro_rules! for_each_query {
                 (bvh: &$crate::Bvh<'_, F>) -> bool,
                 (l) bvh.any_hit_with(ray, [t_min, t_max], n, l),
                 bvh.any_hit(ray, t_min, t_max, n);
-            patch_intersect "Patch::intersect" "the same hit, bit for bit" []
+            patch_closest_hit "Patch::closest_hit" "the same hit, bit for bit" []
                 (patch: &$crate::Patch<F>) -> Option<$crate::Hit<F>>,
-                (l) $crate::kernel::intersect_stats::<F, { $crate::kernel::DEFAULT_SAMPLES }>(
+                (l) $crate::kernel::closest_hit_stats::<F, { $crate::kernel::DEFAULT_SAMPLES }>(
                     patch, ray, [t_min, t_max], n, l).0,
-                patch.intersect(ray, t_min, t_max, n);
-            patch_intersect_stats "Patch::intersect_stats"
+                patch.closest_hit(ray, t_min, t_max, n);
+            patch_closest_hit_stats "Patch::closest_hit_stats"
                 "the same hit and statistics, bit for bit" [K]
                 (patch: &$crate::Patch<F>) -> (Option<$crate::Hit<F>>, $crate::KernelStats),
-                (l) $crate::kernel::intersect_stats::<F, K>(patch, ray, [t_min, t_max], n, l),
-                patch.intersect_stats::<K>(ray, t_min, t_max, n);
+                (l) $crate::kernel::closest_hit_stats::<F, K>(patch, ray, [t_min, t_max], n, l),
+                patch.closest_hit_stats::<K>(ray, t_min, t_max, n);
         }
     };
     // One table row at a time into the entry form, the rows done in the second brackets.

@@ -20,7 +20,7 @@
 //! | [`Patch::edge_point_normal`] | [`accuracy::F64_EDGE_VS_REFERENCE`] of the size, normals [`accuracy::F64_EDGE_NORMAL_VS_REFERENCE`] | normals at the ends [`accuracy::F32_INTERPOLATION`] | `tests/data/`; the vertex normals |
 //! | [`Patch::roots_certified`] | sound: no root missing or switched anywhere on a certified patch (interval arithmetic, outward rounded) | the same, on the `f32` data widened | every folded or jumping patch of the domain study refused (`tests/suite/domain.rs`) |
 //! | every unit vector returned | length 1 ± [`accuracy::UNIT_LENGTH_ULPS`] ε | the same | |
-//! | [`Patch::intersect`] `t` | within `t_error` (worst-case bound: [`Patch::intersect`]); N = 8: sphere hits to [`accuracy::F64_SPHERE_HIT`] of the radius, the torus at rounding from N = 4 (docs/MEASUREMENTS.md) | sphere hits to [`accuracy::F32_SPHERE_HIT`] of the radius | analytic spheres; the kernel at N = 40 |
+//! | [`Patch::closest_hit`] `t` | within `t_error` (worst-case bound: [`Patch::closest_hit`]); N = 8: sphere hits to [`accuracy::F64_SPHERE_HIT`] of the radius, the torus at rounding from N = 4 (docs/MEASUREMENTS.md) | sphere hits to [`accuracy::F32_SPHERE_HIT`] of the radius | analytic spheres; the kernel at N = 40 |
 //!
 //! `FastF32` (feature `micromath`) trades accuracy for a square root without FPU support (its
 //! square root is within [`accuracy::FASTF32_SQRT_REL`] relative): its surfaces deviate by up

@@ -472,27 +472,27 @@ impl<F: Float> Patch<F> {
     /// calls (eight height evaluations each), one call of four and one normal evaluation
     /// ([`max_height_evals`](kernel::max_height_evals)), whatever `n`.
     #[inline]
-    pub fn intersect(&self, ray: &Ray<F>, t_min: F, t_max: F, n: usize) -> Option<Hit<F>> {
-        self.intersect_stats::<DEFAULT_SAMPLES>(ray, t_min, t_max, n)
+    pub fn closest_hit(&self, ray: &Ray<F>, t_min: F, t_max: F, n: usize) -> Option<Hit<F>> {
+        self.closest_hit_stats::<DEFAULT_SAMPLES>(ray, t_min, t_max, n)
             .0
     }
 
-    /// [`Patch::intersect`] with `K` bracketing samples chosen by the caller, also returning
+    /// [`Patch::closest_hit`] with `K` bracketing samples chosen by the caller, also returning
     /// the [`KernelStats`] of the call (evaluation counts, the shell interval's width and the
     /// rounding allowance).
     ///
     /// # Accuracy
-    /// As [`Patch::intersect`].
+    /// As [`Patch::closest_hit`].
     /// # Panics
     /// Never.
-    pub fn intersect_stats<const K: usize>(
+    pub fn closest_hit_stats<const K: usize>(
         &self,
         ray: &Ray<F>,
         t_min: F,
         t_max: F,
         n: usize,
     ) -> (Option<Hit<F>>, KernelStats) {
-        kernel::intersect_stats::<F, K>(self, ray, [t_min, t_max], n, &kernel::heights::Target)
+        kernel::closest_hit_stats::<F, K>(self, ray, [t_min, t_max], n, &kernel::heights::Target)
     }
 
     /// The triangle's vertices in world coordinates, as given (up to rounding of the frame).

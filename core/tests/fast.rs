@@ -78,12 +78,12 @@ fn fast_patches_stay_close_and_kernel_is_finite() {
         // Unit direction: `t` is a distance.
         let ray = Ray::new((c + nf * size).as_vec3(), (-nf).as_vec3());
         let h = fast
-            .intersect(&ray, FastF32(0.0), FastF32(f32::INFINITY), 8)
+            .closest_hit(&ray, FastF32(0.0), FastF32(f32::INFINITY), 8)
             .expect("FastF32 misses a central ray");
         hits += 1;
         assert!(h.t.0.is_finite() && h.point.is_finite() && h.normal.is_finite());
         let want = exact
-            .intersect(
+            .closest_hit(
                 &smoothtri::DRay::new(ray.origin.as_dvec3(), ray.dir.as_dvec3()),
                 0.0,
                 f64::INFINITY,
@@ -132,7 +132,7 @@ fn fast_bvh_equals_brute_force() {
         let got = bvh.closest_hit(&ray, zero, inf, 4).map(|h| h.t.0);
         let want = patches
             .iter()
-            .filter_map(|p| p.intersect(&ray, zero, inf, 4))
+            .filter_map(|p| p.closest_hit(&ray, zero, inf, 4))
             .map(|h| h.t.0)
             .reduce(f32::min);
         assert_eq!(got, want);

@@ -217,15 +217,15 @@ fn run<F: Float>(inp: &Input) {
     let reach = ((od - (lo + hi) * 0.5).length() + (hi - lo).length()) / dd.length();
     let (t0, t1) = (F::from_f64(inp.t[0]), F::from_f64(inp.t[1]));
     for (t0, t1) in [(t0, t1), (F::ZERO, F::from_f64(f64::INFINITY))] {
-        if let Some(h) = patch.intersect(&ray, t0, t1, 4) {
+        if let Some(h) = patch.closest_hit(&ray, t0, t1, 4) {
             check_hit(&h, t0, t1, reach, utol);
         }
-        let (h, s) = patch.intersect_stats::<0>(&ray, t0, t1, 0);
+        let (h, s) = patch.closest_hit_stats::<0>(&ray, t0, t1, 0);
         check_stats(s, 0, 0);
         if let Some(h) = h {
             check_hit(&h, t0, t1, reach, utol);
         }
-        let (h, s) = patch.intersect_stats::<4>(&ray, t0, t1, 8);
+        let (h, s) = patch.closest_hit_stats::<4>(&ray, t0, t1, 8);
         check_stats(s, 4, 8);
         if let Some(h) = h {
             check_hit(&h, t0, t1, reach, utol);

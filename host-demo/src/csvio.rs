@@ -79,6 +79,6 @@ pub(crate) fn num<F: Prec>(tok: &str, path: &str, line: usize) -> Result<F> {
 
 /// `x,y,z` of a vector, each shortest-round-trip.
 pub(crate) fn vec3<F: Prec>(v: F::Vec3) -> String {
-    let [x, y, z] = F::arr(v);
+    let [x, y, z] = F::to_array3(v);
     format!("{x},{y},{z}")
 }

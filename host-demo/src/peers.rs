@@ -83,9 +83,9 @@ pub struct SurfaceHit {
 /// A surface the studies render: closest hits and shadow queries.
 pub trait Surface: Sync {
     /// The closest hit of `o + t·d`, `t ≥ 0`.
-    fn closest(&self, o: DVec3, d: DVec3) -> Option<SurfaceHit>;
+    fn closest_hit(&self, o: DVec3, d: DVec3) -> Option<SurfaceHit>;
     /// Whether anything is hit for `t` in `[t_min, ∞)`.
-    fn occluded(&self, o: DVec3, d: DVec3, t_min: f64) -> bool;
+    fn any_hit(&self, o: DVec3, d: DVec3, t_min: f64) -> bool;
 }
 
 /// Flat triangles with interpolated vertex normals (the core's Phong baseline through the
@@ -96,32 +96,32 @@ pub struct FlatPhong<'a, F: Prec> {
 }
 
 impl<F: Prec> Surface for FlatPhong<'_, F> {
-    fn closest(&self, o: DVec3, d: DVec3) -> Option<SurfaceHit> {
+    fn closest_hit(&self, o: DVec3, d: DVec3) -> Option<SurfaceHit> {
         let t = tracer::<F>(Mode::Phong, 0).ok()?;
-        let h = t.closest(
+        let h = t.closest_hit(
             &self.scene.bvh(),
-            &Ray::new(F::v(o), F::v(d)),
+            &Ray::new(F::from_dvec3(o), F::from_dvec3(d)),
             F::ZERO,
             F::MAX,
         )?;
         let patch = self.scene.patches().get(h.patch as usize)?;
-        let [p0, p1, p2] = patch.vertices().map(F::d);
+        let [p0, p1, p2] = patch.vertices().map(F::to_dvec3);
         let face = (p1 - p0).cross(p2 - p0).normalize_or_zero();
         Some(SurfaceHit {
             t: h.t.to_f64(),
-            point: F::d(h.point),
-            shading: F::d(h.normal),
+            point: F::to_dvec3(h.point),
+            shading: F::to_dvec3(h.normal),
             geometric: face,
             front: h.front_face,
             triangle: self.scene.tri_ids().get(h.patch as usize).copied()?,
             w: (h.w1.to_f64(), h.w2.to_f64()),
         })
     }
-    fn occluded(&self, o: DVec3, d: DVec3, t_min: f64) -> bool {
+    fn any_hit(&self, o: DVec3, d: DVec3, t_min: f64) -> bool {
         tracer::<F>(Mode::Phong, 0).is_ok_and(|t| {
-            t.occluded(
+            t.any_hit(
                 &self.scene.bvh(),
-                &Ray::new(F::v(o), F::v(d)),
+                &Ray::new(F::from_dvec3(o), F::from_dvec3(d)),
                 F::from_f64(t_min),
                 F::MAX,
             )
@@ -139,25 +139,30 @@ pub struct Smooth<'a, F: Prec> {
 }
 
 impl<F: Prec> Surface for Smooth<'_, F> {
-    fn closest(&self, o: DVec3, d: DVec3) -> Option<SurfaceHit> {
+    fn closest_hit(&self, o: DVec3, d: DVec3) -> Option<SurfaceHit> {
         let t = smooth_tracer::<F>(self.n)?;
         let core = self.scene.core();
-        let (h, sn) = t.closest_shaded(&core, &Ray::new(F::v(o), F::v(d)), F::ZERO, F::MAX)?;
+        let (h, sn) = t.closest_shaded(
+            &core,
+            &Ray::new(F::from_dvec3(o), F::from_dvec3(d)),
+            F::ZERO,
+            F::MAX,
+        )?;
         Some(SurfaceHit {
             t: h.t.to_f64(),
-            point: F::d(h.point),
-            shading: F::d(sn),
-            geometric: F::d(h.normal),
+            point: F::to_dvec3(h.point),
+            shading: F::to_dvec3(sn),
+            geometric: F::to_dvec3(h.normal),
             front: h.front_face,
             triangle: self.scene.tri_ids().get(h.patch as usize).copied()?,
             w: (h.w1.to_f64(), h.w2.to_f64()),
         })
     }
-    fn occluded(&self, o: DVec3, d: DVec3, t_min: f64) -> bool {
+    fn any_hit(&self, o: DVec3, d: DVec3, t_min: f64) -> bool {
         smooth_tracer::<F>(self.n).is_some_and(|t| {
-            t.occluded(
+            t.any_hit(
                 &self.scene.bvh(),
-                &Ray::new(F::v(o), F::v(d)),
+                &Ray::new(F::from_dvec3(o), F::from_dvec3(d)),
                 F::from_f64(t_min),
                 F::MAX,
             )
@@ -181,24 +186,32 @@ impl<F: Prec + smoothtri_peers::Real> Peers<F> {
 }
 
 impl<F: Prec + smoothtri_peers::Real> Surface for Peers<F> {
-    fn closest(&self, o: DVec3, d: DVec3) -> Option<SurfaceHit> {
+    fn closest_hit(&self, o: DVec3, d: DVec3) -> Option<SurfaceHit> {
         let tr = self.scene.tracer().ok()?;
-        let h = tr.closest(&Ray::new(F::v(o), F::v(d)), F::ZERO, F::MAX)?;
+        let h = tr.closest_hit(
+            &Ray::new(F::from_dvec3(o), F::from_dvec3(d)),
+            F::ZERO,
+            F::MAX,
+        )?;
         let patch = self.scene.patches().get(h.patch as usize)?;
         Some(SurfaceHit {
             t: h.t.to_f64(),
-            point: F::d(h.point),
-            shading: F::d(self.scene.peer().shading_normal(patch, h.w1, h.w2)),
-            geometric: F::d(h.normal),
+            point: F::to_dvec3(h.point),
+            shading: F::to_dvec3(self.scene.peer().shading_normal(patch, h.w1, h.w2)),
+            geometric: F::to_dvec3(h.normal),
             front: h.front_face,
             triangle: self.scene.triangle(h.patch),
             w: (h.w1.to_f64(), h.w2.to_f64()),
         })
     }
-    fn occluded(&self, o: DVec3, d: DVec3, t_min: f64) -> bool {
-        self.scene
-            .tracer()
-            .is_ok_and(|tr| tr.occluded(&Ray::new(F::v(o), F::v(d)), F::from_f64(t_min), F::MAX))
+    fn any_hit(&self, o: DVec3, d: DVec3, t_min: f64) -> bool {
+        self.scene.tracer().is_ok_and(|tr| {
+            tr.any_hit(
+                &Ray::new(F::from_dvec3(o), F::from_dvec3(d)),
+                F::from_f64(t_min),
+                F::MAX,
+            )
+        })
     }
 }
 
@@ -206,8 +219,8 @@ impl<F: Prec + smoothtri_peers::Real> Surface for Peers<F> {
 pub struct Analytic(pub Torus);
 
 impl Surface for Analytic {
-    fn closest(&self, o: DVec3, d: DVec3) -> Option<SurfaceHit> {
-        let (t, n) = self.0.intersect(o, d, 0.0, f64::INFINITY)?;
+    fn closest_hit(&self, o: DVec3, d: DVec3) -> Option<SurfaceHit> {
+        let (t, n) = self.0.closest_hit(o, d, 0.0, f64::INFINITY)?;
         Some(SurfaceHit {
             t,
             point: o + d * t,
@@ -218,8 +231,8 @@ impl Surface for Analytic {
             w: (0.0, 0.0),
         })
     }
-    fn occluded(&self, o: DVec3, d: DVec3, t_min: f64) -> bool {
-        self.0.intersect(o, d, t_min, f64::INFINITY).is_some()
+    fn any_hit(&self, o: DVec3, d: DVec3, t_min: f64) -> bool {
+        self.0.closest_hit(o, d, t_min, f64::INFINITY).is_some()
     }
 }
 
@@ -297,7 +310,7 @@ pub fn render_study(
             for x in 0..w {
                 let (o, d) = cam.pixel_ray(x, y);
                 rays += 1;
-                let Some(hit) = surface.closest(o, d) else {
+                let Some(hit) = surface.closest_hit(o, d) else {
                     px.extend_from_slice(&background(y, h));
                     pixels.push(Pixel::default());
                     continue;
@@ -320,7 +333,7 @@ pub fn render_study(
                     if fix == Some(TerminatorFix::Chiang) {
                         lambert *= chiang_term(light, flip(hit.geometric), n);
                     }
-                    if !surface.occluded(p - d * eps, light, eps) {
+                    if !surface.any_hit(p - d * eps, light, eps) {
                         vis = 1.0;
                     }
                 }
@@ -429,12 +442,12 @@ pub fn trace_csv<F: Prec + smoothtri_peers::Real>(
         .tracer()
         .map_err(|e| DemoError::Usage(format!("{}: {e}", peer.name())))?;
     let v = |x: F::Vec3| {
-        let [a, b, c] = F::arr(x);
+        let [a, b, c] = F::to_array3(x);
         format!("{a},{b},{c}")
     };
     let mut out = String::from("ray,hit,t,x,y,z,nx,ny,nz,snx,sny,snz,triangle,w1,w2,t_error\n");
     for (i, ray) in rays.iter().enumerate() {
-        match tr.closest(ray, F::MIN_POSITIVE, F::MAX) {
+        match tr.closest_hit(ray, F::MIN_POSITIVE, F::MAX) {
             Some(h) => {
                 let sn = scene
                     .patches()

@@ -99,14 +99,14 @@ pub fn render<F: Prec>(
             let mut rays = 0u64;
             for x in 0..w {
                 let (o, d) = cam.pixel_ray(x, y);
-                let ray = Ray::<F>::new(F::v(o), F::v(d));
+                let ray = Ray::<F>::new(F::from_dvec3(o), F::from_dvec3(d));
                 rays += 1;
                 // Smooth hits shade with the scene's choice of normal (seamless by default).
                 let shaded: Option<(Hit<F>, F::Vec3)> = if seamless {
                     tracer.closest_shaded(&core, &ray, F::ZERO, F::MAX)
                 } else {
                     tracer
-                        .closest(&bvh, &ray, F::ZERO, F::MAX)
+                        .closest_hit(&bvh, &ray, F::ZERO, F::MAX)
                         .map(|hit| (hit, hit.normal))
                 };
                 let Some((hit, normal)) = shaded else {
@@ -114,8 +114,8 @@ pub fn render<F: Prec>(
                     hits.push(PixelHit::default());
                     continue;
                 };
-                let p = F::d(hit.point);
-                let mut n = F::d(normal);
+                let p = F::to_dvec3(hit.point);
+                let mut n = F::to_dvec3(normal);
                 if n.dot(d) > 0.0 {
                     n = -n;
                 }
@@ -124,8 +124,8 @@ pub fn render<F: Prec>(
                 if lambert > 0.0 {
                     rays += 1;
                     let so = p - d * eps;
-                    let sray = Ray::<F>::new(F::v(so), F::v(light));
-                    if !tracer.occluded(&bvh, &sray, F::from_f64(eps), F::MAX) {
+                    let sray = Ray::<F>::new(F::from_dvec3(so), F::from_dvec3(light));
+                    if !tracer.any_hit(&bvh, &sray, F::from_f64(eps), F::MAX) {
                         vis = 1.0;
                     }
                 }

@@ -257,7 +257,7 @@ pub trait Dispatch<F: Float> {
     /// The closest hit's type: [`SceneHit`] of a scene, [`Hit`] of a BVH or a patch.
     type Hit;
     /// The closest hit of `ray` in `[t_min, t_max]` with a refinement budget of `n` steps (as
-    /// the core's `closest_hit` / [`Patch::intersect`]), on [`kernels`].
+    /// the core's `closest_hit` / [`Patch::closest_hit`]), on [`kernels`].
     fn closest_hit_isa(&self, ray: &Ray<F>, t_min: F, t_max: F, n: usize) -> Option<Self::Hit>;
     /// Whether anything is hit in `[t_min, t_max]` (as the core's `any_hit`; for a patch,
     /// whether [`Dispatch::closest_hit_isa`] hits), on [`kernels`].
@@ -292,7 +292,7 @@ impl<F: Float> Dispatch<F> for Patch<F> {
     type Hit = Hit<F>;
     #[inline]
     fn closest_hit_isa(&self, ray: &Ray<F>, t_min: F, t_max: F, n: usize) -> Option<Hit<F>> {
-        kernels().patch_intersect(self, ray, t_min, t_max, n)
+        kernels().patch_closest_hit(self, ray, t_min, t_max, n)
     }
     #[inline]
     fn any_hit_isa(&self, ray: &Ray<F>, t_min: F, t_max: F, n: usize) -> bool {

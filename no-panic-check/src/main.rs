@@ -88,7 +88,9 @@ fn scalars<F: Float>() -> u32 {
         + F::MIN * F::ZERO
         + F::ONE;
     let w = F::to_dvec3(v::<F>(0.3, 0.2, 0.1));
+    let a = F::to_array3(F::from_array3([x, y, f]));
     f.is_fin() as u32
+        + a[2].is_fin() as u32
         + f.is_nan() as u32
         + (w.x > 0.0) as u32
         + max_lane_calls(black_box(DEFAULT_SAMPLES), black_box(8)) as u32
@@ -126,7 +128,7 @@ fn exercise<F: Float>() -> u32 {
         ] {
             if let Ok(q) = r {
                 let ray = Ray::<F>::new(v::<F>(2.0, 2.0, 2.0), v::<F>(-1.0, -1.0, -1.0));
-                let h = q.intersect(&ray, c::<F>(0.0), c::<F>(f64::INFINITY), 4);
+                let h = q.closest_hit(&ray, c::<F>(0.0), c::<F>(f64::INFINITY), 4);
                 acc += h.map_or(0, |h| h.t.is_fin() as u32);
                 acc += fin::<F>(q.point(c::<F>(0.1), c::<F>(0.7))) as u32;
             }
@@ -162,9 +164,9 @@ fn exercise<F: Float>() -> u32 {
     let at = ray.at(c::<F>(0.5));
     acc += fin::<F>(at) as u32;
     let (t0, t1) = (c::<F>(0.0), c::<F>(f64::INFINITY));
-    let hit: Option<Hit<F>> = patch.intersect(&ray, t0, t1, 8);
-    let (hit2, stats): (_, KernelStats) = patch.intersect_stats::<DEFAULT_SAMPLES>(&ray, t0, t1, 5);
-    let (hit3, _) = patch.intersect_stats::<0>(&ray, t0, t1, 0);
+    let hit: Option<Hit<F>> = patch.closest_hit(&ray, t0, t1, 8);
+    let (hit2, stats): (_, KernelStats) = patch.closest_hit_stats::<DEFAULT_SAMPLES>(&ray, t0, t1, 5);
+    let (hit3, _) = patch.closest_hit_stats::<0>(&ray, t0, t1, 0);
     let verts = patch.vertices();
     let mt = moller_trumbore(&verts, &ray, t0, t1);
     let flat = flat_hit(&verts, None, &ray, t0, t1);
@@ -314,7 +316,7 @@ fn seams<F: Float>(patches: &[Patch<F>], ray: &Ray<F>) -> u32 {
     match close_cracks(&mut sealed, &tris, black_box(9), &mut scratch) {
         Ok(r) => {
             acc += r.shared_edges as u32 + r.open_edges as u32 + (r.widest_gap > 0.0) as u32;
-            if let Some(h) = sealed[1].intersect(ray, c::<F>(0.0), c::<F>(f64::INFINITY), 4) {
+            if let Some(h) = sealed[1].closest_hit(ray, c::<F>(0.0), c::<F>(f64::INFINITY), 4) {
                 acc += h.t.is_fin() as u32;
             }
             acc += sealed[2].data().reach.iter().filter(|r| r.is_fin()).count() as u32;
@@ -343,7 +345,7 @@ fn seams<F: Float>(patches: &[Patch<F>], ray: &Ray<F>) -> u32 {
         acc += seam.is_zero() as u32 + (seam == &wild) as u32;
     }
     if let Some(p) = ps.first() {
-        if let Some(h) = p.intersect(ray, c::<F>(0.0), c::<F>(f64::INFINITY), 4) {
+        if let Some(h) = p.closest_hit(ray, c::<F>(0.0), c::<F>(f64::INFINITY), 4) {
             let n = wild.correct(p, h.w1, h.w2, h.normal);
             acc += fin::<F>(n) as u32;
         }

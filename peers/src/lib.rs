@@ -20,7 +20,7 @@
 //! // An octant of the unit sphere: vertices on it, normals radial.
 //! let p = [Vec3::X, Vec3::Y, Vec3::Z];
 //! let patch = smoothtri_peers::nagata::<f32>(p, p).unwrap();
-//! let hit = patch.intersect(&Ray::new(Vec3::splat(2.0), -Vec3::ONE), 0.0, f32::MAX).unwrap();
+//! let hit = patch.closest_hit(&Ray::new(Vec3::splat(2.0), -Vec3::ONE), 0.0, f32::MAX).unwrap();
 //! // Nagata's patch bulges toward the sphere but is a quadratic, not the sphere.
 //! assert!((hit.point.length() - 1.0).abs() < 0.05);
 //! ```

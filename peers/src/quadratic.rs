@@ -1,6 +1,6 @@
 //! The quadratic triangular patch both peers are: a quadratic Bézier triangle given by its
 //! three vertices and three edge control points, stored in monomial form for evaluation and for
-//! the ray solver (the module `ray_quadratic`, which adds [`QuadPatch::intersect`]).
+//! the ray solver (the module `ray_quadratic`, which adds [`QuadPatch::closest_hit`]).
 //!
 //! With barycentrics `(w0, w1, w2)`, `w0 = 1 − w1 − w2`, the patch is
 //!

@@ -284,7 +284,7 @@ fn line_conic<F: Real>(g: [F; 3], k: &M3<F>) -> ([(F, F); 2], usize) {
 /// The nearest hit `(t, u, v)` of `o + t·d` on `p` with `t` in `[t_min, t_max]` (see the
 /// module docs).
 #[inline(never)]
-pub(crate) fn intersect<F: Real>(
+pub(crate) fn closest_hit<F: Real>(
     p: &QuadPatch<F>,
     o: V3<F>,
     d: V3<F>,
@@ -417,10 +417,10 @@ impl<F: Real> QuadPatch<F> {
     /// roots included.
     /// # Panics
     /// Never.
-    pub fn intersect(&self, ray: &Ray<F>, t_min: F, t_max: F) -> Option<Hit<F>> {
+    pub fn closest_hit(&self, ray: &Ray<F>, t_min: F, t_max: F) -> Option<Hit<F>> {
         let o = F::v3(ray.origin);
         let d = F::v3(ray.dir);
-        let (t, u, v) = intersect(self, o, d, t_min, t_max)?;
+        let (t, u, v) = closest_hit(self, o, d, t_min, t_max)?;
         let n = self.normal_v(u, v);
         Some(Hit {
             t,

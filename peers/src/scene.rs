@@ -200,7 +200,7 @@ impl<F: Real> PeerScene<F> {
     }
 }
 
-/// The queries of a [`PeerScene`]: smoothtri's BVH traversal with [`QuadPatch::intersect`]
+/// The queries of a [`PeerScene`]: smoothtri's BVH traversal with [`QuadPatch::closest_hit`]
 /// in the leaves.
 #[derive(Clone, Copy, Debug)]
 pub struct Tracer<'a, F: Real> {
@@ -214,10 +214,10 @@ impl<F: Real> Tracer<'_, F> {
     /// # Panics
     /// Never.
     #[inline]
-    pub fn closest(&self, ray: &Ray<F>, t_min: F, t_max: F) -> Option<Hit<F>> {
+    pub fn closest_hit(&self, ray: &Ray<F>, t_min: F, t_max: F) -> Option<Hit<F>> {
         let patches = self.patches;
         self.tree.closest_with(ray, t_min, t_max, |i, a, b| {
-            patches.get(i as usize)?.intersect(ray, a, b)
+            patches.get(i as usize)?.closest_hit(ray, a, b)
         })
     }
 
@@ -226,12 +226,12 @@ impl<F: Real> Tracer<'_, F> {
     /// # Panics
     /// Never.
     #[inline]
-    pub fn occluded(&self, ray: &Ray<F>, t_min: F, t_max: F) -> bool {
+    pub fn any_hit(&self, ray: &Ray<F>, t_min: F, t_max: F) -> bool {
         let patches = self.patches;
         self.tree.any_with(ray, t_min, t_max, |i, a, b| {
             patches
                 .get(i as usize)
-                .and_then(|p| p.intersect(ray, a, b))
+                .and_then(|p| p.closest_hit(ray, a, b))
                 .is_some()
         })
     }

@@ -112,7 +112,7 @@ impl Torus {
     /// its critical point is within 64 ε of its scale.
     /// # Panics
     /// Never.
-    pub fn intersect(&self, o: DVec3, d: DVec3, t_min: f64, t_max: f64) -> Option<(f64, DVec3)> {
+    pub fn closest_hit(&self, o: DVec3, d: DVec3, t_min: f64, t_max: f64) -> Option<(f64, DVec3)> {
         let dd = d.dot(d);
         if !(dd > 0.0) || !o.is_finite() || !d.is_finite() {
             return None;

@@ -258,8 +258,8 @@ fn solver_equals_reference() {
                 let o = target + rng.unit() * 3.0 * size;
                 let d = (target - o) * (0.5 + rng.f());
                 let want = reference_hit(&q, o, d);
-                let got = q.intersect(&DRay::new(o, d), 0.0, f64::INFINITY);
-                let got32 = q32.intersect(&Ray::new(o.as_vec3(), d.as_vec3()), 0.0, f32::MAX);
+                let got = q.closest_hit(&DRay::new(o, d), 0.0, f64::INFINITY);
+                let got32 = q32.closest_hit(&Ray::new(o.as_vec3(), d.as_vec3()), 0.0, f32::MAX);
                 match (got, want) {
                     (Some(g), Some((t, u, v))) => {
                         hits += 1;
@@ -329,7 +329,7 @@ fn vertices_edges_and_misses() {
                 let x = q.point(w1, w2);
                 let nn = q.normal(w1, w2);
                 let o = x + nn * 2.0;
-                let h = q.intersect(&DRay::new(o, -nn), 0.0, f64::INFINITY);
+                let h = q.closest_hit(&DRay::new(o, -nn), 0.0, f64::INFINITY);
                 let h = h.unwrap_or_else(|| panic!("{peer:?} point {k} missed"));
                 // A strongly curved patch can fold over the point: the reference says which
                 // crossing is the nearest.
@@ -345,15 +345,18 @@ fn vertices_edges_and_misses() {
                     assert!(h.front_face);
                 }
                 // From just beyond it, from the point's side: the crossing at t = 2.
-                let h2 = q.intersect(&DRay::new(o, -nn), 2.0 - 1e-6, f64::INFINITY);
+                let h2 = q.closest_hit(&DRay::new(o, -nn), 2.0 - 1e-6, f64::INFINITY);
                 assert!(
                     h2.is_some_and(|h| (h.t - 2.0).abs() < 1e-9),
                     "{peer:?} point {k}"
                 );
                 // Away from the patch: no hit.
-                assert!(q.intersect(&DRay::new(o, nn), 0.0, f64::INFINITY).is_none());
+                assert!(
+                    q.closest_hit(&DRay::new(o, nn), 0.0, f64::INFINITY)
+                        .is_none()
+                );
                 // Stopped short of it: no hit.
-                assert!(q.intersect(&DRay::new(o, -nn), 0.0, t * 0.9).is_none());
+                assert!(q.closest_hit(&DRay::new(o, -nn), 0.0, t * 0.9).is_none());
             }
         }
     }
@@ -376,7 +379,7 @@ fn grazing_rays_and_double_roots() {
             for tan in [du.normalize(), dv.normalize(), (du - dv).normalize()] {
                 let o = x - tan * 0.5;
                 // Exactly tangent: hit at the tangent point, to the square root of rounding.
-                let h = q.intersect(&DRay::new(o, tan), 0.0, f64::INFINITY);
+                let h = q.closest_hit(&DRay::new(o, tan), 0.0, f64::INFINITY);
                 let h = h.unwrap_or_else(|| panic!("{peer:?} tangent ray missed"));
                 assert!(
                     (h.point - x).length() < 1e-5,
@@ -384,10 +387,10 @@ fn grazing_rays_and_double_roots() {
                     (h.point - x).length()
                 );
                 // Outside (the convex side): miss.
-                let out = q.intersect(&DRay::new(o + nn * 1e-6, tan), 0.0, f64::INFINITY);
+                let out = q.closest_hit(&DRay::new(o + nn * 1e-6, tan), 0.0, f64::INFINITY);
                 assert!(out.is_none(), "{peer:?} hit from outside");
                 // Inside: two crossings about ±sqrt(2δ/κ) around the tangent point; the nearer.
-                let inside = q.intersect(&DRay::new(o - nn * 1e-6, tan), 0.0, f64::INFINITY);
+                let inside = q.closest_hit(&DRay::new(o - nn * 1e-6, tan), 0.0, f64::INFINITY);
                 let h = inside.unwrap_or_else(|| panic!("{peer:?} missed from inside"));
                 assert!(h.t < 0.5 && h.t > 0.49, "{peer:?} t {}", h.t);
                 tested += 1;
@@ -440,16 +443,16 @@ fn shared_edges_are_watertight() {
                 // From outside the torus, along the surface normal.
                 let nn = q.interpolated_normal(w1, w2);
                 let o = x + nn * 0.5;
-                let h = t64.closest(&DRay::new(o, -nn), 0.0, f64::INFINITY);
+                let h = t64.closest_hit(&DRay::new(o, -nn), 0.0, f64::INFINITY);
                 let h = h.unwrap_or_else(|| panic!("{peer:?} f64 slipped at triangle {k} {tri:?}"));
                 assert!((h.t - 0.5).abs() < 1e-9);
-                let h = t32.closest(&Ray::new(o.as_vec3(), -nn.as_vec3()), 0.0, f32::MAX);
+                let h = t32.closest_hit(&Ray::new(o.as_vec3(), -nn.as_vec3()), 0.0, f32::MAX);
                 let h = h.unwrap_or_else(|| panic!("{peer:?} f32 slipped at triangle {k}"));
                 let on = s32.patches()[h.patch as usize].point(h.w1, h.w2);
                 assert!((on - h.point).length() < 1e-5);
                 assert!((h.t - 0.5).abs() < 1e-5);
                 // Shadow query agrees.
-                assert!(t32.occluded(&Ray::new(o.as_vec3(), -nn.as_vec3()), 0.0, f32::MAX));
+                assert!(t32.any_hit(&Ray::new(o.as_vec3(), -nn.as_vec3()), 0.0, f32::MAX));
             }
         }
     }
@@ -468,7 +471,7 @@ fn torus_reference() {
     for _ in 0..2000 {
         let o = rng.unit() * (2.0 + 3.0 * rng.f());
         let d = (rng.unit() * 1.2 * rng.f() - o) * (0.3 + rng.f());
-        let h = torus.intersect(o, d, 0.0, f64::INFINITY);
+        let h = torus.closest_hit(o, d, 0.0, f64::INFINITY);
         // March: the first sign change of (distance to the tube's circle − r).
         let f = |t: f64| {
             let x = o + d * t;
@@ -495,7 +498,7 @@ fn torus_reference() {
     assert!(hits > 300, "{hits}");
     // Tangent: the ray z = r over the ring touches the top circle at (0, ±1, 0.4)... it
     // grazes along a circle: the ray x = t, y = 1, z = 0.4 touches at (0, 1, 0.4).
-    let h = torus.intersect(DVec3::new(-3.0, 1.0, 0.4), DVec3::X, 0.0, f64::INFINITY);
+    let h = torus.closest_hit(DVec3::new(-3.0, 1.0, 0.4), DVec3::X, 0.0, f64::INFINITY);
     let (t, _) = h.expect("the tangent ray");
     assert!((t - 3.0).abs() < 1e-6, "{t}");
     let _ = Vec3::ZERO;

@@ -39,13 +39,13 @@ fn box_tree_over_patch_boxes_is_the_patch_tree() {
         for r in camera_rays_around(&mesh, 40) {
             let a = bvh.closest_hit(&r, 0.0, f32::INFINITY, 4);
             let b = tree.closest_with(&r, 0.0, f32::INFINITY, |id, t0, t1| {
-                ps[id as usize].intersect(&r, t0, t1, 4)
+                ps[id as usize].closest_hit(&r, t0, t1, 4)
             });
             assert_eq!(a, b);
             assert_eq!(
                 bvh.any_hit(&r, 0.0, f32::INFINITY, 4),
                 tree.any_with(&r, 0.0, f32::INFINITY, |id, t0, t1| {
-                    ps[id as usize].intersect(&r, t0, t1, 4).is_some()
+                    ps[id as usize].closest_hit(&r, t0, t1, 4).is_some()
                 })
             );
         }

@@ -25,9 +25,9 @@ fn buffers(m: &Mesh) -> (Vec<f64>, Vec<f64>) {
 
 /// What the builder must equal: the steps of `smoothtri::mesh` called one by one (per-vertex
 /// remedy on the shared field, patches with the per-patch remedy, crack closure, seams).
-fn by_steps<F: P>(m: &Mesh, options: &BuildOptions) -> (Vec<Patch<F>>, Vec<u32>, Vec<Seam<F>>) {
-    let pos: Vec<F::Vec3> = m.positions.iter().map(|p| F::v(*p)).collect();
-    let mut nrm: Vec<F::Vec3> = m.normals.iter().map(|n| F::v(*n)).collect();
+fn by_steps<F: Float>(m: &Mesh, options: &BuildOptions) -> (Vec<Patch<F>>, Vec<u32>, Vec<Seam<F>>) {
+    let pos: Vec<F::Vec3> = m.positions.iter().map(|p| F::from_dvec3(*p)).collect();
+    let mut nrm: Vec<F::Vec3> = m.normals.iter().map(|n| F::from_dvec3(*n)).collect();
     if options.field == LineField::Vertex {
         let given = nrm.clone();
         let mut scratch = vec![VertexClamp::<F>::default(); pos.len()];
@@ -65,7 +65,7 @@ fn camera_rays(m: &Mesh, n: usize, seed: u64) -> Vec<(DVec3, DVec3)> {
         .collect()
 }
 
-fn check_equals_steps<F: P>(name: &str, m: &Mesh, mut options: BuildOptions) {
+fn check_equals_steps<F: Float>(name: &str, m: &Mesh, mut options: BuildOptions) {
     let (pos, nrm) = buffers(m);
     let owned = OwnedScene::<F>::build(
         Vertices::packed(&pos),
@@ -107,7 +107,7 @@ fn check_equals_steps<F: P>(name: &str, m: &Mesh, mut options: BuildOptions) {
     let inf = F::from_f64(f64::INFINITY);
     let mut hits = 0;
     for (o, d) in camera_rays(m, 400, 5) {
-        let ray = Ray::<F>::new(F::v(o), F::v(d));
+        let ray = Ray::<F>::new(F::from_dvec3(o), F::from_dvec3(d));
         let got = scene.closest_hit(&ray, F::ZERO, inf, 4);
         let want = bvh.closest_hit(&ray, F::ZERO, inf, 4);
         assert_eq!(got.map(|h| h.hit), want, "{name}");
@@ -169,10 +169,10 @@ struct Store<F: Float> {
     work: Vec<EdgeWork<F>>,
 }
 
-impl<F: P> Store<F> {
+impl<F: Float> Store<F> {
     fn new(n: &SceneSizes, short: Option<usize>) -> Self {
         let len = |k: usize, want: usize| if short == Some(k) { want - 1 } else { want };
-        let z = F::v(DVec3::ZERO);
+        let z = F::from_dvec3(DVec3::ZERO);
         Store {
             patches: vec![Patch::default(); len(0, n.patches)],
             ids: vec![0; len(1, n.patches)],
@@ -419,7 +419,7 @@ fn default_patches_are_never_hit() {
     for _ in 0..200 {
         let o = rng.unit() * 2.0;
         let ray = Ray::new(o.as_vec3(), (-o + rng.unit() * 0.1).as_vec3());
-        assert!(p.intersect(&ray, 0.0, f32::INFINITY, 4).is_none());
+        assert!(p.closest_hit(&ray, 0.0, f32::INFINITY, 4).is_none());
     }
 }
 
@@ -507,7 +507,7 @@ impl Executor for Backwards {
 /// order, in both line fields and both precisions (teapot: open cracks, remedied patches).
 #[test]
 fn parallel_builds_are_bit_identical() {
-    fn check<F: P>(m: &Mesh, field: LineField) {
+    fn check<F: Float>(m: &Mesh, field: LineField) {
         let (p, n) = (flat(&m.positions), flat(&m.normals));
         let (pv, nv) = (Vertices::packed(&p), Vertices::packed(&n));
         let options = BuildOptions {

@@ -32,7 +32,7 @@ fn same<T: std::fmt::Debug>(a: &T, b: &T) -> bool {
     format!("{a:?}") == format!("{b:?}")
 }
 
-fn owned<F: P>(m: &Mesh, seams: bool) -> OwnedScene<F> {
+fn owned<F: Float>(m: &Mesh, seams: bool) -> OwnedScene<F> {
     let flat = |v: &[DVec3]| -> Vec<f64> { v.iter().flat_map(|p| p.to_array()).collect() };
     let (p, n) = (flat(&m.positions), flat(&m.normals));
     let mut options = BuildOptions {
@@ -49,13 +49,13 @@ fn owned<F: P>(m: &Mesh, seams: bool) -> OwnedScene<F> {
 }
 
 /// Camera rays at `m` (40 × 30) in precision `F`.
-fn rays<F: P>(m: &Mesh) -> Vec<Ray<F>> {
+fn rays<F: Float>(m: &Mesh) -> Vec<Ray<F>> {
     let cam = Camera::for_mesh(m, 30.0, 20.0, 40, 30);
     (0..30)
         .flat_map(|y| (0..40).map(move |x| (x, y)))
         .map(|(x, y)| {
             let (o, d) = cam.pixel_ray(x, y);
-            Ray::new(F::v(o), F::v(d))
+            Ray::new(F::from_dvec3(o), F::from_dvec3(d))
         })
         .collect()
 }
@@ -66,7 +66,7 @@ fn rays<F: P>(m: &Mesh) -> Vec<Ray<F>> {
 /// warning, an error in CI's lints: each entry of the list is compared.
 mod q {
     use super::same;
-    use crate::common::P;
+    use smoothtri::Float;
     use smoothtri_isa::Kernels;
 
     macro_rules! comparisons {
@@ -78,7 +78,7 @@ mod q {
         ) => {
             $(
                 #[doc = concat!("`", $doc, "` on `k` against the core's: ", $same, ".")]
-                pub fn $name<F: P $(, const $k: usize)?>(k: Kernels, $($p: $t),*) -> $ret {
+                pub fn $name<F: Float $(, const $k: usize)?>(k: Kernels, $($p: $t),*) -> $ret {
                     let want = $core;
                     let got = k.$name $(::<F, $k>)? ($($p),*);
                     assert!(
@@ -96,7 +96,7 @@ mod q {
 }
 
 /// Every query of `k` on the scene of `m` equals the core's: returns the hits compared.
-fn scene_queries<F: P>(k: Kernels, m: &Mesh, seams: bool) -> usize {
+fn scene_queries<F: Float>(k: Kernels, m: &Mesh, seams: bool) -> usize {
     let owned = owned::<F>(m, seams);
     let scene = owned.scene();
     let bvh = scene.bvh();
@@ -140,22 +140,22 @@ fn every_instruction_set_gives_the_scene_queries_bit_for_bit() {
 }
 
 /// Random patches and rays through them: the hit and the kernel's statistics of
-/// `intersect_stats::<K>`, for two bracketing sample counts.
-fn patch_tests<F: P>(k: Kernels) {
+/// `closest_hit_stats::<K>`, for two bracketing sample counts.
+fn patch_tests<F: Float>(k: Kernels) {
     let mut rng = Rng(49);
     let inf = F::from_f64(f64::INFINITY);
     for _ in 0..200 {
         let (p, n) = random_patch(&mut rng, 35.0);
-        let Ok(patch) = Patch::<F>::new(p.map(F::v), n.map(F::v)) else {
+        let Ok(patch) = Patch::<F>::new(p.map(F::from_dvec3), n.map(F::from_dvec3)) else {
             continue;
         };
         for _ in 0..8 {
             let (o, d) = random_ray(&mut rng, 1.5);
-            let ray = Ray::new(F::v(o), F::v(d));
+            let ray = Ray::new(F::from_dvec3(o), F::from_dvec3(d));
             for n in BUDGETS {
-                q::patch_intersect_stats::<F, 6>(k, &patch, &ray, F::ZERO, inf, n);
-                q::patch_intersect_stats::<F, 14>(k, &patch, &ray, F::ZERO, inf, n);
-                q::patch_intersect(k, &patch, &ray, F::ZERO, inf, n);
+                q::patch_closest_hit_stats::<F, 6>(k, &patch, &ray, F::ZERO, inf, n);
+                q::patch_closest_hit_stats::<F, 14>(k, &patch, &ray, F::ZERO, inf, n);
+                q::patch_closest_hit(k, &patch, &ray, F::ZERO, inf, n);
             }
         }
     }

@@ -237,7 +237,7 @@ fn work_per_ray_is_bounded() {
         let (mut max_evals, mut sum, mut tests) = (0u32, 0u64, 0u64);
         for ray in rays {
             for p in ps {
-                let (_, s) = kernels().patch_intersect_stats::<F, K>(
+                let (_, s) = kernels().patch_closest_hit_stats::<F, K>(
                     p,
                     ray,
                     F::ZERO,
@@ -302,7 +302,7 @@ fn work_per_ray_is_bounded() {
     run::<f64, DEFAULT_SAMPLES, 8>(&ps64, &rays);
 }
 
-/// The worst-case guarantee of [`Patch::intersect`]: `t_error` is the final bracket's width
+/// The worst-case guarantee of [`Patch::closest_hit`]: `t_error` is the final bracket's width
 /// plus the rounding allowance ([`smoothtri::KernelStats::rounding`]), and the bracket is at
 /// most one sampling step `(tb − ta)/(K + 1)` of the shell interval
 /// ([`smoothtri::KernelStats::shell_width`]) after bracketing, divided by at least
@@ -318,8 +318,13 @@ fn t_error_is_within_the_worst_case_bound() {
         ray: &Ray<F>,
         worst: &mut f64,
     ) -> bool {
-        let (h, s) =
-            kernels().patch_intersect_stats::<F, K>(p, ray, F::ZERO, F::from_f64(f64::INFINITY), N);
+        let (h, s) = kernels().patch_closest_hit_stats::<F, K>(
+            p,
+            ray,
+            F::ZERO,
+            F::from_f64(f64::INFINITY),
+            N,
+        );
         let Some(h) = h else { return false };
         let (t, t_error) = (h.t.to_f64(), h.t_error.to_f64());
         let bracket = t_error - s.rounding;

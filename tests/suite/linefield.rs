@@ -42,7 +42,7 @@ fn tilted_sections_are_hit_on_the_surface() {
             let dist = size;
             let o = x + u * dist;
             let h = patch
-                .intersect(&DRay::new(o, -u), 0.0, f64::INFINITY, 8)
+                .closest_hit(&DRay::new(o, -u), 0.0, f64::INFINITY, 8)
                 .unwrap_or_else(|| panic!("f64 miss at ({w1}, {w2}) of {p:?} {n:?}"));
             let err = (h.t - dist).abs();
             assert!(
@@ -59,7 +59,7 @@ fn tilted_sections_are_hit_on_the_surface() {
                 continue;
             }
             let h = p32
-                .intersect(
+                .closest_hit(
                     &Ray::new(o.as_vec3(), (-u).as_vec3()),
                     0.0,
                     f32::INFINITY,

@@ -93,9 +93,10 @@ fn real_meshes_build_and_trace() {
                     // traversal tests, against the same patch without its band).
                     let bvh = scene.bvh();
                     bvh.closest_with(&ray, 0.0, f32::INFINITY, |_, p, a, b| {
-                        let (h, st) = p.intersect_stats::<DEFAULT_SAMPLES>(&ray, a, b, 4);
+                        let (h, st) = p.closest_hit_stats::<DEFAULT_SAMPLES>(&ray, a, b, 4);
                         let unbounded = smoothtri::internal::without_band(p);
-                        let (hu, su) = unbounded.intersect_stats::<DEFAULT_SAMPLES>(&ray, a, b, 4);
+                        let (hu, su) =
+                            unbounded.closest_hit_stats::<DEFAULT_SAMPLES>(&ray, a, b, 4);
                         assert_eq!(h, hu, "{file}: the band changed a result");
                         if su.height_evals > 0 && hu.is_none() {
                             missed += 1;

@@ -197,9 +197,13 @@ fn hits_are_inside_the_ray_range() {
     );
     let t_min = f(4.471166734220605e-33);
     let hits = [
-        patch.intersect(&ray, t_min, f32::INFINITY, 4),
-        patch.intersect_stats::<0>(&ray, t_min, f32::INFINITY, 0).0,
-        patch.intersect_stats::<4>(&ray, t_min, f32::INFINITY, 8).0,
+        patch.closest_hit(&ray, t_min, f32::INFINITY, 4),
+        patch
+            .closest_hit_stats::<0>(&ray, t_min, f32::INFINITY, 0)
+            .0,
+        patch
+            .closest_hit_stats::<4>(&ray, t_min, f32::INFINITY, 8)
+            .0,
     ];
     for h in &hits {
         let h = h.expect("the ray starts on the surface and crosses it");
@@ -361,7 +365,7 @@ fn bvh_closest_hit_equals_brute_force() {
         .iter()
         .enumerate()
         .filter_map(|(k, p)| {
-            let h = p.intersect(&ray, t0, t1, 6)?;
+            let h = p.closest_hit(&ray, t0, t1, 6)?;
             Some(smoothtri::DHit {
                 patch: k as u32,
                 ..h
@@ -375,7 +379,7 @@ fn bvh_closest_hit_equals_brute_force() {
     let mut ranges = Vec::new();
     bvh.closest_with(&ray, t0, t1, |_, p, a, b| {
         ranges.push((a, b));
-        p.intersect(&ray, a, b, 6)
+        p.closest_hit(&ray, a, b, 6)
     })
     .unwrap();
     assert!(ranges.len() >= 2, "{} patch tests", ranges.len());

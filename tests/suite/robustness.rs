@@ -12,7 +12,7 @@
 //!   `edge_point_normal`, `bounds` and `height_range` are finite, and every unit vector is unit
 //!   within [`smoothtri::accuracy::UNIT_LENGTH_ULPS`] ulps, at any barycentrics (outside the triangle, NaN, ±inf,
 //!   subnormal sums);
-//! - every `intersect(…, n)` / `intersect_stats::<K>(…, n)` result is `None` or fully finite, `t`
+//! - every `intersect(…, n)` / `closest_hit_stats::<K>(…, n)` result is `None` or fully finite, `t`
 //!   inside `[t_min, t_max]` exactly, `t_error ≥ 0`, unit normal, barycentrics in the triangle,
 //!   with at most `max_height_evals(K, N)` height evaluations (`max_lane_calls(K, N)` lane calls of eight and two steps of four) and at most one normal evaluation;
 //! - BVH queries on storage made by `Bvh::build` never err and equal brute force exactly
@@ -224,7 +224,7 @@ fn tiny_and_huge_patches() {
         }
         let ray = smoothtri::DRay::new(DVec3::splat(2.0 * s), -DVec3::ONE);
         let h = patch
-            .intersect(&ray, 0.0, f64::INFINITY, 8)
+            .closest_hit(&ray, 0.0, f64::INFINITY, 8)
             .unwrap_or_else(|| panic!("f64 scale {s:e}: the ray misses"));
         // Within the certified bound (|dir| = √3) plus rounding.
         let bound = h.t_error * 3f64.sqrt() / s + F64_SPHERE_HIT;
@@ -240,7 +240,7 @@ fn tiny_and_huge_patches() {
                 accepted32.push(e);
                 let ray = Ray::new(Vec3::splat(2.0 * s as f32), -Vec3::ONE);
                 let h = patch
-                    .intersect(&ray, 0.0, f32::INFINITY, 8)
+                    .closest_hit(&ray, 0.0, f32::INFINITY, 8)
                     .unwrap_or_else(|| panic!("f32 scale {s:e}: the ray misses"));
                 let r = h.point.as_dvec3().length() / s;
                 let bound = h.t_error as f64 * 3f64.sqrt() / s + F32_SPHERE_HIT;
@@ -299,7 +299,7 @@ fn generator_coverage() {
                 let target = patch.point(r.aim.0, r.aim.1);
                 let (o, d, a, b) = r.build(lo, hi, patch.face_normal(), target);
                 rays[0] += 1;
-                hits[0] += patch.intersect(&Ray::new(o, d), a, b, 8).is_some() as u32;
+                hits[0] += patch.closest_hit(&Ray::new(o, d), a, b, 8).is_some() as u32;
             }
         }
         if let Ok(patch) = r32 {
@@ -314,7 +314,7 @@ fn generator_coverage() {
                 );
                 rays[1] += 1;
                 let ray = Ray::new(o.as_vec3(), d.as_vec3());
-                hits[1] += patch.intersect(&ray, a as f32, b as f32, 8).is_some() as u32;
+                hits[1] += patch.closest_hit(&ray, a as f32, b as f32, 8).is_some() as u32;
             }
         }
     }

@@ -14,11 +14,11 @@ use smoothtri_testkit::{Mesh, scenes};
 
 /// The patches of `mesh` (every triangle accepted, some perhaps with clamped normals:
 /// [`Patch::new_or_tilted`]) and their fitted seams, with the number of shared edges fitted.
-fn build<F: P>(mesh: &Mesh) -> (Vec<Patch<F>>, Vec<Seam<F>>, usize) {
+fn build<F: Float>(mesh: &Mesh) -> (Vec<Patch<F>>, Vec<Seam<F>>, usize) {
     let patches: Vec<Patch<F>> = (0..mesh.triangles.len())
         .map(|t| {
             let (p, n) = mesh.triangle(t);
-            Patch::<F>::new_or_tilted(p.map(F::v), n.map(F::v)).unwrap()
+            Patch::<F>::new_or_tilted(p.map(F::from_dvec3), n.map(F::from_dvec3)).unwrap()
         })
         .collect();
     let mut scratch = vec![SharedEdge::default(); 3 * patches.len()];
@@ -57,12 +57,12 @@ const JUMP_SAMPLES: usize = 50;
 /// Whether the patch folds over (docs: issue 12 item 3): somewhere on a barycentric grid the
 /// derivatives' cross product points away from the face normal or the interpolated vertex
 /// normal. The geometric normal swings by tens of degrees along such a patch's edges.
-fn folded<F: P>(p: &Patch<F>) -> bool {
-    let nf = F::d(p.face_normal());
-    let ns = p.normals().map(F::d);
+fn folded<F: Float>(p: &Patch<F>) -> bool {
+    let nf = F::to_dvec3(p.face_normal());
+    let ns = p.normals().map(F::to_dvec3);
     bary_grid(24).iter().any(|&(w1, w2)| {
         let (d1, d2) = p.derivatives(F::from_f64(w1), F::from_f64(w2));
-        let c = F::d(d1).cross(F::d(d2));
+        let c = F::to_dvec3(d1).cross(F::to_dvec3(d2));
         let ph = ns[0] * (1.0 - w1 - w2) + ns[1] * w1 + ns[2] * w2;
         c.dot(nf) <= 0.0 || c.dot(ph) <= 0.0
     })
@@ -93,7 +93,7 @@ fn measured_edges(mesh: &Mesh, shared_curves: bool) -> Vec<(usize, usize, usize,
 
 /// Jumps across the interior edges of [`measured_edges`], degrees: (shading max, shading mean
 /// of the per-edge max, geometric max, geometric mean).
-fn jumps<F: P>(
+fn jumps<F: Float>(
     mesh: &Mesh,
     patches: &[Patch<F>],
     seams: &[Seam<F>],
@@ -114,10 +114,10 @@ fn jumps<F: P>(
                 F::from_f64(b1),
                 F::from_f64(b2),
             );
-            let sa = F::d(seams[ta].shading_normal(&patches[ta], a1, a2));
-            let sb = F::d(seams[tb].shading_normal(&patches[tb], b1, b2));
-            let ga = F::d(patches[ta].point_normal(a1, a2).1);
-            let gb = F::d(patches[tb].point_normal(b1, b2).1);
+            let sa = F::to_dvec3(seams[ta].shading_normal(&patches[ta], a1, a2));
+            let sb = F::to_dvec3(seams[tb].shading_normal(&patches[tb], b1, b2));
+            let ga = F::to_dvec3(patches[ta].point_normal(a1, a2).1);
+            let gb = F::to_dvec3(patches[tb].point_normal(b1, b2).1);
             se = se.max(angle_deg(sa, sb));
             ge = ge.max(angle_deg(ga, gb));
         }

@@ -43,7 +43,7 @@ fn rays(m: &Mesh, n: usize, seed: u64) -> Vec<(DVec3, DVec3)> {
         .collect()
 }
 
-fn owned<F: P>(m: &Mesh, options: &mut BuildOptions<(), impl Executor>) -> OwnedScene<F> {
+fn owned<F: Float>(m: &Mesh, options: &mut BuildOptions<(), impl Executor>) -> OwnedScene<F> {
     let (p, n) = (packed(&m.positions), packed(&m.normals));
     OwnedScene::<F>::build(
         Vertices::packed(&p),
@@ -54,7 +54,7 @@ fn owned<F: P>(m: &Mesh, options: &mut BuildOptions<(), impl Executor>) -> Owned
     .unwrap()
 }
 
-fn update<F: P>(
+fn update<F: Float>(
     s: &mut OwnedScene<F>,
     m: &Mesh,
     options: &mut BuildOptions<(), impl Executor>,
@@ -65,7 +65,7 @@ fn update<F: P>(
 }
 
 /// What an update must equal: the patches, seams and what the steps reported of a fresh build.
-fn same_build<F: P>(name: &str, a: &Scene<'_, F>, b: &Scene<'_, F>) {
+fn same_build<F: Float>(name: &str, a: &Scene<'_, F>, b: &Scene<'_, F>) {
     assert_eq!(a.patches(), b.patches(), "{name}: patches");
     assert_eq!(a.seams(), b.seams(), "{name}: seams");
     assert_eq!(a.triangle_ids(), b.triangle_ids(), "{name}: slots");
@@ -83,7 +83,7 @@ fn same_build<F: P>(name: &str, a: &Scene<'_, F>, b: &Scene<'_, F>) {
 /// The closest hits of `updated` against those of `fresh` on `rays`: bit for bit where the
 /// tree was rebuilt; where it was refitted the same hit or miss and `t` within `t_error`.
 /// Returns the hits.
-fn same_hits<F: P>(
+fn same_hits<F: Float>(
     name: &str,
     updated: &Scene<'_, F>,
     fresh: &Scene<'_, F>,
@@ -93,7 +93,7 @@ fn same_hits<F: P>(
     let inf = F::from_f64(f64::INFINITY);
     let mut hits = 0;
     for &(o, d) in rays {
-        let ray = Ray::<F>::new(F::v(o), F::v(d));
+        let ray = Ray::<F>::new(F::from_dvec3(o), F::from_dvec3(d));
         let (a, b) = (
             updated.closest_hit(&ray, F::ZERO, inf, 4),
             fresh.closest_hit(&ray, F::ZERO, inf, 4),
@@ -129,7 +129,7 @@ fn same_hits<F: P>(
 /// both precisions, both line fields, with and without seams.
 #[test]
 fn an_update_equals_a_fresh_build() {
-    fn check<F: P>(name: &str, m: &Mesh, field: LineField, seams: bool) {
+    fn check<F: Float>(name: &str, m: &Mesh, field: LineField, seams: bool) {
         let mut options = BuildOptions {
             field,
             seams,

@@ -7,7 +7,7 @@
 //! built from the first mesh and updated in place to each pose; after every update it is
 //! compared with a fresh build of that pose:
 //! - patches, slots, seams, and the report's counts: bit for bit;
-//! - on a fixed set of rays, each patch's own hit (`Patch::intersect`, the kernel's answer
+//! - on a fixed set of rays, each patch's own hit (`Patch::closest_hit`, the kernel's answer
 //!   independent of the tree): bit for bit, `t`, barycentrics, normal and `t_error`;
 //! - the scene's closest hit (with the seamless shading normal) and its shadow ray: bit for bit
 //!   where the update built the tree anew; where it refitted the tree the traversal may test
@@ -142,7 +142,7 @@ fn rays() -> Vec<(DVec3, DVec3)> {
         .collect()
 }
 
-fn build<F: P>(m: &Mesh, options: &mut BuildOptions) -> Option<OwnedScene<F>> {
+fn build<F: Float>(m: &Mesh, options: &mut BuildOptions) -> Option<OwnedScene<F>> {
     let (p, n) = (packed(&m.positions), packed(&m.normals));
     OwnedScene::<F>::build(
         Vertices::packed(&p),
@@ -154,7 +154,7 @@ fn build<F: P>(m: &Mesh, options: &mut BuildOptions) -> Option<OwnedScene<F>> {
 }
 
 /// The updated scene against the fresh build, as the module says.
-fn same<F: P>(a: &Scene<'_, F>, b: &Scene<'_, F>) -> Result<(), TestCaseError> {
+fn same<F: Float>(a: &Scene<'_, F>, b: &Scene<'_, F>) -> Result<(), TestCaseError> {
     prop_assert_eq!(a.patches(), b.patches(), "patches");
     prop_assert_eq!(a.triangle_ids(), b.triangle_ids(), "slots");
     prop_assert_eq!(a.seams(), b.seams(), "seams");
@@ -168,11 +168,11 @@ fn same<F: P>(a: &Scene<'_, F>, b: &Scene<'_, F>) -> Result<(), TestCaseError> {
     let refitted = ra.bvh_refitted;
     let inf = F::from_f64(f64::INFINITY);
     for (k, (o, d)) in rays().into_iter().enumerate() {
-        let ray = Ray::<F>::new(F::v(o), F::v(d));
+        let ray = Ray::<F>::new(F::from_dvec3(o), F::from_dvec3(d));
         for (i, (pa, pb)) in a.patches().iter().zip(b.patches()).enumerate() {
             prop_assert_eq!(
-                pa.intersect(&ray, F::ZERO, inf, 8),
-                pb.intersect(&ray, F::ZERO, inf, 8),
+                pa.closest_hit(&ray, F::ZERO, inf, 8),
+                pb.closest_hit(&ray, F::ZERO, inf, 8),
                 "ray {}, patch {}",
                 k,
                 i
@@ -202,7 +202,7 @@ fn same<F: P>(a: &Scene<'_, F>, b: &Scene<'_, F>) -> Result<(), TestCaseError> {
     Ok(())
 }
 
-fn check<F: P>(c: &Case) -> Result<(), TestCaseError> {
+fn check<F: Float>(c: &Case) -> Result<(), TestCaseError> {
     let mut options = BuildOptions {
         field: c.field,
         seams: c.seams,

@@ -38,10 +38,10 @@ fn crack_width(mesh: &Mesh, field: LineField) -> f64 {
 
 /// The mesh's patches on `field` (with the remedy), their cracks closed by [`close_cracks`]
 /// when `seal`.
-fn build<F: P>(mesh: &Mesh, seal: bool, field: LineField) -> Vec<Patch<F>> {
+fn build<F: Float>(mesh: &Mesh, seal: bool, field: LineField) -> Vec<Patch<F>> {
     // On the shared field the remedy acts per vertex first (`clamp_vertex_normals`).
-    let pos: Vec<F::Vec3> = mesh.positions.iter().map(|p| F::v(*p)).collect();
-    let mut normals: Vec<F::Vec3> = mesh.normals.iter().map(|n| F::v(*n)).collect();
+    let pos: Vec<F::Vec3> = mesh.positions.iter().map(|p| F::from_dvec3(*p)).collect();
+    let mut normals: Vec<F::Vec3> = mesh.normals.iter().map(|n| F::from_dvec3(*n)).collect();
     if field == LineField::Vertex {
         let given = normals.clone();
         let mut scratch = vec![VertexClamp::<F>::default(); pos.len()];
@@ -78,7 +78,7 @@ const MAX_OFF_NORMAL_DEG: f64 = 80.0;
 /// Counts of rays aimed at shared edges that fall through: `[exactly at points of one
 /// neighbour's edge curve, at surface points within 1e-4 of the diagonal of them, midway
 /// between the two neighbours' curves, rays shot per kind]`.
-fn fall_through<F: P>(
+fn fall_through<F: Float>(
     mesh: &Mesh,
     rays_per_edge: usize,
     seed: u64,
@@ -104,14 +104,14 @@ fn fall_through<F: P>(
                 1 => F::ONE,
                 _ => F::from_f64(rng.f()),
             };
-            let c = F::d(pa.edge_point_normal(ea, t).0);
-            let cb = F::d(patches[tb].edge_point_normal(eb, F::ONE - t).0);
+            let c = F::to_dvec3(pa.edge_point_normal(ea, t).0);
+            let cb = F::to_dvec3(patches[tb].edge_point_normal(eb, F::ONE - t).0);
             // The two patches' surface normals at the edge point.
             let normal = |p: &Patch<F>, e: usize, t: f64| {
                 let mut w = [0.0; 3];
                 w[e] = 1.0 - t;
                 w[(e + 1) % 3] = t;
-                F::d(p.point_normal(F::from_f64(w[1]), F::from_f64(w[2])).1)
+                F::to_dvec3(p.point_normal(F::from_f64(w[1]), F::from_f64(w[2])).1)
             };
             let na = normal(pa, ea, t.to_f64());
             let nb = normal(&patches[tb], eb, 1.0 - t.to_f64());
@@ -131,7 +131,7 @@ fn fall_through<F: P>(
             } else {
                 (&patches[tb], eb, 1.0 - t.to_f64())
             };
-            let v = pn.vertices().map(F::d);
+            let v = pn.vertices().map(F::to_dvec3);
             let (e0, e1, opp) = (v[en], v[(en + 1) % 3], v[(en + 2) % 3]);
             let altitude = (e1 - e0).cross(opp - e0).length() / e0.distance(e1);
             let s = 1e-4 * diag * rng.f() / altitude;
@@ -139,10 +139,10 @@ fn fall_through<F: P>(
             w[en] = (1.0 - tt) * (1.0 - s);
             w[(en + 1) % 3] = tt * (1.0 - s);
             w[(en + 2) % 3] = s;
-            let target_near = F::d(pn.point(F::from_f64(w[1]), F::from_f64(w[2])));
+            let target_near = F::to_dvec3(pn.point(F::from_f64(w[1]), F::from_f64(w[2])));
             for (kind, target) in [(0, c), (1, target_near), (2, (c + cb) * 0.5)] {
                 let o = target + u * dist;
-                let ray = Ray::<F>::new(F::v(o), F::v(-u));
+                let ray = Ray::<F>::new(F::from_dvec3(o), F::from_dvec3(-u));
                 let hit = bvh.closest_hit(&ray, F::ZERO, F::from_f64(f64::INFINITY), 4);
                 let through = match hit {
                     None => true,

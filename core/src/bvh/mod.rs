@@ -185,7 +185,7 @@ impl<'a, F: Float> Bvh<'a, F> {
     /// bit).
     ///
     /// # Accuracy
-    /// As [`Patch::intersect`]; the result equals a brute-force loop over all patches.
+    /// As [`Patch::closest_hit`]; the result equals a brute-force loop over all patches.
     /// # Panics
     /// Never.
     pub fn closest_hit(&self, ray: &Ray<F>, t_min: F, t_max: F, n: usize) -> Option<Hit<F>> {
@@ -203,7 +203,7 @@ impl<'a, F: Float> Bvh<'a, F> {
     ) -> Option<Hit<F>> {
         // Candidates are compared by their crossings; the normal is evaluated once, for the
         // closest (it is finite for every accepted patch, so this equals testing each patch
-        // with `Patch::intersect`).
+        // with `Patch::closest_hit`).
         let mut slots = [None, None];
         let (id, c, prepared) = self.closest_crossing(ray, range, n, &mut slots, heights)?;
         let mut h = c.hit(self.patches.get(id as usize)?, prepared, ray)?;

@@ -8,7 +8,7 @@ use crate::num::lanes::LANES;
 use crate::num::real::Float;
 use crate::surface::shell::longest_edge;
 
-/// Default number `K` of interior bracketing samples used by [`Patch::intersect`](crate::Patch::intersect): with the two
+/// Default number `K` of interior bracketing samples used by [`Patch::closest_hit`](crate::Patch::closest_hit): with the two
 /// ends, eight points, one lane call.
 pub const DEFAULT_SAMPLES: usize = 6;
 

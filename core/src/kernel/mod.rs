@@ -69,7 +69,7 @@ pub struct KernelStats {
     pub normal_evals: u32,
     /// Width `tb − ta` of the shell interval that was sampled (in units of the ray parameter
     /// `t`, converted to `f64`); 0 when the ray missed the box or the shell. The worst-case
-    /// guarantee of [`Patch::intersect`] is stated in terms of it.
+    /// guarantee of [`Patch::closest_hit`] is stated in terms of it.
     pub shell_width: f64,
     /// The rounding allowance included in the returned [`Hit::t_error`] (converted to `f64`):
     /// `t_error` is the final bracket's width plus this, `ROUNDING_ULPS · ε · L / |f′|` (`ROUNDING_ULPS` = 16)
@@ -78,11 +78,11 @@ pub struct KernelStats {
     pub rounding: f64,
 }
 
-/// [`Patch::intersect_stats`]: the closest crossing of `ray` with `patch` in `[t_min, t_max]`
+/// [`Patch::closest_hit_stats`]: the closest crossing of `ray` with `patch` in `[t_min, t_max]`
 /// (`K` bracketing samples, a refinement budget `n`) completed into a [`Hit`], with the
 /// call's [`KernelStats`]; `f` evaluated by `heights`.
 #[inline(always)]
-pub(crate) fn intersect_stats<F: Float, const K: usize>(
+pub(crate) fn closest_hit_stats<F: Float, const K: usize>(
     patch: &Patch<F>,
     ray: &Ray<F>,
     [t_min, t_max]: [F; 2],
@@ -90,12 +90,12 @@ pub(crate) fn intersect_stats<F: Float, const K: usize>(
     heights: &impl Heights<F>,
 ) -> (Option<Hit<F>>, KernelStats) {
     let mut stats = KernelStats::default();
-    let hit = intersect_impl::<F, K>(patch, ray, [t_min, t_max], n, &mut stats, heights);
+    let hit = closest_hit_impl::<F, K>(patch, ray, [t_min, t_max], n, &mut stats, heights);
     (hit, stats)
 }
 
 #[inline(always)]
-fn intersect_impl<F: Float, const K: usize>(
+fn closest_hit_impl<F: Float, const K: usize>(
     patch: &Patch<F>,
     ray: &Ray<F>,
     [t_min, t_max]: [F; 2],

@@ -102,6 +102,61 @@ pub(crate) struct Built {
 }
 
 impl Built {
+    /// The checks an update makes before it changes anything ([`DynamicScene::update`] and
+    /// [`OwnedScene::update`](crate::OwnedScene::update)): the options are the build's, and
+    /// the vertices fit ([`check_vertices`]).
+    ///
+    /// [`DynamicScene::update`]: super::DynamicScene::update
+    pub(crate) fn check_update<T: Float, F: Float, O, E>(
+        &self,
+        positions: &Vertices<'_, T>,
+        normals: &Vertices<'_, T>,
+        options: &BuildOptions<O, E>,
+    ) -> Result<(), BuildError> {
+        if options.field != self.field || options.seams != self.seams {
+            return Err(BuildError::OptionsChanged);
+        }
+        check_vertices::<T, F>(positions, normals, self.vertices)
+    }
+
+    /// An update's steps after [`Built::check_update`]: [`run`] over `parts` with these counts
+    /// known. On success the counts become the update's and the scene `usable`; an error of a
+    /// step leaves it unusable (its queries miss) until an update succeeds.
+    pub(crate) fn rerun<T: Float, F: Float, O: BuildObserver, E: Executor>(
+        &mut self,
+        usable: &mut bool,
+        positions: &Vertices<'_, T>,
+        normals: &Vertices<'_, T>,
+        parts: &mut Parts<'_, F>,
+        options: &mut BuildOptions<O, E>,
+    ) -> Result<&BuildReport, BuildError> {
+        let result = run(
+            positions,
+            normals,
+            self.report.triangles,
+            parts,
+            options,
+            self.slots,
+            Some(self),
+        );
+        *usable = result.is_ok();
+        *self = result?;
+        Ok(&self.report)
+    }
+
+    /// The counts queries see: these, or an empty tree (every query misses) when not `usable`.
+    pub(crate) fn in_use(self, usable: bool) -> Built {
+        if usable {
+            self
+        } else {
+            Built {
+                nodes: 0,
+                kept: 0,
+                ..self
+            }
+        }
+    }
+
     /// The scene these counts describe in `parts`.
     pub(crate) fn scene<'v, F: Float>(
         &self,
@@ -168,6 +223,37 @@ pub(crate) fn check<T: Float, O, E>(
         }
     }
     Ok(sizes)
+}
+
+/// The checks of an update's vertices: as many positions as normals, as many as `count`, every
+/// coordinate finite in `T` and in `F`.
+fn check_vertices<T: Float, F: Float>(
+    positions: &Vertices<'_, T>,
+    normals: &Vertices<'_, T>,
+    count: usize,
+) -> Result<(), BuildError> {
+    if positions.len() != normals.len() {
+        return Err(BuildError::VertexCountMismatch {
+            positions: positions.len(),
+            normals: normals.len(),
+        });
+    }
+    if positions.len() != count {
+        return Err(BuildError::VertexCountChanged {
+            built: count,
+            given: positions.len(),
+        });
+    }
+    for vertex in 0..count {
+        let finite = |v: &Vertices<'_, T>| {
+            v.vec3::<F>(vertex)
+                .is_some_and(|p| F::from_glam(p).all_finite())
+        };
+        if !finite(positions) || !finite(normals) {
+            return Err(BuildError::NonFiniteVertex { vertex });
+        }
+    }
+    Ok(())
 }
 
 /// Step 1: the slots, the triangles of `indices` whose indices differ, in order: their index
@@ -460,6 +546,34 @@ fn build_bvh<F: Float>(
     Ok((nodes, kept, cost))
 }
 
+/// The start every build shares ([`Scene::build`], [`DynamicScene::build`] and
+/// [`OwnedScene::build`](crate::OwnedScene::build)): `storage` laid out for `sizes` (what
+/// [`check`] returned for this input), one slot per triangle, then the steps ([`run`]).
+/// Returns the parts in use and the scene's counts.
+///
+/// [`DynamicScene::build`]: super::DynamicScene::build
+pub(crate) fn start<'s, T: Float, F: Float, O: BuildObserver, E: Executor>(
+    positions: &Vertices<'_, T>,
+    normals: &Vertices<'_, T>,
+    indices: &[[u32; 3]],
+    options: &mut BuildOptions<O, E>,
+    storage: SceneStorage<'s, F>,
+    sizes: &SceneSizes,
+) -> Result<(Parts<'s, F>, Built), BuildError> {
+    let mut parts = Parts::of(storage, sizes)?;
+    let slots = slots(indices, parts.triangles, parts.triangle_ids);
+    let built = run(
+        positions,
+        normals,
+        indices.len(),
+        &mut parts,
+        options,
+        slots,
+        None,
+    )?;
+    Ok((parts, built))
+}
+
 impl<'a, F: Float> Scene<'a, F> {
     /// Builds the scene of a triangle mesh: `positions` and `normals` per vertex (any
     /// consistent length unit; normals of any positive length, pointing to the side from which
@@ -494,17 +608,7 @@ impl<'a, F: Float> Scene<'a, F> {
         storage: SceneStorage<'a, F>,
     ) -> Result<Self, BuildError> {
         let sizes = check(&positions, &normals, indices, options)?;
-        let mut parts = Parts::of(storage, &sizes)?;
-        let slots = slots(indices, parts.triangles, parts.triangle_ids);
-        let built = run(
-            &positions,
-            &normals,
-            indices.len(),
-            &mut parts,
-            options,
-            slots,
-            None,
-        )?;
+        let (parts, built) = start(&positions, &normals, indices, options, storage, &sizes)?;
         let Parts {
             patches,
             triangle_ids,

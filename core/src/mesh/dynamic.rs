@@ -1,7 +1,7 @@
 //! Scenes whose vertices move ([`DynamicScene`]): the same index buffer and the same storage,
 //! re-built in place every frame, for skinned and morphed meshes.
 
-use super::build::{Built, Parts, check, run, slots};
+use super::build::{Built, Parts, check, start};
 use super::input::{BuildOptions, Vertices};
 use super::report::{BuildError, BuildObserver, BuildReport};
 use super::scene::Scene;
@@ -46,17 +46,7 @@ impl<'a, F: Float> DynamicScene<'a, F> {
         storage: SceneStorage<'a, F>,
     ) -> Result<Self, BuildError> {
         let sizes = check(&positions, &normals, indices, options)?;
-        let mut parts = Parts::of(storage, &sizes)?;
-        let slots = slots(indices, parts.triangles, parts.triangle_ids);
-        let built = run(
-            &positions,
-            &normals,
-            indices.len(),
-            &mut parts,
-            options,
-            slots,
-            None,
-        )?;
+        let (parts, built) = start(&positions, &normals, indices, options, storage, &sizes)?;
         Ok(DynamicScene {
             parts,
             built,
@@ -102,30 +92,15 @@ impl<'a, F: Float> DynamicScene<'a, F> {
         normals: Vertices<'_, T>,
         options: &mut BuildOptions<O, E>,
     ) -> Result<&BuildReport, BuildError> {
-        if options.field != self.built.field || options.seams != self.built.seams {
-            return Err(BuildError::OptionsChanged);
-        }
-        check_vertices::<T, F>(&positions, &normals, self.built.vertices)?;
-        let result = run(
+        self.built
+            .check_update::<T, F, O, E>(&positions, &normals, options)?;
+        self.built.rerun(
+            &mut self.usable,
             &positions,
             &normals,
-            self.built.report.triangles,
             &mut self.parts,
             options,
-            self.built.slots,
-            Some(&self.built),
-        );
-        match result {
-            Ok(built) => {
-                self.built = built;
-                self.usable = true;
-                Ok(&self.built.report)
-            }
-            Err(e) => {
-                self.usable = false;
-                Err(e)
-            }
-        }
+        )
     }
 
     /// The scene for queries, as built or last updated (empty, every query missing, while an
@@ -135,15 +110,7 @@ impl<'a, F: Float> DynamicScene<'a, F> {
     /// Never.
     pub fn scene(&self) -> Scene<'_, F> {
         let p = &self.parts;
-        let built = if self.usable {
-            self.built
-        } else {
-            Built {
-                nodes: 0,
-                kept: 0,
-                ..self.built
-            }
-        };
+        let built = self.built.in_use(self.usable);
         built.scene(p.patches, p.triangle_ids, p.nodes, p.order, p.seams)
     }
 
@@ -154,35 +121,4 @@ impl<'a, F: Float> DynamicScene<'a, F> {
     pub fn report(&self) -> &BuildReport {
         &self.built.report
     }
-}
-
-/// The checks of an update's vertices: as many positions as normals, as many as `count`, every
-/// coordinate finite in `T` and in `F`.
-pub(crate) fn check_vertices<T: Float, F: Float>(
-    positions: &Vertices<'_, T>,
-    normals: &Vertices<'_, T>,
-    count: usize,
-) -> Result<(), BuildError> {
-    if positions.len() != normals.len() {
-        return Err(BuildError::VertexCountMismatch {
-            positions: positions.len(),
-            normals: normals.len(),
-        });
-    }
-    if positions.len() != count {
-        return Err(BuildError::VertexCountChanged {
-            built: count,
-            given: positions.len(),
-        });
-    }
-    for vertex in 0..count {
-        let finite = |v: &Vertices<'_, T>| {
-            v.vec3::<F>(vertex)
-                .is_some_and(|p| F::from_glam(p).all_finite())
-        };
-        if !finite(positions) || !finite(normals) {
-            return Err(BuildError::NonFiniteVertex { vertex });
-        }
-    }
-    Ok(())
 }

@@ -3,8 +3,7 @@
 use alloc::vec;
 use alloc::vec::Vec;
 
-use super::build::{Built, Parts, check, run, slots};
-use super::dynamic::check_vertices;
+use super::build::{Built, Parts, check, start};
 use super::input::{BuildOptions, Vertices};
 use super::parallel::EdgeWork;
 use super::report::{BuildError, BuildObserver, BuildReport};
@@ -104,17 +103,8 @@ impl<F: Float> OwnedScene<F> {
             clamped_normals: &mut scratch.clamped,
             vertex_clamps: &mut scratch.clamps,
         };
-        let mut parts = Parts::of(storage, &sizes)?;
-        let count = slots(indices, parts.triangles, parts.triangle_ids);
-        let built = run(
-            &positions,
-            &normals,
-            indices.len(),
-            &mut parts,
-            options,
-            count,
-            None,
-        )?;
+        let (_, built) = start(&positions, &normals, indices, options, storage, &sizes)?;
+        let count = built.slots;
         for v in [&mut triangle_ids, &mut order] {
             v.truncate(count);
         }
@@ -150,10 +140,8 @@ impl<F: Float> OwnedScene<F> {
         normals: Vertices<'_, T>,
         options: &mut BuildOptions<O, E>,
     ) -> Result<&BuildReport, BuildError> {
-        if options.field != self.built.field || options.seams != self.built.seams {
-            return Err(BuildError::OptionsChanged);
-        }
-        check_vertices::<T, F>(&positions, &normals, self.built.vertices)?;
+        self.built
+            .check_update::<T, F, O, E>(&positions, &normals, options)?;
         let slots = self.built.slots;
         if self.scratch.is_none() {
             let plain = BuildOptions {
@@ -187,26 +175,8 @@ impl<F: Float> OwnedScene<F> {
             clamped: &mut scratch.clamped,
             clamps: &mut scratch.clamps,
         };
-        let result = run(
-            &positions,
-            &normals,
-            self.built.report.triangles,
-            &mut parts,
-            options,
-            slots,
-            Some(&self.built),
-        );
-        match result {
-            Ok(built) => {
-                self.built = built;
-                self.usable = true;
-                Ok(&self.built.report)
-            }
-            Err(e) => {
-                self.usable = false;
-                Err(e)
-            }
-        }
+        self.built
+            .rerun(&mut self.usable, &positions, &normals, &mut parts, options)
     }
 
     /// The scene, borrowed for queries (empty, every query missing, while an update's internal
@@ -215,16 +185,7 @@ impl<F: Float> OwnedScene<F> {
     /// # Panics
     /// Never.
     pub fn scene(&self) -> Scene<'_, F> {
-        let built = if self.usable {
-            self.built
-        } else {
-            Built {
-                nodes: 0,
-                kept: 0,
-                ..self.built
-            }
-        };
-        built.scene(
+        self.built.in_use(self.usable).scene(
             &self.patches,
             &self.triangle_ids,
             &self.nodes,

@@ -51,7 +51,7 @@ impl<'a, F: Float> Scene<'a, F> {
     /// [`Scene::scene_hit`], with the same result bit for bit (the repository's builder tests).
     ///
     /// # Accuracy
-    /// As [`Patch::intersect`]: `t` within the hit's `t_error`; the same hit as a loop over
+    /// As [`Patch::closest_hit`]: `t` within the hit's `t_error`; the same hit as a loop over
     /// every patch. The shading normal as [`Seam::correct`].
     /// # Panics
     /// Never. Non-finite rays miss.

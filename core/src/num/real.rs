@@ -306,6 +306,24 @@ pub trait Float: Real<F = Self> + Copy + Default + PartialEq + Send + Sync {
         let w = Self::from_glam(v);
         glam::DVec3::new(w.x.to_f64(), w.y.to_f64(), w.z.to_f64())
     }
+    /// The three components `[x, y, z]` of a vector of this precision (exact).
+    ///
+    /// # Panics
+    /// Never.
+    #[inline]
+    fn to_array3(v: Self::Vec3) -> [Self; 3] {
+        let w = Self::from_glam(v);
+        [w.x, w.y, w.z]
+    }
+    /// The vector of three components `[x, y, z]` (exact).
+    ///
+    /// # Panics
+    /// Never.
+    #[inline]
+    fn from_array3(a: [Self; 3]) -> Self::Vec3 {
+        let [x, y, z] = a;
+        Self::to_glam(V3 { x, y, z })
+    }
     /// The smaller of two numbers (the other one if one is NaN).
     fn min(self, o: Self) -> Self;
     /// The larger of two numbers (the other one if one is NaN).

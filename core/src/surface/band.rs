@@ -271,8 +271,9 @@ mod tests {
                     continue;
                 }
                 let r = ray(target - dir * 3.0 * size, dir);
-                let (h, st) = patch.intersect_stats::<DEFAULT_SAMPLES>(&r, F::ZERO, F::MAX, 8);
-                let (hu, su) = unbounded.intersect_stats::<DEFAULT_SAMPLES>(&r, F::ZERO, F::MAX, 8);
+                let (h, st) = patch.closest_hit_stats::<DEFAULT_SAMPLES>(&r, F::ZERO, F::MAX, 8);
+                let (hu, su) =
+                    unbounded.closest_hit_stats::<DEFAULT_SAMPLES>(&r, F::ZERO, F::MAX, 8);
                 assert_eq!(h, hu, "patch {k}: the band changed a result");
                 if su.height_evals > 0 && hu.is_none() {
                     entered += 1;

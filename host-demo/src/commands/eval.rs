@@ -99,8 +99,8 @@ pub fn eval<F: Prec>(mesh: &Mesh, points_path: &str, normals: Normals) -> Result
         };
         if let Some(c) = corner {
             let (ps, ns) = mesh.triangle(tri);
-            p = F::v(ps[c]);
-            n = F::v(ns[c].normalize_or_zero());
+            p = F::from_dvec3(ps[c]);
+            n = F::from_dvec3(ns[c].normalize_or_zero());
             sn = n;
         }
         let _ = writeln!(

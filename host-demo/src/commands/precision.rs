@@ -181,9 +181,9 @@ fn trace_all<F: Prec>(
     let out = rays
         .iter()
         .map(|&(o, d)| {
-            let r = Ray::<F>::new(F::v(o), F::v(d));
-            t.closest(&bvh, &r, F::ZERO, F::MAX)
-                .map(|h| (h.t.to_f64(), F::d(h.point), h.t_error.to_f64()))
+            let r = Ray::<F>::new(F::from_dvec3(o), F::from_dvec3(d));
+            t.closest_hit(&bvh, &r, F::ZERO, F::MAX)
+                .map(|h| (h.t.to_f64(), F::to_dvec3(h.point), h.t_error.to_f64()))
         })
         .collect();
     Ok((out, start.elapsed().as_secs_f64()))

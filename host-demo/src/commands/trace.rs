@@ -71,7 +71,7 @@ pub fn trace<F: Prec>(
     let bvh = scene.bvh();
     let mut out = String::from("ray,hit,t,x,y,z,nx,ny,nz,snx,sny,snz,triangle,w1,w2,t_error\n");
     for (i, ray) in rays.iter().enumerate() {
-        match t.closest(&bvh, ray, F::MIN_POSITIVE, F::MAX) {
+        match t.closest_hit(&bvh, ray, F::MIN_POSITIVE, F::MAX) {
             Some(h) => {
                 let tri = scene
                     .tri_ids()
@@ -114,7 +114,7 @@ fn read_rays<F: Prec>(rays_path: &str) -> Result<Vec<Ray<F>>> {
         if d == glam::DVec3::ZERO {
             return Err(DemoError::parse(rays_path, *line, "zero ray direction"));
         }
-        rays.push(Ray::<F>::new(F::v(o), F::v(d)));
+        rays.push(Ray::<F>::new(F::from_dvec3(o), F::from_dvec3(d)));
     }
     Ok(rays)
 }

@@ -1,7 +1,6 @@
 //! The kernel's two floating-point precisions: [`Precision`] names one at run time (the
 //! `--precision` option), [`Prec`] is the type-level side that generic code runs on.
 
-use glam::{DVec3, Vec3};
 use smoothtri::Float;
 
 /// Floating-point precision of the kernel, as chosen on the command line. Code generic over
@@ -41,16 +40,12 @@ impl From<Precision> for smoothtri_io::FloatWidth {
     }
 }
 
-/// The two primitive precisions, with conversions from and to the `f64` mesh data.
+/// The two primitive precisions as the demo runs them: the core's [`Float`] (with its
+/// conversions from and to `f64`: [`Float::from_dvec3`], [`Float::to_dvec3`],
+/// [`Float::to_array3`]), the run-time name, printing and exact parsing.
 pub trait Prec: Float + Send + Sync + std::fmt::Display + 'static {
     /// Which precision this is.
     const PRECISION: Precision;
-    /// Rounds an `f64` vector to this precision.
-    fn v(d: DVec3) -> Self::Vec3;
-    /// Widens a vector of this precision to `f64`.
-    fn d(v: Self::Vec3) -> DVec3;
-    /// Components of a vector.
-    fn arr(v: Self::Vec3) -> [Self; 3];
     /// Parses a decimal number directly in this precision (so that printed values read back
     /// exactly); `None` when it is not a number.
     fn parse(tok: &str) -> Option<Self>;
@@ -58,15 +53,6 @@ pub trait Prec: Float + Send + Sync + std::fmt::Display + 'static {
 
 impl Prec for f32 {
     const PRECISION: Precision = Precision::F32;
-    fn v(d: DVec3) -> Vec3 {
-        d.as_vec3()
-    }
-    fn d(v: Vec3) -> DVec3 {
-        v.as_dvec3()
-    }
-    fn arr(v: Vec3) -> [f32; 3] {
-        v.to_array()
-    }
     fn parse(tok: &str) -> Option<f32> {
         tok.parse().ok()
     }
@@ -74,15 +60,6 @@ impl Prec for f32 {
 
 impl Prec for f64 {
     const PRECISION: Precision = Precision::F64;
-    fn v(d: DVec3) -> DVec3 {
-        d
-    }
-    fn d(v: DVec3) -> DVec3 {
-        v
-    }
-    fn arr(v: DVec3) -> [f64; 3] {
-        v.to_array()
-    }
     fn parse(tok: &str) -> Option<f64> {
         tok.parse().ok()
     }

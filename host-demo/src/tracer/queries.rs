@@ -16,9 +16,9 @@ pub trait Tracer<F: Float>: Sync {
         false
     }
     /// Closest hit in `[t_min, t_max]`.
-    fn closest(&self, bvh: &Bvh<'_, F>, ray: &Ray<F>, t_min: F, t_max: F) -> Option<Hit<F>>;
+    fn closest_hit(&self, bvh: &Bvh<'_, F>, ray: &Ray<F>, t_min: F, t_max: F) -> Option<Hit<F>>;
     /// Whether anything is hit in `[t_min, t_max]`.
-    fn occluded(&self, bvh: &Bvh<'_, F>, ray: &Ray<F>, t_min: F, t_max: F) -> bool;
+    fn any_hit(&self, bvh: &Bvh<'_, F>, ray: &Ray<F>, t_min: F, t_max: F) -> bool;
     /// The closest hit in `[t_min, t_max]` with the scene's shading normal
     /// ([`smoothtri::Scene::shading_normal`]: seamless where the scene has seams). The smooth
     /// kernel answers with [`smoothtri::Scene::closest_hit`], which evaluates both normals at
@@ -30,7 +30,7 @@ pub trait Tracer<F: Float>: Sync {
         t_min: F,
         t_max: F,
     ) -> Option<(Hit<F>, F::Vec3)> {
-        let hit = self.closest(scene.bvh(), ray, t_min, t_max)?;
+        let hit = self.closest_hit(scene.bvh(), ray, t_min, t_max)?;
         Some((hit, scene.shading_normal(&hit)))
     }
 }
@@ -44,10 +44,10 @@ impl<F: Float> Tracer<F> for Smooth {
     fn smooth(&self) -> bool {
         true
     }
-    fn closest(&self, bvh: &Bvh<'_, F>, ray: &Ray<F>, t_min: F, t_max: F) -> Option<Hit<F>> {
+    fn closest_hit(&self, bvh: &Bvh<'_, F>, ray: &Ray<F>, t_min: F, t_max: F) -> Option<Hit<F>> {
         bvh.closest_hit_isa(ray, t_min, t_max, self.n)
     }
-    fn occluded(&self, bvh: &Bvh<'_, F>, ray: &Ray<F>, t_min: F, t_max: F) -> bool {
+    fn any_hit(&self, bvh: &Bvh<'_, F>, ray: &Ray<F>, t_min: F, t_max: F) -> bool {
         bvh.any_hit_isa(ray, t_min, t_max, self.n)
     }
     fn closest_shaded(
@@ -66,14 +66,14 @@ struct Flat {
     phong: bool,
 }
 impl<F: Float> Tracer<F> for Flat {
-    fn closest(&self, bvh: &Bvh<'_, F>, ray: &Ray<F>, t_min: F, t_max: F) -> Option<Hit<F>> {
+    fn closest_hit(&self, bvh: &Bvh<'_, F>, ray: &Ray<F>, t_min: F, t_max: F) -> Option<Hit<F>> {
         bvh.closest_with(ray, t_min, t_max, |_, p, a, b| {
             let ns = p.normals();
             flat_hit(&p.vertices(), self.phong.then_some(&ns), ray, a, b)
         })
     }
-    fn occluded(&self, bvh: &Bvh<'_, F>, ray: &Ray<F>, t_min: F, t_max: F) -> bool {
-        self.closest(bvh, ray, t_min, t_max).is_some()
+    fn any_hit(&self, bvh: &Bvh<'_, F>, ray: &Ray<F>, t_min: F, t_max: F) -> bool {
+        self.closest_hit(bvh, ray, t_min, t_max).is_some()
     }
 }
 

@@ -5,7 +5,7 @@
 use std::collections::HashMap;
 
 use glam::DVec3;
-use smoothtri::Float;
+pub use smoothtri::Float;
 use smoothtri_testkit::{Mesh, scenes};
 
 pub mod pins;
@@ -119,28 +119,6 @@ pub fn skinny(
     let b = offset + eu * (0.5 * size);
     let c = a + eu * (x * size) + ev * (size / aspect);
     ([a, b, c], nf)
-}
-
-/// The two precisions, with conversions from and to the `f64` mesh data.
-pub trait P: Float {
-    fn v(d: DVec3) -> Self::Vec3;
-    fn d(v: Self::Vec3) -> DVec3;
-}
-impl P for f32 {
-    fn v(d: DVec3) -> glam::Vec3 {
-        d.as_vec3()
-    }
-    fn d(v: glam::Vec3) -> DVec3 {
-        v.as_dvec3()
-    }
-}
-impl P for f64 {
-    fn v(d: DVec3) -> DVec3 {
-        d
-    }
-    fn d(v: DVec3) -> DVec3 {
-        v
-    }
 }
 
 /// Interior edges by vertex indices: (triangle A, its edge, triangle B, its edge), B

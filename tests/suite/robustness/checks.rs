@@ -295,19 +295,19 @@ pub fn check_ray<F: Float>(
     t_max: F,
 ) -> Result<(), TestCaseError> {
     let hits = [
-        patch.intersect(ray, t_min, t_max, 0),
-        patch.intersect(ray, t_min, t_max, 1),
-        patch.intersect(ray, t_min, t_max, 4),
-        patch.intersect(ray, t_min, t_max, 8),
+        patch.closest_hit(ray, t_min, t_max, 0),
+        patch.closest_hit(ray, t_min, t_max, 1),
+        patch.closest_hit(ray, t_min, t_max, 4),
+        patch.closest_hit(ray, t_min, t_max, 8),
     ];
     for h in hits.iter().flatten() {
         check_hit(patch, ray, t_min, t_max, h)?;
     }
     for (k, n, (h, s)) in [
-        (0, 0, patch.intersect_stats::<0>(ray, t_min, t_max, 0)),
-        (1, 3, patch.intersect_stats::<1>(ray, t_min, t_max, 3)),
-        (4, 8, patch.intersect_stats::<4>(ray, t_min, t_max, 8)),
-        (8, 24, patch.intersect_stats::<8>(ray, t_min, t_max, 24)),
+        (0, 0, patch.closest_hit_stats::<0>(ray, t_min, t_max, 0)),
+        (1, 3, patch.closest_hit_stats::<1>(ray, t_min, t_max, 3)),
+        (4, 8, patch.closest_hit_stats::<4>(ray, t_min, t_max, 8)),
+        (8, 24, patch.closest_hit_stats::<8>(ray, t_min, t_max, 24)),
     ] {
         check_stats(s, k, n)?;
         if let Some(h) = h {
@@ -353,7 +353,7 @@ pub fn check_bvh<F: Float>(ps: &[Patch<F>], rays: &[RayParam]) -> Result<(), Tes
             .iter()
             .enumerate()
             .filter_map(|(k, p)| {
-                let h = p.intersect(&ray, t0, t1, 6)?;
+                let h = p.closest_hit(&ray, t0, t1, 6)?;
                 Some(Hit {
                     patch: k as u32,
                     ..h
