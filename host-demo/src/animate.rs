@@ -2,7 +2,7 @@
 //! file's clip ([`smoothtri_io::AnimatedMesh`]) or the twisting torus
 //! ([`smoothtri_host::twist`], `--scene twist`) into a mesh, frame by frame, turned upright
 //! like the static mesh; [`Animation::sphere`] frames the whole clip for a camera that stays put;
-//! [`scene_of_pose`] is the one place a posed mesh becomes a scene.
+//! [`scene_of_pose`](crate::commands::view::scene_of_pose) is the one place a posed mesh becomes a scene.
 
 use glam::DVec3;
 use smoothtri_host::Camera;

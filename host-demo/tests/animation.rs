@@ -5,28 +5,17 @@
 //! `k`, `render --time` at `--time + k · FRAME_STEP`, pixel for pixel, on the CPU and (where a
 //! Vulkan adapter is, or `SMOOTHTRI_REQUIRE_GPU` is set) on the GPU.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
+use common::{BIN, gpu_renders, output, smoothtri, xvfb_available};
 use smoothtri_demo::animate::FRAME_STEP;
 
 const SKIN: &str = "glTF2/simple_skin/simple_skin.gltf";
 const MORPH: &str = "glTF2/glTF-Sample-Models/AnimatedMorphCube-glTF/AnimatedMorphCube.gltf";
 const SIZE: [&str; 4] = ["--width", "80", "--height", "60"];
-
-/// Runs `cmd`; returns (exit code, stdout, stderr).
-fn output(cmd: &mut Command) -> (i32, String, String) {
-    let o = cmd.output().expect("run");
-    (
-        o.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&o.stdout).into_owned(),
-        String::from_utf8_lossy(&o.stderr).into_owned(),
-    )
-}
-
-fn smoothtri() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_smoothtri"))
-}
 
 /// The animated file `rel` of `assimp-testmodels`, or `None` (skipped).
 fn asset(rel: &str) -> Option<String> {
@@ -215,18 +204,6 @@ fn bad_times_clips_and_sources_are_one_line() {
     );
 }
 
-fn xvfb_available() -> bool {
-    let found = Command::new("xvfb-run").arg("--help").output().is_ok();
-    if !found {
-        assert!(
-            std::env::var_os("SMOOTHTRI_REQUIRE_DISPLAY").is_none(),
-            "SMOOTHTRI_REQUIRE_DISPLAY is set but xvfb-run is missing (apt-get install xvfb xauth)"
-        );
-        eprintln!("skipped: xvfb-run is missing (apt-get install xvfb xauth)");
-    }
-    found
-}
-
 /// `view --animate --time START --frames 3 <args>` (headless, under xvfb-run) writes the frame
 /// at START + 2·FRAME_STEP: equal, image and hit mask, to `render --time` at that time.
 fn animated_view_equals_render(dir: &Path, args: &[&str], start: f64, tag: &str) {
@@ -238,7 +215,7 @@ fn animated_view_equals_render(dir: &Path, args: &[&str], start: f64, tag: &str)
     let (code, out, err) = output(
         Command::new("xvfb-run")
             .args(["-a", "-s", "-screen 0 1024x768x24"])
-            .arg(env!("CARGO_BIN_EXE_smoothtri"))
+            .arg(BIN)
             .args(["view", "--animate", "--time", &start_s, "--frames", "3"])
             .args(SIZE)
             .args(args)
@@ -282,18 +259,7 @@ fn headless_animation_frames_equal_render_time() {
         animated_view_equals_render(d, &["--mesh", &morph], 1.2, "cube");
     }
     // The GPU kernel: skipped without a Vulkan adapter unless SMOOTHTRI_REQUIRE_GPU is set.
-    let probe = output(
-        smoothtri()
-            .args(["render", "--gpu", "--width", "8", "--height", "8", "--out"])
-            .arg(d.join("probe.png")),
-    );
-    if probe.0 != 0 {
-        assert!(
-            std::env::var_os("SMOOTHTRI_REQUIRE_GPU").is_none(),
-            "SMOOTHTRI_REQUIRE_GPU is set but render --gpu failed: {}",
-            probe.2
-        );
-        eprintln!("skipped the GPU animation: {}", probe.2.trim());
+    if !gpu_renders(d, "the GPU animation") {
         return;
     }
     animated_view_equals_render(

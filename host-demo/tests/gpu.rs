@@ -3,16 +3,19 @@
 //! non-zero. The GPU tests skip (one line on stderr) on a machine without a Vulkan adapter
 //! unless `SMOOTHTRI_REQUIRE_GPU` is set (`.ci/run` sets it).
 
+mod common;
+
 use std::io::Write as _;
-use std::process::{Command, Stdio};
+use std::process::Stdio;
 use std::sync::Arc;
 
+use common::{output, smoothtri};
 use smoothtri_demo::gpu::{frame_view, gpu_scene, render_gpu};
 use smoothtri_demo::renderer::render;
 use smoothtri_demo::tracer::{Mode, Scene, tracer};
 use smoothtri_gpu::{Gpu, GpuError, GpuFrame};
-use smoothtri_testkit::Camera;
 use smoothtri_testkit::scenes::torus;
+use smoothtri_testkit::{Camera, Mesh};
 
 /// Largest per-channel difference (of 255) allowed on any pixel.
 const PIXEL_TOL: u8 = 2;
@@ -39,14 +42,20 @@ fn gpu() -> Option<Arc<Gpu>> {
     }
 }
 
+/// The 8 × 8 torus, `render`'s camera on it for a `w`×`h` image, and its f32 scene.
+fn torus_scene(w: u32, h: u32) -> (Mesh, Camera, Scene<f32>) {
+    let mesh = torus(8, 8, 1.0, 0.4);
+    let cam = Camera::for_mesh(&mesh, 30.0, 35.0, w, h);
+    let scene = Scene::<f32>::build(&mesh).expect("scene");
+    (mesh, cam, scene)
+}
+
 /// The torus rendered by `render --gpu`'s code and by the CPU renderer, in every mode: the
 /// same hits (mask) and pixels within [`PIXEL_TOL`].
 #[test]
 fn gpu_torus_image_equals_the_cpu_image() {
     let Some(gpu) = gpu() else { return };
-    let mesh = torus(8, 8, 1.0, 0.4);
-    let cam = Camera::for_mesh(&mesh, 30.0, 35.0, 200, 150);
-    let plain = Scene::<f32>::build(&mesh).expect("scene");
+    let (mesh, cam, plain) = torus_scene(200, 150);
     // With seams: the smooth mode shades with the seamless normal on both sides.
     let seamed = Scene::<f32>::build_with(&mesh, smoothtri::LineField::Face, true).expect("scene");
     let mut images = Vec::new();
@@ -102,9 +111,7 @@ fn gpu_torus_image_equals_the_cpu_image() {
 #[test]
 fn gpu_heat_map_follows_the_cpu_scale() {
     let Some(gpu) = gpu() else { return };
-    let mesh = torus(8, 8, 1.0, 0.4);
-    let cam = Camera::for_mesh(&mesh, 30.0, 35.0, 160, 120);
-    let scene = Scene::<f32>::build(&mesh).expect("scene");
+    let (mesh, cam, scene) = torus_scene(160, 120);
     let gs = gpu_scene(&gpu, &scene, Mode::Smooth).expect("upload");
     let mut frame = GpuFrame::new(&gpu, 160, 120).expect("frame");
     let diag = mesh.diagonal();
@@ -131,21 +138,18 @@ fn gpu_heat_map_follows_the_cpu_scale() {
     assert!(hits > 1000, "{hits}");
 }
 
-fn smoothtri(args: &[&str], no_adapter: bool) -> (i32, String, String) {
+/// Runs `smoothtri args` in a scratch folder, with no Vulkan driver to find when `no_adapter`;
+/// returns (exit code, stdout, stderr).
+fn run_in_tmp(args: &[&str], no_adapter: bool) -> (i32, String, String) {
     let dir = tempfile::tempdir().expect("tempdir");
-    let mut c = Command::new(env!("CARGO_BIN_EXE_smoothtri"));
+    let mut c = smoothtri();
     c.current_dir(dir.path()).args(args).stdin(Stdio::null());
     if no_adapter {
         // The Vulkan loader then finds no driver at all.
         c.env("VK_ICD_FILENAMES", "/nonexistent/icd.json")
             .env("VK_DRIVER_FILES", "/nonexistent/icd.json");
     }
-    let o = c.output().expect("run smoothtri");
-    (
-        o.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&o.stdout).into_owned(),
-        String::from_utf8_lossy(&o.stderr).into_owned(),
-    )
+    output(&mut c)
 }
 
 #[test]
@@ -154,13 +158,13 @@ fn without_an_adapter_gpu_commands_fail_in_one_line() {
         &["render", "--gpu", "--width", "8", "--height", "6"][..],
         &["precision", "--gpu", "--width", "8", "--height", "6"][..],
     ] {
-        let (code, out, err) = smoothtri(args, true);
+        let (code, out, err) = run_in_tmp(args, true);
         assert_ne!(code, 0, "{args:?}: {out}");
         let lines: Vec<&str> = err.lines().filter(|l| !l.trim().is_empty()).collect();
         assert_eq!(lines.len(), 1, "{args:?}: {err}");
         assert!(lines[0].contains("no GPU adapter"), "{args:?}: {err}");
     }
-    let (code, _, err) = smoothtri(&["render", "--gpu", "--precision", "f64"], false);
+    let (code, _, err) = run_in_tmp(&["render", "--gpu", "--precision", "f64"], false);
     assert_ne!(code, 0);
     assert!(err.contains("--gpu traces in f32"), "{err}");
 }
@@ -170,7 +174,7 @@ fn render_and_precision_run_on_the_gpu() {
     if gpu().is_none() {
         return;
     }
-    let (code, out, err) = smoothtri(
+    let (code, out, err) = run_in_tmp(
         &[
             "render", "--gpu", "--width", "64", "--height", "48", "--out", "-",
         ],
@@ -179,7 +183,7 @@ fn render_and_precision_run_on_the_gpu() {
     assert_eq!(code, 0, "{err}");
     assert!(out.contains("PNG\r\n"), "not a PNG on stdout");
     assert!(err.contains("GPU kernel on"), "{err}");
-    let (code, out, err) = smoothtri(
+    let (code, out, err) = run_in_tmp(
         &[
             "precision",
             "--gpu",

@@ -4,47 +4,20 @@
 //! format; two outputs cannot name one file; a write that fails (the target a folder, a file
 //! size limit reached mid-write) leaves the old contents; no temporary file is ever left.
 
+mod common;
+
 use std::path::Path;
 use std::process::Command;
 
+use common::{Run, fails, ok, tmp, with};
 use smoothtri_io::FloatWidth;
 use smoothtri_testkit::scenes::cube;
 
-struct Run {
-    code: i32,
-    out: String,
-    err: String,
-}
-
-fn run(dir: &Path, args: &[&str]) -> Run {
-    let o = Command::new(env!("CARGO_BIN_EXE_smoothtri"))
-        .current_dir(dir)
-        .args(args)
-        .output()
-        .expect("spawn smoothtri");
-    Run {
-        code: o.status.code().unwrap_or(-1),
-        out: String::from_utf8_lossy(&o.stdout).into_owned(),
-        err: String::from_utf8_lossy(&o.stderr).into_owned(),
-    }
-}
-
-fn ok(dir: &Path, args: &[&str]) -> Run {
-    let r = run(dir, args);
-    assert_eq!(r.code, 0, "{args:?} failed: {}", r.err);
-    r
-}
-
 /// Runs, expects failure with one error line (no panic) containing every needle.
 fn refused(dir: &Path, args: &[&str], needles: &[&str]) -> Run {
-    let r = run(dir, args);
-    assert_ne!(r.code, 0, "{args:?} should fail; stdout {}", r.out);
-    assert!(!r.err.contains("panicked"), "{args:?} panicked: {}", r.err);
+    let r = fails(dir, args, needles);
     let errors: Vec<&str> = r.err.lines().filter(|l| l.starts_with("error")).collect();
     assert_eq!(errors.len(), 1, "{args:?}: one error line: {}", r.err);
-    for n in needles {
-        assert!(r.err.contains(n), "{args:?}: stderr lacks {n:?}: {}", r.err);
-    }
     r
 }
 
@@ -73,23 +46,19 @@ fn mesh_file(dir: &Path, name: &str) -> Vec<u8> {
 
 const SMALL: [&str; 4] = ["--width", "24", "--height", "18"];
 
-fn with<'a>(a: &[&'a str], b: &[&'a str]) -> Vec<&'a str> {
-    [a, b].concat()
-}
-
 #[cfg(unix)]
 #[test]
 fn an_output_that_is_an_input_is_refused_and_the_input_kept() {
     use std::os::unix::fs::symlink;
-    let d = tempfile::tempdir().expect("tempdir");
+    let d = tmp();
     let p = d.path();
-    std::fs::create_dir(p.join("sub")).expect("sub");
     let glb = mesh_file(p, "m.glb");
     let obj = mesh_file(p, "m.obj");
     symlink("m.glb", p.join("link.glb")).expect("symlink");
     symlink("m.obj", p.join("pic.png")).expect("symlink");
     symlink("m.obj", p.join("plot.svg")).expect("symlink");
     std::fs::hard_link(p.join("m.glb"), p.join("hard.glb")).expect("hard link");
+    std::fs::create_dir(p.join("sub")).expect("sub");
     let before = names(p);
     let tess = ["tessellate", "--mesh", "m.glb", "--level", "1"];
     for out in ["m.glb", "./m.glb", "sub/../m.glb", "link.glb", "hard.glb"] {
@@ -161,7 +130,7 @@ fn an_output_that_is_an_input_is_refused_and_the_input_kept() {
 #[cfg(unix)]
 #[test]
 fn two_outputs_naming_one_file_are_refused() {
-    let d = tempfile::tempdir().expect("tempdir");
+    let d = tmp();
     let p = d.path();
     // A dangling link: the mask would be written over the image written just before.
     std::os::unix::fs::symlink("out.png", p.join("mask.pbm")).expect("symlink");
@@ -178,7 +147,7 @@ fn two_outputs_naming_one_file_are_refused() {
 
 #[test]
 fn an_output_must_have_its_formats_extension() {
-    let d = tempfile::tempdir().expect("tempdir");
+    let d = tmp();
     let p = d.path();
     let obj = mesh_file(p, "a.obj");
     let cases: [(Vec<&str>, &str); 8] = [
@@ -242,7 +211,7 @@ fn an_output_must_have_its_formats_extension() {
 
 #[test]
 fn a_missing_folder_is_refused_before_the_work() {
-    let d = tempfile::tempdir().expect("tempdir");
+    let d = tmp();
     let p = d.path();
     refused(
         p,
@@ -259,7 +228,7 @@ fn a_missing_folder_is_refused_before_the_work() {
 #[test]
 fn outputs_replace_old_files_whole_and_leave_nothing_else() {
     use std::os::unix::fs::PermissionsExt;
-    let d = tempfile::tempdir().expect("tempdir");
+    let d = tmp();
     let p = d.path();
     std::fs::create_dir(p.join("real")).expect("real");
     std::os::unix::fs::symlink("real/t.obj", p.join("t.obj")).expect("symlink");
@@ -355,7 +324,7 @@ fn outputs_replace_old_files_whole_and_leave_nothing_else() {
 /// folder and its contents stay, and no temporary file is left. Works as root too.
 #[test]
 fn a_failed_rename_leaves_the_target_and_no_temporary_file() {
-    let d = tempfile::tempdir().expect("tempdir");
+    let d = tmp();
     let p = d.path();
     std::fs::create_dir(p.join("out.png")).expect("a folder named like the output");
     std::fs::write(p.join("out.png/keep.txt"), "kept").expect("keep");
@@ -378,7 +347,7 @@ fn a_failed_rename_leaves_the_target_and_no_temporary_file() {
 #[cfg(target_os = "linux")]
 #[test]
 fn a_write_that_fails_midway_leaves_the_old_file() {
-    let d = tempfile::tempdir().expect("tempdir");
+    let d = tmp();
     let p = d.path();
     let args = ["render", "--width", "320", "--height", "240", "--out"];
     // The limit below is 1 KiB at most (POSIX sh counts 512-byte blocks, bash 1024); the image

@@ -3,34 +3,12 @@
 //! `xvfb` and `xauth`; skipped without them unless `SMOOTHTRI_REQUIRE_DISPLAY` is set, as CI
 //! does); without a display the viewer ends with one readable line.
 
+mod common;
+
 use std::path::Path;
 use std::process::Command;
 
-fn bin() -> &'static str {
-    env!("CARGO_BIN_EXE_smoothtri")
-}
-
-/// Runs `cmd`; returns (exit code, stdout, stderr).
-fn output(cmd: &mut Command) -> (i32, String, String) {
-    let o = cmd.output().expect("run");
-    (
-        o.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&o.stdout).into_owned(),
-        String::from_utf8_lossy(&o.stderr).into_owned(),
-    )
-}
-
-fn xvfb_available() -> bool {
-    let found = Command::new("xvfb-run").arg("--help").output().is_ok();
-    if !found {
-        assert!(
-            std::env::var_os("SMOOTHTRI_REQUIRE_DISPLAY").is_none(),
-            "SMOOTHTRI_REQUIRE_DISPLAY is set but xvfb-run is missing (apt-get install xvfb xauth)"
-        );
-        eprintln!("skipped: xvfb-run is missing (apt-get install xvfb xauth)");
-    }
-    found
-}
+use common::{BIN, gpu_renders, output, smoothtri, xvfb_available};
 
 /// `view --frames 2 --screenshot` under xvfb-run against `render` with `args` (mode, size,
 /// precision…), both written into `dir`: the PNG and the PBM mask must be equal byte for byte.
@@ -50,7 +28,7 @@ fn screenshot_equals_render(dir: &Path, args: &[&str], tag: &str) -> String {
                 "-a",
                 "-s",
                 "-screen 0 1024x768x24",
-                bin(),
+                BIN,
                 "view",
                 "--frames",
                 "2",
@@ -63,7 +41,7 @@ fn screenshot_equals_render(dir: &Path, args: &[&str], tag: &str) -> String {
     );
     assert_eq!(code, 0, "view {args:?} failed: {err}");
     let (code, _, err) = output(
-        Command::new(bin())
+        smoothtri()
             .arg("render")
             .args(args)
             .arg("--out")
@@ -114,18 +92,7 @@ fn headless_screenshots_equal_render_cpu_and_gpu() {
     heat_map_keeps_the_hits(dir.path(), &size, "cpu0");
     // The GPU kernel (Mesa's lavapipe in CI): skipped without a Vulkan adapter unless
     // SMOOTHTRI_REQUIRE_GPU is set.
-    let probe = output(
-        Command::new(bin())
-            .args(["render", "--gpu", "--width", "8", "--height", "8", "--out"])
-            .arg(dir.path().join("probe.png")),
-    );
-    if probe.0 != 0 {
-        assert!(
-            std::env::var_os("SMOOTHTRI_REQUIRE_GPU").is_none(),
-            "SMOOTHTRI_REQUIRE_GPU is set but render --gpu failed: {}",
-            probe.2
-        );
-        eprintln!("skipped the GPU viewer: {}", probe.2.trim());
+    if !gpu_renders(dir.path(), "the GPU viewer") {
         return;
     }
     // The GPU frames go to the window's wgpu swap chain; the screenshot reads the last back.
@@ -153,7 +120,7 @@ fn heat_map_keeps_the_hits(dir: &Path, args: &[&str], tag: &str) {
     );
     let (code, _, err) = output(
         Command::new("xvfb-run")
-            .args(["-a", bin(), "view", "--frames", "1", "--heat"])
+            .args(["-a", BIN, "view", "--frames", "1", "--heat"])
             .args(args)
             .arg("--screenshot")
             .arg(&heat)
@@ -169,7 +136,7 @@ fn heat_map_keeps_the_hits(dir: &Path, args: &[&str], tag: &str) {
 #[test]
 fn without_a_display_view_is_one_readable_error() {
     let (code, out, err) = output(
-        Command::new(bin())
+        smoothtri()
             .args(["view", "--width", "64", "--height", "48"])
             .env_remove("DISPLAY")
             .env_remove("WAYLAND_DISPLAY"),
@@ -192,7 +159,7 @@ fn view_options_are_checked() {
         (&["--width", "0"][..], "--width and --height"),
         (&["--gpu", "--precision", "f64"][..], "--gpu traces in f32"),
     ] {
-        let (code, _, err) = output(Command::new(bin()).arg("view").args(args));
+        let (code, _, err) = output(smoothtri().arg("view").args(args));
         assert_eq!(code, 1, "{args:?}: {err}");
         assert!(err.contains(needle), "{args:?}: {err}");
         assert_eq!(err.lines().count(), 1, "{err}");

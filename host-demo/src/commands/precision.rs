@@ -11,6 +11,7 @@ use smoothtri_gpu::{Gpu, GpuScene};
 use smoothtri_host::Camera;
 use smoothtri_io::Mesh;
 
+use super::render::{check_outputs, check_size};
 use super::source::MeshSource;
 use crate::error::{DemoError, Result};
 use crate::image::{Image, heat};
@@ -47,19 +48,15 @@ pub struct PrecisionOptions {
 /// Before any work the outputs are checked ([`crate::output::check`]): `--csv` a `.csv` (or
 /// `-`), `--plot` an `.svg`, `--strip` a `.png`, none the `--mesh` file nor another output.
 pub fn run(a: PrecisionOptions) -> Result<()> {
-    crate::output::check(
-        &crate::output::inputs(&[("--mesh", a.source.mesh.as_deref())]),
-        &crate::output::outputs(&[
+    check_outputs(
+        &a.source,
+        &[
             ("--csv", a.csv.as_deref(), Format::Csv),
             ("--plot", a.plot.as_deref(), Format::Svg),
             ("--strip", a.strip.as_deref(), Format::Png),
-        ]),
+        ],
     )?;
-    if a.width == 0 || a.height == 0 || a.width > 4096 || a.height > 4096 {
-        return Err(DemoError::Usage(
-            "--width and --height must be in 1..=4096".into(),
-        ));
-    }
+    check_size(a.width, a.height, 4096)?;
     let gpu = if a.gpu {
         Some(crate::gpu::open_gpu()?)
     } else {
@@ -130,6 +127,20 @@ pub struct Row {
     pub ns_per_ray: f64,
 }
 
+/// A row's values in the order of [`CSV_HEADER`] and of the table's columns.
+type Values = (
+    &'static str,
+    usize,
+    usize,
+    f64,
+    f64,
+    f64,
+    f64,
+    f64,
+    usize,
+    f64,
+);
+
 impl Row {
     /// The label of the run: `f32`, `f64` or `gpu`.
     pub fn label(&self) -> &'static str {
@@ -138,6 +149,22 @@ impl Row {
         } else {
             self.precision.name()
         }
+    }
+
+    /// The row's values, as the table and the CSV write them (in their columns' order).
+    fn values(&self) -> Values {
+        (
+            self.label(),
+            self.iterations,
+            self.hits,
+            self.max,
+            self.p999,
+            self.mean,
+            self.mean_t_error,
+            self.bound_holds,
+            self.disagreements,
+            self.ns_per_ray,
+        )
     }
 }
 
@@ -348,19 +375,12 @@ impl Study {
             "ns/ray"
         );
         for r in &self.rows {
+            let (label, n, hits, max, p999, mean, t_error, holds, disagree, ns) = r.values();
             let _ = writeln!(
                 s,
-                "{:>4} {:>3} {:>6} {:>10.2e} {:>10.2e} {:>10.2e} {:>12.2e} {:>7.2}% {:>9} {:>9.0}",
-                r.label(),
-                r.iterations,
-                r.hits,
-                r.max,
-                r.p999,
-                r.mean,
-                r.mean_t_error,
-                r.bound_holds * 100.0,
-                r.disagreements,
-                r.ns_per_ray
+                "{label:>4} {n:>3} {hits:>6} {max:>10.2e} {p999:>10.2e} {mean:>10.2e} \
+                 {t_error:>12.2e} {:>7.2}% {disagree:>9} {ns:>9.0}",
+                holds * 100.0
             );
         }
         s.push_str(
@@ -374,19 +394,10 @@ impl Study {
         let mut s = String::from(CSV_HEADER);
         s.push('\n');
         for r in &self.rows {
+            let (label, n, hits, max, p999, mean, t_error, holds, disagree, ns) = r.values();
             let _ = writeln!(
                 s,
-                "{},{},{},{},{},{},{},{},{},{}",
-                r.label(),
-                r.iterations,
-                r.hits,
-                r.max,
-                r.p999,
-                r.mean,
-                r.mean_t_error,
-                r.bound_holds,
-                r.disagreements,
-                r.ns_per_ray
+                "{label},{n},{hits},{max},{p999},{mean},{t_error},{holds},{disagree},{ns}"
             );
         }
         s

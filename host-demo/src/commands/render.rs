@@ -95,38 +95,46 @@ pub(crate) fn render_panel_in(
     n: usize,
     note: bool,
 ) -> Result<Panel> {
-    render_panel_with(
-        &SceneCache::default(),
-        prec,
+    let shot = Shot {
         mesh,
         cam,
         mode,
         n,
-        Note {
+        note: Note {
             skipped: note,
             timing: false,
         },
-        Normals::default(),
-        LineField::Face,
-    )
+        normals: Normals::default(),
+        field: LineField::Face,
+    };
+    render_panel_with(&SceneCache::default(), prec, shot)
 }
 
-/// [`render_panel_in`] shading smooth hits with `normals`, the patches on `field`.
-#[allow(clippy::too_many_arguments)]
-pub(crate) fn render_panel_with(
-    cache: &SceneCache,
-    prec: Precision,
-    mesh: &Mesh,
-    cam: &Camera,
+/// [`render_panel_in`] shading smooth hits with the shot's normals, the patches on its field.
+fn render_panel_with(cache: &SceneCache, prec: Precision, shot: Shot<'_>) -> Result<Panel> {
+    match prec {
+        Precision::F32 => render_panel::<f32>(cache, shot),
+        Precision::F64 => render_panel::<f64>(cache, shot),
+    }
+}
+
+/// One panel to render: `mesh` through `cam` in `mode` with budget `n`, smooth hits shaded with
+/// `normals`, the patches on `field`; `note` says what to print about the scene it builds.
+#[derive(Clone, Copy)]
+struct Shot<'a> {
+    mesh: &'a Mesh,
+    cam: &'a Camera,
     mode: Mode,
     n: usize,
     note: Note,
     normals: Normals,
     field: LineField,
-) -> Result<Panel> {
-    match prec {
-        Precision::F32 => render_panel::<f32>(cache, mesh, cam, mode, n, note, normals, field),
-        Precision::F64 => render_panel::<f64>(cache, mesh, cam, mode, n, note, normals, field),
+}
+
+impl Shot<'_> {
+    /// Whether the panel's scene has seams: only the smooth mode shades with them.
+    fn seams(&self) -> bool {
+        self.normals == Normals::Seamless && self.mode == Mode::Smooth
     }
 }
 
@@ -166,25 +174,14 @@ impl SceneCache {
     }
 }
 
-/// Builds the scene in precision `F` (or takes it from `cache`) and renders one panel in `mode`
-/// with budget `n`; `note` prints the scene's note about skipped or clamped triangles.
-#[allow(clippy::too_many_arguments)]
-fn render_panel<F: Prec>(
-    cache: &SceneCache,
-    mesh: &Mesh,
-    cam: &Camera,
-    mode: Mode,
-    n: usize,
-    note: Note,
-    normals: Normals,
-    field: LineField,
-) -> Result<Panel> {
-    // Only the smooth mode shades with the seams.
-    let seams = normals == Normals::Seamless && mode == Mode::Smooth;
-    let scene = match cache.get::<F>(mode, seams) {
+/// Builds the scene in precision `F` (or takes it from `cache`) and renders one panel of `shot`;
+/// its note prints the scene's note about skipped or clamped triangles.
+fn render_panel<F: Prec>(cache: &SceneCache, shot: Shot<'_>) -> Result<Panel> {
+    let seams = shot.seams();
+    let scene = match cache.get::<F>(shot.mode, seams) {
         Some(scene) => scene,
         None => {
-            let scene = Rc::new(build_scene::<F>(mesh, note, field, seams)?);
+            let scene = Rc::new(build_scene::<F>(shot.mesh, shot.note, shot.field, seams)?);
             let mut slot = cache.0.borrow_mut();
             if slot.is_none() {
                 *slot = Some((Rc::clone(&scene) as Rc<dyn Any>, seams));
@@ -192,8 +189,8 @@ fn render_panel<F: Prec>(
             scene
         }
     };
-    let t = tracer::<F>(mode, n)?;
-    let r = crate::renderer::render(&scene, cam, t, mesh.diagonal(), true);
+    let t = tracer::<F>(shot.mode, shot.n)?;
+    let r = crate::renderer::render(&scene, shot.cam, t, shot.mesh.diagonal(), true);
     Ok(Panel::from(r))
 }
 
@@ -227,24 +224,53 @@ impl From<crate::renderer::Rendered> for Panel {
 }
 
 /// [`render_panel`] on the GPU (f32).
-#[allow(clippy::too_many_arguments)]
-fn render_panel_gpu(
-    gpu: &Arc<Gpu>,
-    mesh: &Mesh,
-    cam: &Camera,
-    mode: Mode,
-    n: usize,
-    note: Note,
-    normals: Normals,
-    field: LineField,
-) -> Result<Panel> {
+fn render_panel_gpu(gpu: &Arc<Gpu>, shot: Shot<'_>) -> Result<Panel> {
     // As on the CPU: the smooth mode with seamless normals shades with the seams (before, the
     // GPU panel was built without them and shaded with the geometric normal).
-    let seams = normals == Normals::Seamless && mode == Mode::Smooth;
-    let mut scene = build_scene::<f32>(mesh, note, field, seams)?;
-    scene.normals = normals;
-    let r = render_gpu(gpu, &scene, cam, mode, n, mesh.diagonal())?;
+    let mut scene = build_scene::<f32>(shot.mesh, shot.note, shot.field, shot.seams())?;
+    scene.normals = shot.normals;
+    let r = render_gpu(
+        gpu,
+        &scene,
+        shot.cam,
+        shot.mode,
+        shot.n,
+        shot.mesh.diagonal(),
+    )?;
     Ok(Panel::from(r))
+}
+
+/// Checks a command's `outputs` (flag, path if given, format) before any work
+/// ([`crate::output::check`]): each named for its format, none the `--mesh` file of `source` nor
+/// another output; `render`, `view` and `precision` check theirs with it.
+pub(crate) fn check_outputs(
+    source: &MeshSource,
+    outputs: &[(&'static str, Option<&str>, Format)],
+) -> Result<()> {
+    crate::output::check(
+        &crate::output::inputs(&[("--mesh", source.mesh.as_deref())]),
+        &crate::output::outputs(outputs),
+    )
+}
+
+/// Refuses a `--width` or `--height` outside `1..=max` (a usage error); `render`, `view` and
+/// `precision` check their sizes with it.
+pub(crate) fn check_size(width: u32, height: u32, max: u32) -> Result<()> {
+    if width == 0 || height == 0 || width > max || height > max {
+        return Err(DemoError::Usage(format!(
+            "--width and --height must be in 1..={max}"
+        )));
+    }
+    Ok(())
+}
+
+/// Prints `msg` on stdout, or on stderr when the PNG goes to stdout (`out` is `-`).
+fn report(out: &str, msg: &str) {
+    if out == "-" {
+        eprintln!("{msg}");
+    } else {
+        println!("{msg}");
+    }
 }
 
 /// Renders [`RenderOptions::source`] (the torus when unset) to a PNG and reports the ray rate
@@ -253,18 +279,14 @@ fn render_panel_gpu(
 /// Before any work the outputs are checked ([`crate::output::check`]): `--out` a `.png` (or
 /// `-`), `--mask` a `.pbm`, neither the `--mesh` file nor each other.
 pub fn run(a: RenderOptions) -> Result<()> {
-    crate::output::check(
-        &crate::output::inputs(&[("--mesh", a.source.mesh.as_deref())]),
-        &crate::output::outputs(&[
+    check_outputs(
+        &a.source,
+        &[
             ("--out", Some(a.out.as_str()), Format::Png),
             ("--mask", a.mask.as_deref(), Format::Pbm),
-        ]),
+        ],
     )?;
-    if a.width == 0 || a.height == 0 || a.width > 16384 || a.height > 16384 {
-        return Err(DemoError::Usage(
-            "--width and --height must be in 1..=16384".into(),
-        ));
-    }
+    check_size(a.width, a.height, 16384)?;
     tracer::<f32>(Mode::Smooth, a.iterations)?;
     if a.time.len() > 1 {
         return render_strip(&a);
@@ -305,24 +327,22 @@ pub fn run(a: RenderOptions) -> Result<()> {
     };
     let mut panels = Vec::new();
     let cache = SceneCache::default();
-    let panel = |m: Mode, n: usize, first: bool| {
-        let note = Note {
-            skipped: first,
-            timing: first && a.verbose,
+    let panel = |mode: Mode, n: usize, first: bool| {
+        let shot = Shot {
+            mesh: &mesh,
+            cam: &cam,
+            mode,
+            n,
+            note: Note {
+                skipped: first,
+                timing: first && a.verbose,
+            },
+            normals: a.normals,
+            field: a.field,
         };
         match &gpu {
-            Some(g) => render_panel_gpu(g, &mesh, &cam, m, n, note, a.normals, a.field),
-            None => render_panel_with(
-                &cache,
-                a.precision,
-                &mesh,
-                &cam,
-                m,
-                n,
-                note,
-                a.normals,
-                a.field,
-            ),
+            Some(g) => render_panel_gpu(g, shot),
+            None => render_panel_with(&cache, a.precision, shot),
         }
     };
     for (k, &m) in modes.iter().enumerate() {
@@ -404,11 +424,7 @@ pub fn run(a: RenderOptions) -> Result<()> {
         ),
         None => msg,
     };
-    if a.out == "-" {
-        eprintln!("{msg}");
-    } else {
-        println!("{msg}");
-    }
+    report(&a.out, &msg);
     Ok(())
 }
 
@@ -451,11 +467,7 @@ fn render_peers(a: &RenderOptions) -> Result<()> {
         s.seconds,
         s.rays as f64 / s.seconds.max(1e-9)
     );
-    if a.out == "-" {
-        eprintln!("{msg}");
-    } else {
-        println!("{msg}");
-    }
+    report(&a.out, &msg);
     Ok(())
 }
 
@@ -485,21 +497,19 @@ pub fn render_strip(a: &RenderOptions) -> Result<()> {
     let (mut panels, mut rays, mut seconds) = (Vec::new(), 0, 0.0);
     for (k, &t) in times.iter().enumerate() {
         anim.pose(t, &mut mesh)?;
-        let note = Note {
-            skipped: k == 0,
-            timing: a.verbose,
+        let shot = Shot {
+            mesh: &mesh,
+            cam: &cam,
+            mode: a.mode,
+            n: a.iterations,
+            note: Note {
+                skipped: k == 0,
+                timing: a.verbose,
+            },
+            normals: a.normals,
+            field: a.field,
         };
-        let p = render_panel_with(
-            &SceneCache::default(),
-            a.precision,
-            &mesh,
-            &cam,
-            a.mode,
-            a.iterations,
-            note,
-            a.normals,
-            a.field,
-        )?;
+        let p = render_panel_with(&SceneCache::default(), a.precision, shot)?;
         rays += p.rays;
         seconds += p.seconds;
         panels.push((p.image, format!("T={t} S")));
@@ -518,10 +528,6 @@ pub fn render_strip(a: &RenderOptions) -> Result<()> {
         a.precision,
         a.iterations
     );
-    if a.out == "-" {
-        eprintln!("{msg}");
-    } else {
-        println!("{msg}");
-    }
+    report(&a.out, &msg);
     Ok(())
 }
