@@ -28,7 +28,7 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use glam::DVec3;
-use smoothtri::{BuildOptions, LineField, OwnedScene, Ray, Vertices};
+use smoothtri::{BuildOptions, LineField, Ray, Vertices};
 use smoothtri_gpu::{FlatScene, FrameView, Gpu, GpuFrame, GpuScene, GpuUpdate};
 use smoothtri_io::{Mesh, angle_weighted_normals};
 use smoothtri_testkit::scenes::{teapot, tilted_normal_sphere, torus};
@@ -188,6 +188,15 @@ fn best_of(
     Ok((m / best, best_kernel.map(|k| m / k)))
 }
 
+/// How many times faster `flat` traces than `smooth`: by the kernels' GPU time where both have
+/// it, else by the whole calls.
+fn speedup(smooth: &Rate, flat: &Rate) -> String {
+    match (smooth.kernel, flat.kernel) {
+        (Some(sk), Some(fk)) => format!("{:.1}×", fk / sk),
+        _ => format!("{:.1}× (whole call)", flat.call / smooth.call),
+    }
+}
+
 /// `12.345` or `—` where the adapter has no timestamp queries.
 fn opt(v: Option<f64>) -> String {
     v.map_or("—".into(), |v| format!("{v:.1}"))
@@ -218,20 +227,9 @@ fn main() -> Result<(), String> {
     Ok(())
 }
 
-/// The ray table: closest hits of the camera's primary rays, each smooth scene beside its flat
-/// baselines.
-fn rays(gpu: &Arc<Gpu>, o: &Opts) -> Result<(), String> {
-    println!(
-        "camera {}x{}, closest hit of every primary ray, smooth N = {}, best of {} runs; \
-         Mrays/s over the whole call (upload, dispatch, readback) and over the kernel's GPU time \
-         alone (timestamp queries)",
-        o.width, o.height, o.iterations, o.repeat
-    );
-    println!(
-        "| scene | smooth triangles | smooth Mrays/s call / kernel | flat baseline | flat triangles | flat Mrays/s call / kernel | smooth / flat kernel time |"
-    );
-    println!("|---|---|---|---|---|---|---|");
-    let cases: Vec<Case> = vec![
+/// The ray table's scenes.
+fn ray_cases() -> Vec<Case> {
+    vec![
         (
             "torus 8×8",
             torus(8, 8, 1.0, 0.4),
@@ -265,8 +263,23 @@ fn rays(gpu: &Arc<Gpu>, o: &Opts) -> Result<(), String> {
             LineField::Vertex,
             vec![("flat (same mesh)", tilted_normal_sphere())],
         ),
-    ];
-    for (name, mesh, field, flats) in cases {
+    ]
+}
+
+/// The ray table: closest hits of the camera's primary rays, each smooth scene beside its flat
+/// baselines.
+fn rays(gpu: &Arc<Gpu>, o: &Opts) -> Result<(), String> {
+    println!(
+        "camera {}x{}, closest hit of every primary ray, smooth N = {}, best of {} runs; \
+         Mrays/s over the whole call (upload, dispatch, readback) and over the kernel's GPU time \
+         alone (timestamp queries)",
+        o.width, o.height, o.iterations, o.repeat
+    );
+    println!(
+        "| scene | smooth triangles | smooth Mrays/s call / kernel | flat baseline | flat triangles | flat Mrays/s call / kernel | smooth / flat kernel time |"
+    );
+    println!("|---|---|---|---|---|---|---|");
+    for (name, mesh, field, flats) in ray_cases() {
         let rays: Vec<Ray> = Camera::for_mesh(&mesh, 30.0, 35.0, o.width, o.height).rays_f32();
         // As a renderer builds it: patches, cracks closed, BVH (`build_scene`).
         let owned = build_scene::<f32>(&mesh, field, false).map_err(|e| e.to_string())?;
@@ -279,10 +292,7 @@ fn rays(gpu: &Arc<Gpu>, o: &Opts) -> Result<(), String> {
             let fb = flat_owned.scene();
             let flat = GpuScene::flat(gpu, fb.bvh()).map_err(|e| e.to_string())?;
             let f = rate(&flat, 0, &rays, o.repeat).map_err(|e| e.to_string())?;
-            let ratio = match (s.kernel, f.kernel) {
-                (Some(sk), Some(fk)) => format!("{:.1}×", fk / sk),
-                _ => format!("{:.1}× (whole call)", f.call / s.call),
-            };
+            let ratio = speedup(&s, &f);
             println!(
                 "| {name} ({} hits) | {} | {:.1} / {} | {flat_name} ({} hits) | {} | {:.1} / {} | {ratio} |",
                 s.hits,
@@ -300,10 +310,7 @@ fn rays(gpu: &Arc<Gpu>, o: &Opts) -> Result<(), String> {
                 .collect();
             let own = FlatScene::new(gpu, &tris).map_err(|e| e.to_string())?;
             let g = rate_own(&own, &rays, o.repeat).map_err(|e| e.to_string())?;
-            let ratio = match (s.kernel, g.kernel) {
-                (Some(sk), Some(gk)) => format!("{:.1}×", gk / sk),
-                _ => format!("{:.1}× (whole call)", g.call / s.call),
-            };
+            let ratio = speedup(&s, &g);
             println!(
                 "| {name} | | | {flat_name}, own flat pipeline ({} hits) | {} | {:.1} / {} | {ratio} |",
                 g.hits,
@@ -338,7 +345,6 @@ fn frames(gpu: &Arc<Gpu>, o: &Opts) -> Result<(), Box<dyn std::error::Error>> {
         ("flat teapot (same mesh)", teapot(4), false),
     ];
     for (name, mesh, smooth) in cases {
-        let cam = Camera::for_mesh(&mesh, 30.0, 35.0, o.width, o.height);
         let owned = build_scene::<f32>(&mesh, LineField::Face, smooth)?;
         let b = owned.scene();
         let (bvh, seams) = (b.bvh(), b.seams());
@@ -351,11 +357,7 @@ fn frames(gpu: &Arc<Gpu>, o: &Opts) -> Result<(), Box<dyn std::error::Error>> {
         } else {
             (GpuScene::phong(gpu, bvh)?, "Phong", 0)
         };
-        // The view of `smoothtri view --gpu` (the demo's `gpu::frame_view`): its light and the
-        // CPU renderer's f32 shadow offset.
-        let basis = [cam.forward, cam.right, cam.up];
-        let eps = mesh.diagonal() * SHADOW_OFFSET_F32;
-        let view = FrameView::pinhole(cam.eye, basis, cam.tan_half, cam.light_dir(), eps);
+        let view = frame_view(&mesh, o);
         let mut frame = GpuFrame::new(gpu, o.width, o.height)?;
         let mut best = scene.render_frame(n, &view, &mut frame)?;
         for _ in 0..o.repeat {
@@ -393,19 +395,10 @@ fn animated(gpu: &Arc<Gpu>, o: &Opts) -> Result<(), Box<dyn std::error::Error>> 
         observer: (),
         executor: RayonExecutor,
     };
-    let (p, n) = (flat(&mesh.positions), flat(&mesh.normals));
-    let mut cpu = OwnedScene::<f32>::build(
-        Vertices::packed(&p),
-        Vertices::packed(&n),
-        &mesh.triangles,
-        &mut options,
-    )?;
+    let mut cpu = mesh.build_scene::<f32, _, _>(&mut options)?;
     let s = cpu.scene();
     let mut scene = GpuScene::smooth_seamless(gpu, s.bvh(), s.seams())?;
-    let cam = Camera::for_mesh(&mesh, 30.0, 35.0, o.width, o.height);
-    let basis = [cam.forward, cam.right, cam.up];
-    let eps = mesh.diagonal() * SHADOW_OFFSET_F32;
-    let view = FrameView::pinhole(cam.eye, basis, cam.tan_half, cam.light_dir(), eps);
+    let view = frame_view(&mesh, o);
     let mut frame = GpuFrame::new(gpu, o.width, o.height)?;
     scene.render_frame(o.iterations, &view, &mut frame)?;
     let mut times: [Vec<f64>; 5] = Default::default();
@@ -437,10 +430,6 @@ fn animated(gpu: &Arc<Gpu>, o: &Opts) -> Result<(), Box<dyn std::error::Error>> 
             v.push(x * 1e3);
         }
     }
-    let med = |v: &mut Vec<f64>| {
-        v.sort_by(f64::total_cmp);
-        v[v.len() / 2]
-    };
     println!();
     println!(
         "animated (view --gpu --animate): the twisting torus, {} triangles, seams, {}x{}, N = {}; \
@@ -461,13 +450,13 @@ fn animated(gpu: &Arc<Gpu>, o: &Opts) -> Result<(), Box<dyn std::error::Error>> 
     );
     println!("|---|---|---|---|---|---|");
     let [a, b, c, d, e] = &mut times;
-    let whole = med(e);
+    let whole = median(e);
     println!(
         "| {:.1} | {:.1} | {:.1} | {:.2} | {:.1} | {:.1} |",
-        med(a),
-        med(b),
-        med(c),
-        med(d),
+        median(a),
+        median(b),
+        median(c),
+        median(d),
         whole,
         1e3 / whole
     );
@@ -480,9 +469,6 @@ fn animated(gpu: &Arc<Gpu>, o: &Opts) -> Result<(), Box<dyn std::error::Error>> 
 /// the CPU and written into the vertex buffers (a renderer's skinning pass would write them on
 /// the device).
 fn device_update(gpu: &Arc<Gpu>, o: &Opts) -> Result<(), Box<dyn std::error::Error>> {
-    let flat = |v: &[DVec3]| -> Vec<f64> { v.iter().flat_map(|p| p.to_array()).collect() };
-    let f32s =
-        |v: &[DVec3]| -> Vec<f32> { v.iter().flat_map(|p| p.as_vec3().to_array()).collect() };
     println!();
     println!(
         "animated, updated on the device (GpuUpdate): the twisting torus, {}x{}, N = {}; median \
@@ -492,74 +478,86 @@ fn device_update(gpu: &Arc<Gpu>, o: &Opts) -> Result<(), Box<dyn std::error::Err
     println!("| seams | update | write vertices ms | GpuUpdate::run ms | frame ms |");
     println!("|---|---|---|---|---|");
     for seams in [false, true] {
-        let mut mesh = twisting_torus(TWIST_SIDE, 0.0);
-        let (p, n) = (flat(&mesh.positions), flat(&mesh.normals));
-        let cpu = OwnedScene::<f32>::build(
-            Vertices::packed(&p),
-            Vertices::packed(&n),
-            &mesh.triangles,
-            &mut BuildOptions {
-                field: LineField::Face,
-                seams,
-                observer: (),
-                executor: RayonExecutor,
-            },
-        )?;
-        let s = cpu.scene();
-        let scene = if seams {
-            GpuScene::smooth_seamless(gpu, s.bvh(), s.seams())?
-        } else {
-            GpuScene::smooth(gpu, s.bvh())?
-        };
-        let up = GpuUpdate::new(
-            &scene,
-            &s,
-            &mesh.triangles,
-            mesh.positions.len(),
-            LineField::Face,
-        )?;
-        let cam = Camera::for_mesh(&mesh, 30.0, 35.0, o.width, o.height);
-        let basis = [cam.forward, cam.right, cam.up];
-        let eps = mesh.diagonal() * SHADOW_OFFSET_F32;
-        let view = FrameView::pinhole(cam.eye, basis, cam.tan_half, cam.light_dir(), eps);
-        let mut frame = GpuFrame::new(gpu, o.width, o.height)?;
-        let mut times: [Vec<f64>; 3] = Default::default();
-        for k in 0..=TWIST_FRAMES {
-            twist_pose(
-                TWIST_SIDE,
-                0.05 * k as f64,
-                &mut mesh.positions,
-                &mut mesh.normals,
-            );
-            let t0 = Instant::now();
-            up.write_vertices(&f32s(&mesh.positions), &f32s(&mesh.normals))?;
-            let t1 = Instant::now();
-            up.run(&scene)?;
-            let t2 = Instant::now();
-            let stats = scene.render_frame(o.iterations, &view, &mut frame)?;
-            if k == 0 {
-                continue;
-            }
-            for (v, x) in times.iter_mut().zip([
-                (t1 - t0).as_secs_f64(),
-                (t2 - t1).as_secs_f64(),
-                stats.seconds,
-            ]) {
-                v.push(x * 1e3);
-            }
-        }
-        let med = |v: &mut Vec<f64>| {
-            v.sort_by(f64::total_cmp);
-            v[v.len() / 2]
-        };
-        let [a, b, c] = &mut times;
-        println!(
-            "| {} | {up:?} | {:.1} | {:.1} | {:.2} |",
-            if seams { "yes" } else { "no" },
-            med(a),
-            med(b),
-            med(c)
-        );
+        device_update_row(gpu, o, seams)?;
     }
     Ok(())
+}
+
+/// One row of [`device_update`]'s table: the twisting torus without or with `seams`.
+fn device_update_row(
+    gpu: &Arc<Gpu>,
+    o: &Opts,
+    seams: bool,
+) -> Result<(), Box<dyn std::error::Error>> {
+    let mut mesh = twisting_torus(TWIST_SIDE, 0.0);
+    let cpu = build_scene::<f32>(&mesh, LineField::Face, seams)?;
+    let s = cpu.scene();
+    let scene = if seams {
+        GpuScene::smooth_seamless(gpu, s.bvh(), s.seams())?
+    } else {
+        GpuScene::smooth(gpu, s.bvh())?
+    };
+    let up = GpuUpdate::new(
+        &scene,
+        &s,
+        &mesh.triangles,
+        mesh.positions.len(),
+        LineField::Face,
+    )?;
+    let view = frame_view(&mesh, o);
+    let mut frame = GpuFrame::new(gpu, o.width, o.height)?;
+    let mut times: [Vec<f64>; 3] = Default::default();
+    for k in 0..=TWIST_FRAMES {
+        twist_pose(
+            TWIST_SIDE,
+            0.05 * k as f64,
+            &mut mesh.positions,
+            &mut mesh.normals,
+        );
+        let t0 = Instant::now();
+        up.write_vertices(&f32s(&mesh.positions), &f32s(&mesh.normals))?;
+        let t1 = Instant::now();
+        up.run(&scene)?;
+        let t2 = Instant::now();
+        let stats = scene.render_frame(o.iterations, &view, &mut frame)?;
+        if k == 0 {
+            continue;
+        }
+        for (v, x) in times.iter_mut().zip([
+            (t1 - t0).as_secs_f64(),
+            (t2 - t1).as_secs_f64(),
+            stats.seconds,
+        ]) {
+            v.push(x * 1e3);
+        }
+    }
+    let [a, b, c] = &mut times;
+    println!(
+        "| {} | {up:?} | {:.1} | {:.1} | {:.2} |",
+        if seams { "yes" } else { "no" },
+        median(a),
+        median(b),
+        median(c)
+    );
+    Ok(())
+}
+
+/// The view of `smoothtri view --gpu` framing `mesh` (the demo's `gpu::frame_view`): its
+/// camera at the table's size, its light and the CPU renderer's f32 shadow offset.
+fn frame_view(mesh: &Mesh, o: &Opts) -> FrameView {
+    let cam = Camera::for_mesh(mesh, 30.0, 35.0, o.width, o.height);
+    let basis = [cam.forward, cam.right, cam.up];
+    let eps = mesh.diagonal() * SHADOW_OFFSET_F32;
+    FrameView::pinhole(cam.eye, basis, cam.tan_half, cam.light_dir(), eps)
+}
+
+/// The coordinates of `v` in `f32`, three per point.
+fn f32s(v: &[DVec3]) -> Vec<f32> {
+    v.iter().flat_map(|p| p.as_vec3().to_array()).collect()
+}
+
+/// The median of `v` (sorted in place; the upper one of an even count).
+fn median(v: &mut [f64]) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
 }

@@ -1,6 +1,10 @@
 //! The device: [`Gpu`] opens a Vulkan adapter, compiles the shader and its pipelines (one per
 //! [`PipelineKey`], cached), makes storage buffers within the device's limits, and submits work
-//! and reads results back; every device error is caught in an error scope ([`scoped`]).
+//! and reads results back; every device error is caught in an error scope ([`scoped`]). The
+//! set-up every pipeline shares (the kernel's, the flat triangles', the update's, the
+//! presentation's) is here too: the kernel's group 0 ([`TRACE_BINDINGS`]), layouts of buffers
+//! ([`buffer_layout`]), shader modules ([`wgsl_module`]) and compute pipelines
+//! ([`compute_pipeline`]).
 
 use std::collections::HashMap;
 use std::fmt;
@@ -124,65 +128,16 @@ impl Gpu {
                 slot.get_or_insert_with(|| e.to_string());
             }
         }));
-        let entry = |binding: u32, ty: wgpu::BufferBindingType| wgpu::BindGroupLayoutEntry {
-            binding,
-            visibility: wgpu::ShaderStages::COMPUTE,
-            ty: wgpu::BindingType::Buffer {
-                ty,
-                has_dynamic_offset: false,
-                min_binding_size: None,
-            },
-            count: None,
-        };
-        let ro = wgpu::BufferBindingType::Storage { read_only: true };
-        let rw = wgpu::BufferBindingType::Storage { read_only: false };
-        let (layout, pipeline_layout, frame_layout, frame_pipeline_layout, module) =
+        let (pipeline_layout, frame_pipeline_layout, layout, frame_layout, module) =
             scoped(&device, GpuError::Shader, || {
-                let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                    label: Some("smoothtri"),
-                    entries: &[
-                        entry(0, wgpu::BufferBindingType::Uniform),
-                        entry(1, ro),
-                        entry(2, ro),
-                        entry(3, ro),
-                        entry(4, ro),
-                        entry(5, rw),
-                        entry(6, rw),
-                        entry(7, ro),
-                    ],
-                });
-                let pipeline_layout =
-                    device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                        label: Some("smoothtri"),
-                        bind_group_layouts: &[Some(&layout)],
-                        immediate_size: 0,
-                    });
-                let frame_layout =
-                    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                        label: Some("smoothtri frame"),
-                        entries: &[
-                            entry(0, wgpu::BufferBindingType::Uniform),
-                            entry(1, rw),
-                            entry(2, rw),
-                            entry(3, rw),
-                        ],
-                    });
-                let frame_pipeline_layout =
-                    device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                        label: Some("smoothtri frame"),
-                        bind_group_layouts: &[Some(&layout), Some(&frame_layout)],
-                        immediate_size: 0,
-                    });
-                let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-                    label: Some("smoothtri kernel"),
-                    source: wgpu::ShaderSource::Wgsl(SHADER.into()),
-                });
+                let layout = buffer_layout(&device, "smoothtri", &TRACE_BINDINGS);
+                let frame_layout = buffer_layout(&device, "smoothtri frame", &FRAME_BINDINGS);
                 (
+                    pipeline_layout(&device, "smoothtri", &[&layout]),
+                    pipeline_layout(&device, "smoothtri frame", &[&layout, &frame_layout]),
                     layout,
-                    pipeline_layout,
                     frame_layout,
-                    frame_pipeline_layout,
-                    module,
+                    wgsl_module(&device, "smoothtri kernel", SHADER),
                 )
             })?;
         Ok(Arc::new(Gpu {
@@ -244,18 +199,14 @@ impl Gpu {
             (&self.pipeline_layout, "main")
         };
         let p = scoped(&self.device, GpuError::Shader, || {
-            self.device
-                .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                    label: Some("smoothtri kernel"),
-                    layout: Some(layout),
-                    module: &self.module,
-                    entry_point: Some(entry),
-                    compilation_options: wgpu::PipelineCompilationOptions {
-                        constants: &constants,
-                        zero_initialize_workgroup_memory: false,
-                    },
-                    cache: None,
-                })
+            compute_pipeline(
+                &self.device,
+                "smoothtri kernel",
+                Some(layout),
+                &self.module,
+                entry,
+                &constants,
+            )
         })?;
         map.insert(key, p.clone());
         Ok(p)
@@ -422,6 +373,21 @@ impl Gpu {
         })?
     }
 
+    /// The first `bytes` of `buffer` read back ([`Gpu::read_buffer`]) as 32-bit words, each
+    /// made a value by `from` (`f32::from_ne_bytes`, `u32::from_ne_bytes`).
+    pub(crate) fn read_words<T>(
+        &self,
+        buffer: &wgpu::Buffer,
+        bytes: u64,
+        from: fn([u8; 4]) -> T,
+    ) -> Result<Vec<T>, GpuError> {
+        let raw = self.read_buffer(buffer, bytes)?;
+        Ok(raw
+            .chunks_exact(4)
+            .map(|c| from([c[0], c[1], c[2], c[3]]))
+            .collect())
+    }
+
     /// The largest storage buffer the device binds, in bytes.
     pub(crate) fn buffer_limit(&self) -> u64 {
         self.limits
@@ -457,4 +423,118 @@ pub(crate) fn bind_entry(binding: u32, b: &wgpu::Buffer) -> wgpu::BindGroupEntry
         binding,
         resource: b.as_entire_binding(),
     }
+}
+
+/// The kernel's group 0, binding by binding (binding `k` of type `TRACE_BINDINGS[k]`): the
+/// parameters; the scene's records, nodes and order; the rays; the hits and the status word
+/// (written); the shading data. The flat triangles' own pipeline
+/// ([`FlatScene`](crate::FlatScene)) binds the first seven ([`crate::dispatch::Tracer`]).
+pub(crate) const TRACE_BINDINGS: [wgpu::BufferBindingType; 8] = {
+    use wgpu::BufferBindingType::{Storage, Uniform};
+    let (ro, rw) = (Storage { read_only: true }, Storage { read_only: false });
+    [Uniform, ro, ro, ro, ro, rw, rw, ro]
+};
+
+/// The frame pass's group 1: the view (uniform), then the image, the pixels and the frame's
+/// counters (written).
+const FRAME_BINDINGS: [wgpu::BufferBindingType; 4] = {
+    use wgpu::BufferBindingType::{Storage, Uniform};
+    let rw = Storage { read_only: false };
+    [Uniform, rw, rw, rw]
+};
+
+/// The layout entry of a buffer at `binding` of type `ty`, seen by the shader `stage`.
+pub(crate) fn buffer_entry(
+    binding: u32,
+    stage: wgpu::ShaderStages,
+    ty: wgpu::BufferBindingType,
+) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: stage,
+        ty: wgpu::BindingType::Buffer {
+            ty,
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    }
+}
+
+/// A compute shader's bind group layout of buffers: binding `k` of type `types[k]`. Call inside
+/// [`scoped`].
+pub(crate) fn buffer_layout(
+    device: &wgpu::Device,
+    label: &str,
+    types: &[wgpu::BufferBindingType],
+) -> wgpu::BindGroupLayout {
+    let entries: Vec<_> = (0..)
+        .zip(types)
+        .map(|(k, &ty)| buffer_entry(k, wgpu::ShaderStages::COMPUTE, ty))
+        .collect();
+    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some(label),
+        entries: &entries,
+    })
+}
+
+/// The pipeline layout of `groups` (group `k` is `groups[k]`). Call inside [`scoped`].
+pub(crate) fn pipeline_layout(
+    device: &wgpu::Device,
+    label: &str,
+    groups: &[&wgpu::BindGroupLayout],
+) -> wgpu::PipelineLayout {
+    let groups: Vec<_> = groups.iter().copied().map(Some).collect();
+    device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some(label),
+        bind_group_layouts: &groups,
+        immediate_size: 0,
+    })
+}
+
+/// The shader module of the WGSL `source`. Call inside [`scoped`].
+pub(crate) fn wgsl_module(device: &wgpu::Device, label: &str, source: &str) -> wgpu::ShaderModule {
+    device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some(label),
+        source: wgpu::ShaderSource::Wgsl(source.into()),
+    })
+}
+
+/// The compute pipeline of `module`'s `entry` with the override `constants`, on `layout` (or,
+/// with `None`, the layout the shader implies). Workgroup memory is not zeroed: no shader here
+/// declares any. Call inside [`scoped`].
+pub(crate) fn compute_pipeline(
+    device: &wgpu::Device,
+    label: &str,
+    layout: Option<&wgpu::PipelineLayout>,
+    module: &wgpu::ShaderModule,
+    entry: &str,
+    constants: &[(&str, f64)],
+) -> wgpu::ComputePipeline {
+    device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        label: Some(label),
+        layout,
+        module,
+        entry_point: Some(entry),
+        compilation_options: wgpu::PipelineCompilationOptions {
+            constants,
+            zero_initialize_workgroup_memory: false,
+        },
+        cache: None,
+    })
+}
+
+/// A buffer of `size` bytes for `usage`, not mapped. Call inside [`scoped`].
+pub(crate) fn plain_buffer(
+    device: &wgpu::Device,
+    label: &str,
+    size: u64,
+    usage: wgpu::BufferUsages,
+) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size,
+        usage,
+        mapped_at_creation: false,
+    })
 }

@@ -9,9 +9,11 @@ use std::sync::Arc;
 use glam::Vec3;
 use smoothtri::{Aabb, BoxBvh, BvhNode, Ray};
 
-use crate::device::{bind_entry, scoped};
-use crate::dispatch::{upload_ray, word};
-use crate::shader::WORKGROUP;
+use crate::device::{
+    TRACE_BINDINGS, buffer_layout, compute_pipeline, pipeline_layout, scoped, wgsl_module,
+};
+use crate::dispatch::{Batch, Tracer, word};
+use crate::records::packed_bytes;
 use crate::{Gpu, GpuError, GpuNode};
 
 /// The shader of [`FlatScene`] (WGSL).
@@ -19,6 +21,9 @@ pub const FLAT_SHADER: &str = include_str!("flat_tris.wgsl");
 
 /// Bytes per hit read back: `t, w1, w2, triangle`.
 const FLAT_HIT_BYTES: usize = 16;
+
+/// The label of the pipeline's objects.
+const LABEL: &str = "flat triangles";
 
 /// A closest hit of [`FlatScene::closest_hit`]: the CPU's
 /// [`moller_trumbore`](smoothtri::moller_trumbore) result and the triangle's index.
@@ -61,28 +66,12 @@ impl FlatScene {
         let mut order = vec![0u32; boxes.len()];
         let tree = BoxBvh::build(&boxes, &mut nodes, &mut order)
             .map_err(|e| GpuError::Device(format!("flat triangles: {e}")))?;
-        let node_bytes: Vec<u8> = tree
-            .nodes()
-            .iter()
-            .flat_map(|n| {
-                let g = GpuNode::from_node(n);
-                let mut b = Vec::with_capacity(128);
-                for r in g.lo.iter().chain(&g.hi) {
-                    r.iter().for_each(|x| b.extend_from_slice(&x.to_ne_bytes()));
-                }
-                for x in g.child.iter().chain(&g.count) {
-                    b.extend_from_slice(&x.to_ne_bytes());
-                }
-                b
-            })
-            .collect();
-        let order_bytes: Vec<u8> = tree.order().iter().flat_map(|x| x.to_ne_bytes()).collect();
-        let tri_bytes: Vec<u8> = triangles
-            .iter()
-            .flat_map(|t| [t[0], t[1] - t[0], t[2] - t[0]])
-            .flat_map(|v| [v.x, v.y, v.z, 0.0])
-            .flat_map(f32::to_ne_bytes)
-            .collect();
+        let node_bytes = packed_bytes(tree.nodes().iter().map(GpuNode::from_node));
+        let order_bytes = packed_bytes(tree.order().iter().copied());
+        let tri_bytes = packed_bytes(triangles.iter().map(|t| {
+            let [a, b, c] = [t[0], t[1] - t[0], t[2] - t[0]];
+            [a.x, a.y, a.z, 0.0, b.x, b.y, b.z, 0.0, c.x, c.y, c.z, 0.0]
+        }));
         let bytes = (node_bytes.len() + order_bytes.len() + tri_bytes.len()) as u64;
         let counts = [
             tree.node_count() as u32,
@@ -96,47 +85,11 @@ impl FlatScene {
         );
         let device = &gpu.device;
         let (layout, pipeline) = scoped(device, GpuError::Shader, || {
-            let entry = |binding: u32, ty: wgpu::BufferBindingType| wgpu::BindGroupLayoutEntry {
-                binding,
-                visibility: wgpu::ShaderStages::COMPUTE,
-                ty: wgpu::BindingType::Buffer {
-                    ty,
-                    has_dynamic_offset: false,
-                    min_binding_size: None,
-                },
-                count: None,
-            };
-            let ro = wgpu::BufferBindingType::Storage { read_only: true };
-            let rw = wgpu::BufferBindingType::Storage { read_only: false };
-            let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                label: Some("flat triangles"),
-                entries: &[
-                    entry(0, wgpu::BufferBindingType::Uniform),
-                    entry(1, ro),
-                    entry(2, ro),
-                    entry(3, ro),
-                    entry(4, ro),
-                    entry(5, rw),
-                    entry(6, rw),
-                ],
-            });
-            let pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some("flat triangles"),
-                bind_group_layouts: &[Some(&layout)],
-                immediate_size: 0,
-            });
-            let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-                label: Some("flat triangles"),
-                source: wgpu::ShaderSource::Wgsl(FLAT_SHADER.into()),
-            });
-            let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some("flat triangles"),
-                layout: Some(&pl),
-                module: &module,
-                entry_point: Some("main"),
-                compilation_options: Default::default(),
-                cache: None,
-            });
+            // The kernel's group 0 without its shading data.
+            let layout = buffer_layout(device, LABEL, &TRACE_BINDINGS[..7]);
+            let pl = pipeline_layout(device, LABEL, &[&layout]);
+            let module = wgsl_module(device, LABEL, FLAT_SHADER);
+            let pipeline = compute_pipeline(device, LABEL, Some(&pl), &module, "main", &[]);
             (layout, pipeline)
         })?;
         Ok(FlatScene {
@@ -166,7 +119,7 @@ impl FlatScene {
         t_max: f32,
         hits: &mut [Option<FlatHit>],
     ) -> Result<(), GpuError> {
-        self.run(rays, t_min, t_max, hits, None)
+        self.run(Batch::new(rays, t_min, t_max), hits, None)
     }
 
     /// [`FlatScene::closest_hit`], also returning the GPU's execution time of the compute
@@ -179,156 +132,46 @@ impl FlatScene {
         hits: &mut [Option<FlatHit>],
     ) -> Result<Option<f64>, GpuError> {
         let mut s = 0.0;
-        self.run(rays, t_min, t_max, hits, Some(&mut s))?;
+        self.run(Batch::new(rays, t_min, t_max), hits, Some(&mut s))?;
         Ok(self.gpu.timestamps.then_some(s))
     }
 
+    /// Traces `batch` into `out` through the shared dispatch ([`Tracer`]), adding the passes'
+    /// GPU time to `seconds` when asked.
     fn run(
         &self,
-        rays: &[Ray<f32>],
-        t_min: f32,
-        t_max: f32,
+        batch: Batch<'_>,
         out: &mut [Option<FlatHit>],
-        mut seconds: Option<&mut f64>,
+        seconds: Option<&mut f64>,
     ) -> Result<(), GpuError> {
-        if rays.len() != out.len() {
-            return Err(GpuError::LengthMismatch {
-                rays: rays.len(),
-                out: out.len(),
-            });
-        }
-        if rays.is_empty() {
-            return Ok(());
-        }
-        let gpu = &self.gpu;
-        let device = &gpu.device;
-        let chunk = gpu.chunk().min(rays.len());
-        use wgpu::BufferUsages as U;
-        let buf = |label, size: usize, usage| {
-            device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some(label),
-                size: size as u64,
-                usage,
-                mapped_at_creation: false,
-            })
+        batch.check(out)?;
+        let tracer = Tracer {
+            gpu: &self.gpu,
+            label: LABEL,
+            pipeline: &self.pipeline,
+            layout: &self.layout,
+            scene: [&self.tris, &self.nodes, &self.order],
+            shading: None,
+            counts: self.counts,
+            hit_bytes: FLAT_HIT_BYTES,
         };
-        let (ray_buf, hit_buf, status_buf, params_buf, read_buf, timing) =
-            scoped(device, GpuError::Device, || {
-                let timing = (seconds.is_some() && gpu.timestamps).then(|| {
-                    (
-                        device.create_query_set(&wgpu::QuerySetDescriptor {
-                            label: Some("flat time"),
-                            ty: wgpu::QueryType::Timestamp,
-                            count: 2,
-                        }),
-                        buf("flat timestamps", 16, U::QUERY_RESOLVE | U::COPY_SRC),
-                    )
-                });
-                (
-                    buf("flat rays", chunk * 32, U::STORAGE | U::COPY_DST),
-                    buf(
-                        "flat hits",
-                        chunk * FLAT_HIT_BYTES,
-                        U::STORAGE | U::COPY_SRC,
-                    ),
-                    buf("flat status", 16, U::STORAGE | U::COPY_SRC | U::COPY_DST),
-                    buf("flat params", 16, U::UNIFORM | U::COPY_DST),
-                    buf(
-                        "flat readback",
-                        chunk * FLAT_HIT_BYTES + 32,
-                        U::MAP_READ | U::COPY_DST,
-                    ),
-                    timing,
-                )
-            })?;
-        let bind = scoped(device, GpuError::Device, || {
-            device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("flat triangles"),
-                layout: &self.layout,
-                entries: &[
-                    bind_entry(0, &params_buf),
-                    bind_entry(1, &self.tris),
-                    bind_entry(2, &self.nodes),
-                    bind_entry(3, &self.order),
-                    bind_entry(4, &ray_buf),
-                    bind_entry(5, &hit_buf),
-                    bind_entry(6, &status_buf),
-                ],
-            })
-        })?;
-        let mut status = 0u32;
-        for (c, part) in rays.chunks(chunk).enumerate() {
-            let n = part.len();
-            let bytes: Vec<u8> = part
-                .iter()
-                .flat_map(|r| upload_ray(r, t_min, t_max))
-                .flat_map(f32::to_ne_bytes)
-                .collect();
-            let [nodes, order, tris] = self.counts;
-            let params: Vec<u8> = [n as u32, nodes, order, tris]
-                .iter()
-                .flat_map(|x| x.to_ne_bytes())
-                .collect();
-            let data = scoped(device, GpuError::Device, || {
-                gpu.queue.write_buffer(&ray_buf, 0, &bytes);
-                gpu.queue.write_buffer(&params_buf, 0, &params);
-                gpu.queue.write_buffer(&status_buf, 0, &[0u8; 16]);
-                let mut enc = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                    label: Some("flat triangles"),
-                });
-                {
-                    let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                        label: Some("flat triangles"),
-                        timestamp_writes: timing.as_ref().map(|(set, _)| {
-                            wgpu::ComputePassTimestampWrites {
-                                query_set: set,
-                                beginning_of_pass_write_index: Some(0),
-                                end_of_pass_write_index: Some(1),
-                            }
-                        }),
-                    });
-                    pass.set_pipeline(&self.pipeline);
-                    pass.set_bind_group(0, &bind, &[]);
-                    pass.dispatch_workgroups((n as u32).div_ceil(WORKGROUP), 1, 1);
-                }
-                let hb = (n * FLAT_HIT_BYTES) as u64;
-                enc.copy_buffer_to_buffer(&hit_buf, 0, &read_buf, 0, hb);
-                enc.copy_buffer_to_buffer(&status_buf, 0, &read_buf, hb, 16);
-                let mut range = 0..hb + 16;
-                if let Some((set, resolve)) = &timing {
-                    enc.resolve_query_set(set, 0..2, resolve, 0);
-                    enc.copy_buffer_to_buffer(resolve, 0, &read_buf, range.end, 16);
-                    range.end += 16;
-                }
-                gpu.submit_and_read(enc, &read_buf, range)
-            })??;
-            let word = |k: usize| word(&data, k);
-            status |= word(n * 4);
-            if let (Some(total), Some(_)) = (seconds.as_deref_mut(), &timing) {
-                let tick = |k: usize| {
-                    u64::from(word(n * 4 + 4 + 2 * k)) | (u64::from(word(n * 4 + 5 + 2 * k)) << 32)
-                };
-                let period = f64::from(gpu.queue.get_timestamp_period());
-                *total += tick(1).saturating_sub(tick(0)) as f64 * period * 1e-9;
-            }
-            for k in 0..n {
-                let triangle = word(4 * k + 3);
-                if let Some(slot) = out.get_mut(c * chunk + k) {
-                    *slot = (triangle != u32::MAX).then(|| FlatHit {
-                        t: f32::from_bits(word(4 * k)),
-                        w1: f32::from_bits(word(4 * k + 1)),
-                        w2: f32::from_bits(word(4 * k + 2)),
-                        triangle,
-                    });
-                }
-            }
-        }
-        match status {
+        match tracer.trace(batch, seconds, out, parse_flat_hit)? {
             0 => Ok(()),
             s if s & 1 != 0 => Err(GpuError::Device("flat traversal stack overflow".into())),
             _ => Err(GpuError::Device("flat BVH storage is corrupt".into())),
         }
     }
+}
+
+/// One hit as the flat shader wrote it (`t, w1, w2, triangle`), `None` on a miss.
+fn parse_flat_hit(b: &[u8]) -> Option<FlatHit> {
+    let triangle = word(b, 3);
+    (triangle != u32::MAX).then(|| FlatHit {
+        t: f32::from_bits(word(b, 0)),
+        w1: f32::from_bits(word(b, 1)),
+        w2: f32::from_bits(word(b, 2)),
+        triangle,
+    })
 }
 
 impl std::fmt::Debug for FlatScene {

@@ -10,8 +10,10 @@ use std::sync::Arc;
 use glam::{DVec3, Vec3};
 use wgpu::util::DeviceExt;
 
-use crate::device::{Gpu, bind_entry as entry, scoped};
-use crate::dispatch::{status_result, word};
+use crate::device::{
+    Gpu, bind_entry as entry, buffer_entry, pipeline_layout, plain_buffer, scoped, wgsl_module,
+};
+use crate::dispatch::{params_bytes, status_result, word};
 use crate::error::GpuError;
 use crate::scene::GpuScene;
 
@@ -145,14 +147,7 @@ impl GpuFrame {
         }
         let device = &gpu.device;
         use wgpu::BufferUsages as U;
-        let buf = |label, size: u64, usage| {
-            device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some(label),
-                size,
-                usage,
-                mapped_at_creation: false,
-            })
-        };
+        let buf = |label, size, usage| plain_buffer(device, label, size, usage);
         scoped(device, GpuError::Device, || {
             let view = buf("view", VIEW_BYTES as u64, U::UNIFORM | U::COPY_DST);
             let image = buf("image", pixels * 4, U::STORAGE | U::COPY_SRC);
@@ -294,19 +289,15 @@ impl GpuScene {
         }
         let pipeline = gpu.pipeline(self.key(iterations, false, true))?;
         let device = &gpu.device;
-        let [nodes, order, patches] = self.counts;
-        let params: Vec<u8> = [0, nodes, order, patches]
-            .iter()
-            .flat_map(|x| x.to_ne_bytes())
-            .collect();
+        let params = params_bytes(0, self.counts);
         let start = std::time::Instant::now();
         let data = scoped(device, GpuError::Device, || {
-            let bind = self.bind_group(
+            let bind = self.tracer(&pipeline).group([
                 &frame.params,
                 &frame.unused.0,
                 &frame.unused.1,
                 &frame.status,
-            );
+            ]);
             gpu.queue.write_buffer(&frame.params, 0, &params);
             gpu.queue
                 .write_buffer(&frame.view, 0, &view_bytes(view, frame.width, frame.height));
@@ -391,95 +382,11 @@ impl GpuSurface {
                 gpu.adapter_name()
             )));
         }
-        let caps = surface.get_capabilities(&gpu.adapter);
-        use wgpu::TextureFormat as T;
-        let format = caps
-            .formats
-            .iter()
-            .copied()
-            .find(|f| matches!(f, T::Bgra8Unorm | T::Rgba8Unorm))
-            .or_else(|| caps.formats.first().copied())
-            .ok_or_else(|| GpuError::Surface("the window offers no format".into()))?;
-        let alpha_mode = caps
-            .alpha_modes
-            .first()
-            .copied()
-            .unwrap_or(wgpu::CompositeAlphaMode::Auto);
-        let config = wgpu::SurfaceConfiguration {
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
-            format,
-            width: width.max(1),
-            height: height.max(1),
-            present_mode: wgpu::PresentMode::AutoNoVsync,
-            desired_maximum_frame_latency: 2,
-            alpha_mode,
-            view_formats: vec![],
-            color_space: Default::default(),
-        };
+        let config = surface_config(&surface.get_capabilities(&gpu.adapter), width, height)?;
+        let srgb = config.format.is_srgb();
         let device = &gpu.device;
         let (pipeline, layout, uniform) = scoped(device, GpuError::Shader, || {
-            let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-                label: Some("smoothtri present"),
-                source: wgpu::ShaderSource::Wgsl(PRESENT_SHADER.into()),
-            });
-            let stage = wgpu::ShaderStages::FRAGMENT;
-            let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                label: Some("smoothtri present"),
-                entries: &[
-                    wgpu::BindGroupLayoutEntry {
-                        binding: 0,
-                        visibility: stage,
-                        ty: wgpu::BindingType::Buffer {
-                            ty: wgpu::BufferBindingType::Uniform,
-                            has_dynamic_offset: false,
-                            min_binding_size: None,
-                        },
-                        count: None,
-                    },
-                    wgpu::BindGroupLayoutEntry {
-                        binding: 1,
-                        visibility: stage,
-                        ty: wgpu::BindingType::Buffer {
-                            ty: wgpu::BufferBindingType::Storage { read_only: true },
-                            has_dynamic_offset: false,
-                            min_binding_size: None,
-                        },
-                        count: None,
-                    },
-                ],
-            });
-            let pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some("smoothtri present"),
-                bind_group_layouts: &[Some(&layout)],
-                immediate_size: 0,
-            });
-            let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some("smoothtri present"),
-                layout: Some(&pl),
-                vertex: wgpu::VertexState {
-                    module: &module,
-                    entry_point: Some("vs"),
-                    compilation_options: Default::default(),
-                    buffers: &[],
-                },
-                fragment: Some(wgpu::FragmentState {
-                    module: &module,
-                    entry_point: Some("fs"),
-                    compilation_options: Default::default(),
-                    targets: &[Some(format.into())],
-                }),
-                primitive: wgpu::PrimitiveState::default(),
-                depth_stencil: None,
-                multisample: wgpu::MultisampleState::default(),
-                multiview_mask: None,
-                cache: None,
-            });
-            let uniform = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some("smoothtri present"),
-                contents: &[0u8; 32],
-                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            });
-            (pipeline, layout, uniform)
+            present_pipeline(device, config.format)
         })?;
         let mut s = GpuSurface {
             gpu: Arc::clone(gpu),
@@ -488,12 +395,14 @@ impl GpuSurface {
             pipeline,
             layout,
             uniform,
-            srgb: format.is_srgb(),
+            srgb,
         };
         s.configure()?;
         Ok(s)
     }
 
+    /// Configures the swap chain as `config` says (on creation, after a resize, and when the
+    /// window reports it outdated).
     fn configure(&mut self) -> Result<(), GpuError> {
         scoped(&self.gpu.device, GpuError::Surface, || {
             self.surface.configure(&self.gpu.device, &self.config);
@@ -585,4 +494,87 @@ impl GpuSurface {
             gpu.queue.present(texture);
         })
     }
+}
+
+/// The swap chain's configuration for a window of `caps` and `width × height` pixels (a zero
+/// side kept at 1): an 8-bit RGBA or BGRA format where the window offers one (else its first),
+/// no vertical sync. [`GpuError::Surface`] when the window offers no format.
+fn surface_config(
+    caps: &wgpu::SurfaceCapabilities,
+    width: u32,
+    height: u32,
+) -> Result<wgpu::SurfaceConfiguration, GpuError> {
+    use wgpu::TextureFormat as T;
+    let format = caps
+        .formats
+        .iter()
+        .copied()
+        .find(|f| matches!(f, T::Bgra8Unorm | T::Rgba8Unorm))
+        .or_else(|| caps.formats.first().copied())
+        .ok_or_else(|| GpuError::Surface("the window offers no format".into()))?;
+    let alpha_mode = caps
+        .alpha_modes
+        .first()
+        .copied()
+        .unwrap_or(wgpu::CompositeAlphaMode::Auto);
+    Ok(wgpu::SurfaceConfiguration {
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+        format,
+        width: width.max(1),
+        height: height.max(1),
+        present_mode: wgpu::PresentMode::AutoNoVsync,
+        desired_maximum_frame_latency: 2,
+        alpha_mode,
+        view_formats: vec![],
+        color_space: Default::default(),
+    })
+}
+
+/// The presentation pipeline for swap chain images of `format`, its group's layout (the
+/// sizes' uniform and the frame's colours) and the uniform. Call inside [`scoped`].
+fn present_pipeline(
+    device: &wgpu::Device,
+    format: wgpu::TextureFormat,
+) -> (wgpu::RenderPipeline, wgpu::BindGroupLayout, wgpu::Buffer) {
+    let module = wgsl_module(device, "smoothtri present", PRESENT_SHADER);
+    let stage = wgpu::ShaderStages::FRAGMENT;
+    let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("smoothtri present"),
+        entries: &[
+            buffer_entry(0, stage, wgpu::BufferBindingType::Uniform),
+            buffer_entry(
+                1,
+                stage,
+                wgpu::BufferBindingType::Storage { read_only: true },
+            ),
+        ],
+    });
+    let pl = pipeline_layout(device, "smoothtri present", &[&layout]);
+    let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some("smoothtri present"),
+        layout: Some(&pl),
+        vertex: wgpu::VertexState {
+            module: &module,
+            entry_point: Some("vs"),
+            compilation_options: Default::default(),
+            buffers: &[],
+        },
+        fragment: Some(wgpu::FragmentState {
+            module: &module,
+            entry_point: Some("fs"),
+            compilation_options: Default::default(),
+            targets: &[Some(format.into())],
+        }),
+        primitive: wgpu::PrimitiveState::default(),
+        depth_stencil: None,
+        multisample: wgpu::MultisampleState::default(),
+        multiview_mask: None,
+        cache: None,
+    });
+    let uniform = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some("smoothtri present"),
+        contents: &[0u8; 32],
+        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+    });
+    (pipeline, layout, uniform)
 }

@@ -5,7 +5,7 @@
 use glam::Vec3;
 use smoothtri::{Hit, Ray};
 
-use crate::dispatch::Raw;
+use crate::dispatch::{Batch, Raw};
 use crate::error::GpuError;
 use crate::scene::GpuScene;
 
@@ -38,7 +38,8 @@ impl GpuScene {
         t_max: f32,
         hits: &mut [Option<Hit<f32>>],
     ) -> Result<(), GpuError> {
-        self.closest_hit_impl(iterations, rays, t_min, t_max, hits, None)
+        let batch = Batch::new(rays, t_min, t_max);
+        self.run(iterations, false, batch, None, hits, Raw::hit)
     }
 
     /// [`GpuScene::closest_hit_with`], also returning the GPU's own execution time of the
@@ -53,30 +54,9 @@ impl GpuScene {
         t_max: f32,
         hits: &mut [Option<Hit<f32>>],
     ) -> Result<Option<f64>, GpuError> {
-        let mut seconds = 0.0;
-        self.closest_hit_impl(iterations, rays, t_min, t_max, hits, Some(&mut seconds))?;
+        let (batch, mut seconds) = (Batch::new(rays, t_min, t_max), 0.0);
+        self.run(iterations, false, batch, Some(&mut seconds), hits, Raw::hit)?;
         Ok(self.gpu.timestamps.then_some(seconds))
-    }
-
-    fn closest_hit_impl(
-        &self,
-        iterations: usize,
-        rays: &[Ray<f32>],
-        t_min: f32,
-        t_max: f32,
-        hits: &mut [Option<Hit<f32>>],
-        seconds: Option<&mut f64>,
-    ) -> Result<(), GpuError> {
-        self.run(
-            iterations,
-            false,
-            rays,
-            t_min,
-            t_max,
-            seconds,
-            hits,
-            Raw::hit,
-        )
     }
 
     /// [`GpuScene::closest_hit_with`] with each hit's shading normal (world, unit, oriented like
@@ -91,7 +71,8 @@ impl GpuScene {
         t_max: f32,
         out: &mut [Option<(Hit<f32>, Vec3)>],
     ) -> Result<(), GpuError> {
-        self.run(iterations, false, rays, t_min, t_max, None, out, |raw| {
+        let batch = Batch::new(rays, t_min, t_max);
+        self.run(iterations, false, batch, None, out, |raw| {
             raw.hit().map(|h| (h, Vec3::from_array(raw.shading)))
         })
     }
@@ -117,15 +98,9 @@ impl GpuScene {
         t_max: f32,
         occluded: &mut [bool],
     ) -> Result<(), GpuError> {
-        self.run(
-            iterations,
-            true,
-            rays,
-            t_min,
-            t_max,
-            None,
-            occluded,
-            |raw| raw.flags & 1 != 0,
-        )
+        let batch = Batch::new(rays, t_min, t_max);
+        self.run(iterations, true, batch, None, occluded, |raw| {
+            raw.flags & 1 != 0
+        })
     }
 }

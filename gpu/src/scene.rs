@@ -7,7 +7,7 @@ use std::sync::Arc;
 use smoothtri::mesh::Seam;
 use smoothtri::{Bvh, Patch, PatchData};
 
-use crate::device::{Gpu, PipelineKey, bind_entry};
+use crate::device::{Gpu, PipelineKey};
 use crate::error::GpuError;
 use crate::records::{GpuNode, flat_record, packed_bytes, seam_record, smooth_record};
 use crate::shader::Shading;
@@ -55,9 +55,7 @@ impl fmt::Debug for GpuScene {
 impl GpuScene {
     /// Uploads the smooth patches and the BVH of `bvh`.
     pub fn smooth(gpu: &Arc<Gpu>, bvh: &Bvh<'_, f32>) -> Result<GpuScene, GpuError> {
-        let data: Vec<PatchData<f32>> = bvh.patches().iter().map(|p| p.data()).collect();
-        let nodes: Vec<GpuNode> = bvh.nodes().iter().map(GpuNode::from_node).collect();
-        Self::from_parts(gpu, SceneKind::Smooth, &data, &nodes, bvh.order())
+        Self::from_bvh(gpu, SceneKind::Smooth, bvh)
     }
 
     /// Uploads the smooth patches and the BVH of `bvh` with the patches' seams (`seams[i]` the
@@ -101,9 +99,14 @@ impl GpuScene {
     /// Uploads the flat triangles of `bvh`'s patches (their world vertices) with the same BVH:
     /// the baseline on the same traversal code.
     pub fn flat(gpu: &Arc<Gpu>, bvh: &Bvh<'_, f32>) -> Result<GpuScene, GpuError> {
+        Self::from_bvh(gpu, SceneKind::Flat, bvh)
+    }
+
+    /// Uploads `bvh`'s patches as records of `kind`, with its nodes and order.
+    fn from_bvh(gpu: &Arc<Gpu>, kind: SceneKind, bvh: &Bvh<'_, f32>) -> Result<GpuScene, GpuError> {
         let data: Vec<PatchData<f32>> = bvh.patches().iter().map(|p| p.data()).collect();
         let nodes: Vec<GpuNode> = bvh.nodes().iter().map(GpuNode::from_node).collect();
-        Self::from_parts(gpu, SceneKind::Flat, &data, &nodes, bvh.order())
+        Self::from_parts(gpu, kind, &data, &nodes, bvh.order())
     }
 
     /// Uploads arbitrary parts: patch data, nodes and order (node 0 the root). Storage not
@@ -171,11 +174,7 @@ impl GpuScene {
         seams: Option<&[Seam<f32>]>,
     ) -> Result<(), GpuError> {
         let n = self.counts[2] as usize;
-        let mismatch = |what, given| GpuError::SceneMismatch {
-            what,
-            scene: n,
-            given,
-        };
+        let mismatch = |what, given| self.mismatch(what, given);
         let patches = bvh.patches();
         if patches.len() != n {
             return Err(mismatch("patch", patches.len()));
@@ -237,23 +236,14 @@ impl GpuScene {
             SceneKind::Smooth => crate::PATCH_VEC4,
             SceneKind::Flat => crate::FLAT_VEC4,
         } as u64;
-        let words = |b: Vec<u8>| -> Vec<[u8; 4]> {
-            b.chunks_exact(4)
-                .map(|c| [c[0], c[1], c[2], c[3]])
-                .collect()
-        };
-        let records = self
-            .gpu
-            .read_buffer(&self.patches, 16 * vec4 * u64::from(self.counts[2]))?;
-        let records = words(records).into_iter().map(f32::from_ne_bytes).collect();
+        let gpu = &self.gpu;
+        let record_bytes = 16 * vec4 * u64::from(self.counts[2]);
+        let records = gpu.read_words(&self.patches, record_bytes, f32::from_ne_bytes)?;
         let node_bytes = size_of::<GpuNode>() as u64;
-        let raw = self
-            .gpu
-            .read_buffer(&self.nodes, node_bytes * u64::from(self.counts[0]))?;
-        let nodes = raw
-            .chunks_exact(node_bytes as usize)
-            .map(|n| {
-                let w: Vec<[u8; 4]> = words(n.to_vec());
+        let words = gpu.read_words(&self.nodes, node_bytes * u64::from(self.counts[0]), |w| w)?;
+        let nodes = words
+            .chunks_exact(node_bytes as usize / 4)
+            .map(|w| {
                 let f = |k: usize| f32::from_ne_bytes(w[k]);
                 let u = |k: usize| u32::from_ne_bytes(w[k]);
                 GpuNode {
@@ -282,38 +272,17 @@ impl GpuScene {
             Shading::Geometric => 0,
         };
         let bytes = (per_patch * u64::from(self.counts[2])).max(16);
-        let raw = self.gpu.read_buffer(&self.shade_in, bytes)?;
-        Ok(raw
-            .chunks_exact(4)
-            .map(|c| f32::from_ne_bytes([c[0], c[1], c[2], c[3]]))
-            .collect())
+        self.gpu
+            .read_words(&self.shade_in, bytes, f32::from_ne_bytes)
     }
 
-    /// The shader's group 0 for this scene with the query's own buffers (the frame pass binds
-    /// unused ones for `rays` and `hits`). Call inside [`scoped`].
-    pub(crate) fn bind_group(
-        &self,
-        params: &wgpu::Buffer,
-        rays: &wgpu::Buffer,
-        hits: &wgpu::Buffer,
-        status: &wgpu::Buffer,
-    ) -> wgpu::BindGroup {
-        self.gpu
-            .device
-            .create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("smoothtri"),
-                layout: &self.gpu.layout,
-                entries: &[
-                    bind_entry(0, params),
-                    bind_entry(1, &self.patches),
-                    bind_entry(2, &self.nodes),
-                    bind_entry(3, &self.order),
-                    bind_entry(4, rays),
-                    bind_entry(5, hits),
-                    bind_entry(6, status),
-                    bind_entry(7, &self.shade_in),
-                ],
-            })
+    /// [`GpuError::SceneMismatch`]: `given` items of `what` where the scene has its patch count.
+    pub(crate) fn mismatch(&self, what: &'static str, given: usize) -> GpuError {
+        GpuError::SceneMismatch {
+            what,
+            scene: self.counts[2] as usize,
+            given,
+        }
     }
 
     /// The pipeline key of this scene's queries.

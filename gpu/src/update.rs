@@ -5,19 +5,19 @@
 
 use std::sync::Arc;
 
-use smoothtri::internal::{crack_nodes, seam_fit_matrix};
 use smoothtri::mesh::{SharedEdge, shared_edges};
-use smoothtri::{BVH_EMPTY_SLOT, Bvh, LineField, NORMAL_CLAMP_DEG};
-use wgpu::util::DeviceExt;
+use smoothtri::{BVH_EMPTY_SLOT, LineField};
 
-use crate::device::{Gpu, bind_entry, scoped};
+use crate::device::{Gpu, scoped};
 use crate::error::GpuError;
 use crate::records::GpuNode;
 use crate::scene::{GpuScene, SceneKind};
 use crate::shader::{Shading, WORKGROUP};
 
 pub(crate) mod pipelines;
+mod setup;
 use pipelines::UpdatePipelines;
+use setup::{Buffers, Tables, bindings, level_binds, pass_binds};
 
 /// The per-frame update of a smooth [`GpuScene`] on the device: given the mesh's index buffer
 /// and its vertices in device buffers, [`GpuUpdate::encode`]
@@ -106,251 +106,34 @@ impl GpuUpdate {
         vertex_count: usize,
         field: LineField,
     ) -> Result<GpuUpdate, GpuError> {
-        if field != LineField::Face {
-            return Err(GpuError::Unsupported(
-                "the device builds the face field only (LineField::Face)",
-            ));
-        }
-        let seams = match (scene.kind, scene.shading) {
-            (SceneKind::Smooth, Shading::Geometric) => false,
-            (SceneKind::Smooth, Shading::Seamless) => true,
-            _ => {
-                return Err(GpuError::Unsupported(
-                    "the device updates smooth scenes (geometric or seamless normal) only",
-                ));
-            }
-        };
+        let seams = seams_of(scene, field)?;
         let gpu = Arc::clone(&scene.gpu);
-        let n = scene.counts[2] as usize;
-        let mismatch = |what, given| GpuError::SceneMismatch {
-            what,
-            scene: n,
-            given,
-        };
-        let bvh = cpu.bvh();
-        if bvh.patches().len() != n {
-            return Err(mismatch("patch", bvh.patches().len()));
-        }
-        // Each patch's triangle, in the patch's vertex order.
-        let ids = cpu.triangle_ids();
-        let triangles: Vec<[u32; 3]> = ids
-            .iter()
-            .filter_map(|&t| triangles.get(t as usize).copied())
-            .collect();
-        if ids.len() != n || triangles.len() != n {
-            return Err(mismatch("triangle", triangles.len()));
-        }
-        let triangles = triangles.as_slice();
-        if bvh.nodes().len() != scene.counts[0] as usize {
-            return Err(mismatch("node", bvh.nodes().len()));
-        }
-        let too_large = |what: &'static str, bytes: usize| GpuError::TooLarge {
-            what,
-            bytes: bytes as u64,
-            limit: gpu.buffer_limit(),
-        };
-        let vertices = u32::try_from(vertex_count).map_err(|_| too_large("vertex", usize::MAX))?;
-        if 12 * vertex_count as u64 > gpu.buffer_limit() {
-            return Err(too_large("vertex", 12 * vertex_count));
-        }
-        let mut scratch = vec![SharedEdge::default(); 3 * n];
-        let pairs = shared_edges(triangles, vertex_count, &mut scratch).map_err(GpuError::Mesh)?;
-        let max_groups = gpu.limits.max_compute_workgroups_per_dimension as usize;
-        if n.max(pairs.len())
-            .max(vertex_count)
-            .div_ceil(WORKGROUP as usize)
-            > max_groups
-        {
-            return Err(too_large("triangle", 12 * n));
-        }
+        let triangles = patch_triangles(scene, cpu, triangles)?;
+        let vertices = vertex_count_of(&gpu, vertex_count)?;
+        let mut scratch = vec![SharedEdge::default(); 3 * triangles.len()];
+        let pairs = shared_edges(&triangles, vertex_count, &mut scratch).map_err(GpuError::Mesh)?;
+        check_workgroups(&gpu, triangles.len(), pairs.len(), vertex_count)?;
         let pipelines = gpu.update_pipelines()?;
+        let tables = Tables::new(&triangles, pairs, vertices, seams, cpu.bvh());
         let device = &gpu.device;
-        let slots = n as u32;
-        let edges = pairs.len() as u32;
-        let mut bparams = Vec::new();
-        for w in [slots, 0, vertices, u32::from(seams)] {
-            bparams.extend_from_slice(&w.to_ne_bytes());
-        }
-        for deg in NORMAL_CLAMP_DEG {
-            // As the CPU: sine and cosine in f64, rounded once.
-            let (s, c) = deg.to_radians().sin_cos();
-            for x in [c as f32, s as f32, 0.0, 0.0] {
-                bparams.extend_from_slice(&x.to_ne_bytes());
-            }
-        }
-        let mut eparams = Vec::new();
-        for w in [edges, u32::from(seams), 0, 0] {
-            eparams.extend_from_slice(&w.to_ne_bytes());
-        }
-        for t in crack_nodes() {
-            // The CPU's nodes and the barycentrics of both sides, in f64 and rounded once.
-            for x in [t as f32, (1.0 - t) as f32, (1.0 - (1.0 - t)) as f32, 0.0] {
-                eparams.extend_from_slice(&x.to_ne_bytes());
-            }
-        }
-        // The seam fit's map, rounded once from the CPU's f64 rows.
-        for row in seam_fit_matrix() {
-            for x in row {
-                eparams.extend_from_slice(&(x as f32).to_ne_bytes());
-            }
-        }
-        let pair_bytes: Vec<u8> = pairs
-            .iter()
-            .flat_map(|e| e.sides())
-            .flat_map(u32::to_ne_bytes)
-            .collect();
-        let tri_bytes: Vec<u8> = triangles
-            .iter()
-            .flatten()
-            .flat_map(|i| i.to_ne_bytes())
-            .collect();
-        // Each vertex's corners, in triangle order (as the CPU's accumulation).
-        let mut start = vec![0u32; vertex_count + 1];
-        for &i in triangles.iter().flatten() {
-            if let Some(c) = start.get_mut(i as usize + 1) {
-                *c += 1;
-            }
-        }
-        for v in 0..vertex_count {
-            start[v + 1] += start[v];
-        }
-        let mut incident = vec![0u32; start[vertex_count] as usize];
-        let mut next = start.clone();
-        for (t, tri) in triangles.iter().enumerate() {
-            for (k, &i) in tri.iter().enumerate() {
-                if let Some(slot) = next.get_mut(i as usize) {
-                    incident[*slot as usize] = (3 * t + k) as u32;
-                    *slot += 1;
-                }
-            }
-        }
-        let words = |v: &[u32]| -> Vec<u8> { v.iter().flat_map(|i| i.to_ne_bytes()).collect() };
-        let (incident, start) = (words(&incident), words(&start));
-        let (order, ranges) = levels(bvh);
-        let order_bytes: Vec<u8> = order.iter().flat_map(|i| i.to_ne_bytes()).collect();
         scoped(device, GpuError::Device, || {
-            use wgpu::BufferUsages as U;
-            let zeroed = |what: &'static str, bytes: usize, usage: U| {
-                device.create_buffer(&wgpu::BufferDescriptor {
-                    label: Some(what),
-                    size: bytes.max(16) as u64,
-                    usage,
-                    mapped_at_creation: false,
-                })
-            };
-            let init = |what: &'static str, bytes: &[u8], usage: U| {
-                device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                    label: Some(what),
-                    contents: if bytes.is_empty() { &[0; 16] } else { bytes },
-                    usage,
-                })
-            };
-            let positions = zeroed("positions", 12 * vertex_count, U::STORAGE | U::COPY_DST);
-            let normals = zeroed(
-                "normals",
-                12 * vertex_count,
-                U::STORAGE | U::COPY_DST | U::COPY_SRC,
-            );
-            let remedy = zeroed("remedy", 4 * n, U::STORAGE | U::COPY_SRC);
-            let tris = init("triangles", &tri_bytes, U::STORAGE);
-            let pairs = init("shared edges", &pair_bytes, U::STORAGE);
-            let bparams = init("build params", &bparams, U::UNIFORM);
-            let eparams = init("edge params", &eparams, U::UNIFORM);
-            let level_nodes = init("tree levels", &order_bytes, U::STORAGE);
-            let node_cost = zeroed(
-                "node costs",
-                4 * bvh.nodes().len(),
-                U::STORAGE | U::COPY_SRC,
-            );
-            let incident = init("incident corners", &incident, U::STORAGE);
-            let incident_start = init("incident starts", &start, U::STORAGE);
+            let b = Buffers::new(device, &tables, vertex_count, cpu.bvh().nodes().len());
             // The seam records, or a buffer too short for any record (the passes skip it).
-            let no_seams = zeroed("no seams", 16, U::STORAGE);
-            let seam_out = if seams { &scene.shade_in } else { &no_seams };
-            let group = |p: &wgpu::ComputePipeline, entries: &[wgpu::BindGroupEntry<'_>]| {
-                device.create_bind_group(&wgpu::BindGroupDescriptor {
-                    label: Some("smoothtri update"),
-                    layout: &p.get_bind_group_layout(0),
-                    entries,
-                })
-            };
-            let normals_bind = group(
-                &pipelines.normals,
-                &[
-                    bind_entry(8, &bparams),
-                    bind_entry(9, &positions),
-                    bind_entry(10, &normals),
-                    bind_entry(11, &tris),
-                    bind_entry(18, &incident),
-                    bind_entry(19, &incident_start),
-                ],
-            );
-            let binds = [
-                group(
-                    &pipelines.patches,
-                    &[
-                        bind_entry(1, &scene.patches),
-                        bind_entry(8, &bparams),
-                        bind_entry(9, &positions),
-                        bind_entry(10, &normals),
-                        bind_entry(11, &tris),
-                        bind_entry(12, &remedy),
-                        bind_entry(17, seam_out),
-                    ],
-                ),
-                group(
-                    &pipelines.edges,
-                    &[
-                        bind_entry(1, &scene.patches),
-                        bind_entry(12, &remedy),
-                        bind_entry(13, &eparams),
-                        bind_entry(14, &pairs),
-                        bind_entry(17, seam_out),
-                    ],
-                ),
-                group(
-                    &pipelines.boxes,
-                    &[
-                        bind_entry(1, &scene.patches),
-                        bind_entry(8, &bparams),
-                        bind_entry(12, &remedy),
-                        bind_entry(17, seam_out),
-                    ],
-                ),
-            ];
-            let levels = ranges
-                .iter()
-                .map(|&(start, count)| {
-                    let mut b = Vec::new();
-                    for w in [start, count, 0, 0] {
-                        b.extend_from_slice(&w.to_ne_bytes());
-                    }
-                    let level = init("tree level", &b, U::UNIFORM);
-                    let bind = group(
-                        &pipelines.refit,
-                        &[
-                            bind_entry(1, &scene.patches),
-                            bind_entry(2, &scene.nodes),
-                            bind_entry(3, &scene.order),
-                            bind_entry(15, &level),
-                            bind_entry(16, &level_nodes),
-                            bind_entry(20, &node_cost),
-                        ],
-                    );
-                    (count, bind)
-                })
-                .collect();
+            let seam_out = if seams { &scene.shade_in } else { &b.no_seams };
+            let table = bindings(scene, &b, seam_out);
+            let (normals_bind, binds) = pass_binds(device, &pipelines, &table);
+            let levels = level_binds(device, &pipelines, &table, &tables.levels);
             GpuUpdate {
                 gpu: Arc::clone(&gpu),
                 pipelines: Arc::clone(&pipelines),
-                positions,
-                normals,
-                remedy,
+                positions: b.positions,
+                normals: b.normals,
+                remedy: b.remedy,
                 normals_bind,
                 generate_normals: false,
                 binds,
                 levels,
-                node_cost,
+                node_cost: b.node_cost,
                 targets: [
                     scene.patches.clone(),
                     scene.nodes.clone(),
@@ -358,8 +141,8 @@ impl GpuUpdate {
                     scene.shade_in.clone(),
                 ],
                 version: scene.version,
-                slots,
-                edges,
+                slots: tables.slots,
+                edges: tables.edges,
                 vertices,
             }
         })
@@ -399,17 +182,8 @@ impl GpuUpdate {
     /// # Panics
     /// Never.
     pub fn write_positions(&self, positions: &[f32]) -> Result<(), GpuError> {
-        let expected = 3 * self.vertices as usize;
-        if positions.len() != expected {
-            return Err(GpuError::VertexCount {
-                expected,
-                given: positions.len(),
-            });
-        }
-        if expected > 0 {
-            let bytes: Vec<u8> = positions.iter().flat_map(|x| x.to_ne_bytes()).collect();
-            self.gpu.queue.write_buffer(&self.positions, 0, &bytes);
-        }
+        self.check_vertex_floats(positions.len())?;
+        self.write_floats(&self.positions, positions);
         Ok(())
     }
 
@@ -420,20 +194,28 @@ impl GpuUpdate {
     /// # Panics
     /// Never.
     pub fn write_vertices(&self, positions: &[f32], normals: &[f32]) -> Result<(), GpuError> {
-        let expected = 3 * self.vertices as usize;
-        for given in [positions.len(), normals.len()] {
-            if given != expected {
-                return Err(GpuError::VertexCount { expected, given });
-            }
-        }
-        if expected == 0 {
-            return Ok(());
-        }
-        let bytes = |v: &[f32]| v.iter().flat_map(|x| x.to_ne_bytes()).collect::<Vec<u8>>();
-        let queue = &self.gpu.queue;
-        queue.write_buffer(&self.positions, 0, &bytes(positions));
-        queue.write_buffer(&self.normals, 0, &bytes(normals));
+        self.check_vertex_floats(positions.len())?;
+        self.check_vertex_floats(normals.len())?;
+        self.write_floats(&self.positions, positions);
+        self.write_floats(&self.normals, normals);
         Ok(())
+    }
+
+    /// [`GpuError::VertexCount`] unless `given` floats are three per vertex.
+    fn check_vertex_floats(&self, given: usize) -> Result<(), GpuError> {
+        let expected = 3 * self.vertices as usize;
+        if given != expected {
+            return Err(GpuError::VertexCount { expected, given });
+        }
+        Ok(())
+    }
+
+    /// Writes `values` into `buffer` through the queue (nothing where there are none).
+    fn write_floats(&self, buffer: &wgpu::Buffer, values: &[f32]) {
+        if !values.is_empty() {
+            let bytes: Vec<u8> = values.iter().flat_map(|x| x.to_ne_bytes()).collect();
+            self.gpu.queue.write_buffer(buffer, 0, &bytes);
+        }
     }
 
     /// Records the update's passes into `enc`: `3 + depth` dispatches (patches, edges, boxes,
@@ -568,13 +350,9 @@ impl GpuUpdate {
     /// # Panics
     /// Never.
     pub fn read_normals(&self) -> Result<Vec<f32>, GpuError> {
-        let bytes = self
-            .gpu
-            .read_buffer(&self.normals, 12 * u64::from(self.vertices))?;
-        Ok(bytes
-            .chunks_exact(4)
-            .map(|c| f32::from_ne_bytes([c[0], c[1], c[2], c[3]]))
-            .collect())
+        let bytes = 12 * u64::from(self.vertices);
+        self.gpu
+            .read_words(&self.normals, bytes, f32::from_ne_bytes)
     }
 
     /// Reads back each triangle's `remedy` byte of the last update (the CPU's
@@ -584,40 +362,85 @@ impl GpuUpdate {
     /// # Panics
     /// Never.
     pub fn read_remedies(&self) -> Result<Vec<u32>, GpuError> {
-        let bytes = self
-            .gpu
-            .read_buffer(&self.remedy, 4 * u64::from(self.slots))?;
-        Ok(bytes
-            .chunks_exact(4)
-            .map(|c| u32::from_ne_bytes([c[0], c[1], c[2], c[3]]))
-            .collect())
+        let bytes = 4 * u64::from(self.slots);
+        self.gpu.read_words(&self.remedy, bytes, u32::from_ne_bytes)
     }
 }
 
-/// The tree's nodes by depth, deepest first, and each depth's `(start, count)` in that list.
-fn levels(bvh: &Bvh<'_, f32>) -> (Vec<u32>, Vec<(u32, u32)>) {
-    let nodes = bvh.nodes();
-    let mut depth = vec![0u32; nodes.len()];
-    // Children follow their parents in the storage (Bvh::build): one pass in order.
-    for (i, node) in nodes.iter().enumerate() {
-        let GpuNode { child, count, .. } = GpuNode::from_node(node);
-        for (c, k) in child.into_iter().zip(count) {
-            let c = c as usize;
-            if c != BVH_EMPTY_SLOT as usize && k == 0 && c > i && c < nodes.len() {
-                depth[c] = depth[i] + 1;
-            }
-        }
+/// Whether the update of `scene` fits seams ([`GpuScene::smooth_seamless`]), or
+/// [`GpuError::Unsupported`] for a scene or a line `field` the device does not update.
+fn seams_of(scene: &GpuScene, field: LineField) -> Result<bool, GpuError> {
+    if field != LineField::Face {
+        return Err(GpuError::Unsupported(
+            "the device builds the face field only (LineField::Face)",
+        ));
     }
-    let deepest = depth.iter().copied().max().unwrap_or(0);
-    let mut order = Vec::with_capacity(nodes.len());
-    let mut ranges = Vec::new();
-    for d in (0..=deepest).rev() {
-        let start = order.len() as u32;
-        order.extend((0..nodes.len() as u32).filter(|&i| depth[i as usize] == d));
-        let count = order.len() as u32 - start;
-        if count > 0 {
-            ranges.push((start, count));
-        }
+    match (scene.kind, scene.shading) {
+        (SceneKind::Smooth, Shading::Geometric) => Ok(false),
+        (SceneKind::Smooth, Shading::Seamless) => Ok(true),
+        _ => Err(GpuError::Unsupported(
+            "the device updates smooth scenes (geometric or seamless normal) only",
+        )),
     }
-    (order, ranges)
+}
+
+/// Each patch's triangle of `triangles` (`cpu`'s `triangle_ids` pick them), in the patch's
+/// vertex order; [`GpuError::SceneMismatch`] unless `cpu`'s patches, triangles and nodes are
+/// the scene's.
+fn patch_triangles(
+    scene: &GpuScene,
+    cpu: &smoothtri::Scene<'_, f32>,
+    triangles: &[[u32; 3]],
+) -> Result<Vec<[u32; 3]>, GpuError> {
+    let n = scene.counts[2] as usize;
+    let bvh = cpu.bvh();
+    if bvh.patches().len() != n {
+        return Err(scene.mismatch("patch", bvh.patches().len()));
+    }
+    let ids = cpu.triangle_ids();
+    let triangles: Vec<[u32; 3]> = ids
+        .iter()
+        .filter_map(|&t| triangles.get(t as usize).copied())
+        .collect();
+    if ids.len() != n || triangles.len() != n {
+        return Err(scene.mismatch("triangle", triangles.len()));
+    }
+    if bvh.nodes().len() != scene.counts[0] as usize {
+        return Err(scene.mismatch("node", bvh.nodes().len()));
+    }
+    Ok(triangles)
+}
+
+/// [`GpuError::TooLarge`]: `bytes` of `what` beyond the device's buffer limit.
+fn too_large(gpu: &Gpu, what: &'static str, bytes: usize) -> GpuError {
+    GpuError::TooLarge {
+        what,
+        bytes: bytes as u64,
+        limit: gpu.buffer_limit(),
+    }
+}
+
+/// `vertex_count` as the passes count it, when its vertex buffers fit the device.
+fn vertex_count_of(gpu: &Gpu, vertex_count: usize) -> Result<u32, GpuError> {
+    let vertices = u32::try_from(vertex_count).map_err(|_| too_large(gpu, "vertex", usize::MAX))?;
+    if 12 * vertex_count as u64 > gpu.buffer_limit() {
+        return Err(too_large(gpu, "vertex", 12 * vertex_count));
+    }
+    Ok(vertices)
+}
+
+/// [`GpuError::TooLarge`] when a pass over the `triangles`, the `edges` or the vertices would
+/// need more workgroups than the device dispatches.
+fn check_workgroups(
+    gpu: &Gpu,
+    triangles: usize,
+    edges: usize,
+    vertex_count: usize,
+) -> Result<(), GpuError> {
+    let max_groups = gpu.limits.max_compute_workgroups_per_dimension as usize;
+    let most = triangles.max(edges).max(vertex_count);
+    if most.div_ceil(WORKGROUP as usize) > max_groups {
+        return Err(too_large(gpu, "triangle", 12 * triangles));
+    }
+    Ok(())
 }

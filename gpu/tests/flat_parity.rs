@@ -7,10 +7,9 @@ mod common;
 
 use common::*;
 use glam::Vec3;
-use smoothtri::{Aabb, BoxBvh, BvhNode, Ray, flat_hit, moller_trumbore};
+use smoothtri::{Aabb, BoxBvh, BvhNode, flat_hit, moller_trumbore};
 use smoothtri_gpu::FlatScene;
 use smoothtri_testkit::Mesh;
-use smoothtri_testkit::random::{Rng, random_ray};
 use smoothtri_testkit::scenes::{teapot, torus};
 
 fn triangles(m: &Mesh) -> Vec<[Vec3; 3]> {
@@ -35,13 +34,7 @@ fn flat_pipeline_equals_cpu_moller_trumbore() {
         let mut nodes = vec![BvhNode::default(); BoxBvh::<f32>::nodes_needed(tris.len())];
         let mut order = vec![0u32; tris.len()];
         let tree = BoxBvh::build(&boxes, &mut nodes, &mut order).unwrap();
-        let mut rng = Rng(3);
-        let rays: Vec<Ray> = (0..6000)
-            .map(|_| {
-                let (o, d) = random_ray(&mut rng, 1.5);
-                Ray::new(o.as_vec3(), d.as_vec3())
-            })
-            .collect();
+        let rays = random_rays(3, 6000, 1.5);
         let mut got = vec![None; rays.len()];
         scene
             .closest_hit(&rays, 0.0, f32::INFINITY, &mut got)

@@ -224,13 +224,7 @@ fn cpu_near_silhouette(bvh: &smoothtri::Bvh<'_, f32>, ray: &Ray) -> bool {
 fn torus_matches_the_cpu_kernel() {
     let Some(gpu) = gpu() else { return };
     let patches = patches32(&torus(8, 8, 1.0, 0.4));
-    let mut rng = Rng(5);
-    let rays: Vec<Ray> = (0..1500)
-        .map(|_| {
-            let (o, d) = random_ray(&mut rng, 1.4);
-            Ray::new(o.as_vec3(), d.as_vec3())
-        })
-        .collect();
+    let rays = random_rays(5, 1500, 1.4);
     let tree = Tree::new(&patches);
     let bvh = tree.bvh(&patches);
     let near = |ray: &Ray| cpu_near_silhouette(&bvh, ray);
@@ -246,13 +240,7 @@ fn any_hit_matches_the_cpu() {
     let tree = Tree::new(&patches);
     let bvh = tree.bvh(&patches);
     let scene = GpuScene::smooth(&gpu, &bvh).expect("upload");
-    let mut rng = Rng(17);
-    let rays: Vec<Ray> = (0..1500)
-        .map(|_| {
-            let (o, d) = random_ray(&mut rng, 1.4);
-            Ray::new(o.as_vec3(), d.as_vec3())
-        })
-        .collect();
+    let rays = random_rays(17, 1500, 1.4);
     let mut occluded = vec![false; rays.len()];
     scene
         .any_hit::<N>(&rays, 0.0, f32::INFINITY, &mut occluded)
@@ -280,13 +268,7 @@ fn flat_baseline_matches_the_cpu() {
     let tree = Tree::new(&patches);
     let bvh = tree.bvh(&patches);
     let scene = GpuScene::flat(&gpu, &bvh).expect("upload");
-    let mut rng = Rng(23);
-    let rays: Vec<Ray> = (0..1500)
-        .map(|_| {
-            let (o, d) = random_ray(&mut rng, 1.4);
-            Ray::new(o.as_vec3(), d.as_vec3())
-        })
-        .collect();
+    let rays = random_rays(23, 1500, 1.4);
     let mut got = vec![None; rays.len()];
     scene
         .closest_hit::<0>(&rays, 0.0, f32::INFINITY, &mut got)
@@ -566,13 +548,7 @@ fn shared_line_field_matches_the_cpu() {
         .filter(|p| p.data().d.iter().any(|d| d[2] != 1.0))
         .count();
     assert!(tilted * 2 > patches.len(), "{tilted} tilted");
-    let mut rng = Rng(17);
-    let rays: Vec<Ray> = (0..1500)
-        .map(|_| {
-            let (o, d) = random_ray(&mut rng, 1.1);
-            Ray::new(o.as_vec3(), d.as_vec3())
-        })
-        .collect();
+    let rays = random_rays(17, 1500, 1.1);
     let tree = Tree::new(&patches);
     let bvh = tree.bvh(&patches);
     let near = |ray: &Ray| cpu_near_silhouette(&bvh, ray);

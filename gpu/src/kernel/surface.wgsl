@@ -39,6 +39,19 @@ struct PointNormal {
     n: vec3<f32>,
 }
 
+// One edge sphere of eq. (3) at the edge's parameter t: the root s of the line through the
+// edge point with w = v·e from the sphere's anchor (v = t for S¹ from A, t − 1 for S² from B),
+// of curvature k and axis terms m, and its derivative s′ (x, y). gg, dgg and eg are the line
+// direction's |g|², its derivative and e·g at t.
+fn edge_sphere(ep: Edge, k: f32, v: f32, t: f32, m: vec3<f32>, gg: f32, dgg: f32,
+    eg: f32) -> vec2<f32> {
+    let w2 = v * v * ep.ee;
+    let c = vec3<f32>(k * gg, k * v * eg - (m.x + t * m.y), v * (k * v * ep.ee - 2.0 * m.z));
+    let dc = vec3<f32>(k * dgg, k * (eg + v * ep.eg1) - m.y, 2.0 * (k * v * ep.ee - m.z));
+    let r = root(c, k, w2, gg, 1.0);
+    return vec2<f32>(r.s, root_derivative(r, c, dc));
+}
+
 // Conjugation point c(t) of an edge and its normal n*(t) scaled by |c′|² (eq. (3)).
 fn edge_point_normal(ep: Edge, t: f32) -> PointNormal {
     let u = t - 1.0;
@@ -49,24 +62,11 @@ fn edge_point_normal(ep: Edge, t: f32) -> PointNormal {
     let gg = ep.gg0 + t * (ep.gg1 + t * ep.gg2);
     let dgg = ep.gg1 + 2.0 * t * ep.gg2;
     let eg = ep.eg0 + t * ep.eg1;
-    // S¹: anchor A, w = t·e.
-    let w2a = t * t * ep.ee;
-    let ca = vec3<f32>(ep.k1 * gg, ep.k1 * t * eg - (ep.ma.x + t * ep.ma.y),
-        t * (ep.k1 * t * ep.ee - 2.0 * ep.ma.z));
-    let dca = vec3<f32>(ep.k1 * dgg, ep.k1 * (eg + t * ep.eg1) - ep.ma.y,
-        2.0 * (ep.k1 * t * ep.ee - ep.ma.z));
-    let r1 = root(ca, ep.k1, w2a, gg, 1.0);
-    let ds1 = root_derivative(r1, ca, dca);
-    // S²: anchor B, w = (t − 1)·e.
-    let w2b = u * u * ep.ee;
-    let cb = vec3<f32>(ep.k2 * gg, ep.k2 * u * eg - (ep.mb.x + t * ep.mb.y),
-        u * (ep.k2 * u * ep.ee - 2.0 * ep.mb.z));
-    let dcb = vec3<f32>(ep.k2 * dgg, ep.k2 * (eg + u * ep.eg1) - ep.mb.y,
-        2.0 * (ep.k2 * u * ep.ee - ep.mb.z));
-    let r2 = root(cb, ep.k2, w2b, gg, 1.0);
-    let ds2 = root_derivative(r2, cb, dcb);
-    let s = t * r2.s - u * r1.s;
-    let ds = t * ds2 - u * ds1 + (r2.s - r1.s);
+    // S¹: anchor A, w = t·e; S²: anchor B, w = (t − 1)·e.
+    let s1 = edge_sphere(ep, ep.k1, t, t, ep.ma, gg, dgg, eg);
+    let s2 = edge_sphere(ep, ep.k2, u, t, ep.mb, gg, dgg, eg);
+    let s = t * s2.x - u * s1.x;
+    let ds = t * s2.y - u * s1.y + (s2.x - s1.x);
     let cpt = vec3<f32>(ep.a, 0.0) + e * t + g * s;
     // c′ = e + g′·s + g·s′.
     let tng = e + gd * s + g * ds;

@@ -2,6 +2,7 @@
 
 use std::sync::LazyLock;
 
+use crate::device::{compute_pipeline, wgsl_module};
 use crate::shader::{SHADER, UPDATE_SHADER};
 
 /// The update's shader: the kernel's (whose height evaluation the passes sample the surface
@@ -32,24 +33,10 @@ pub(crate) struct UpdatePipelines {
 impl UpdatePipelines {
     /// The pipelines on `device`: call inside an error scope (`Gpu::update_pipelines`).
     pub(crate) fn new(device: &wgpu::Device) -> UpdatePipelines {
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("smoothtri update"),
-            source: wgpu::ShaderSource::Wgsl(BUILD_SHADER.as_str().into()),
-        });
-        let make = |entry: &str| {
-            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some(entry),
-                layout: None,
-                module: &module,
-                entry_point: Some(entry),
-                compilation_options: wgpu::PipelineCompilationOptions {
-                    // Every line field's sections: the records carry their own di.z.
-                    constants: &[("TILTED", 1.0)],
-                    zero_initialize_workgroup_memory: false,
-                },
-                cache: None,
-            })
-        };
+        let module = wgsl_module(device, "smoothtri update", BUILD_SHADER.as_str());
+        // Every line field's sections: the records carry their own di.z.
+        let make =
+            |entry| compute_pipeline(device, entry, None, &module, entry, &[("TILTED", 1.0)]);
         UpdatePipelines {
             normals: make("vertex_normals"),
             patches: make("build_patches"),

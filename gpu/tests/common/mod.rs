@@ -1,14 +1,16 @@
-//! Shared helpers of the GPU tests: the device (or the skip) and BVH storage. The scenes, the
-//! patches and the random rays of the CPU kernel's tests (`tests/suite/kernel.rs`: the same
-//! generator, seeds and distributions) come from the test kit.
+//! Shared helpers of the GPU tests: the device (or the skip), BVH storage and batches of random
+//! rays. The scenes, the patches and the random rays of the CPU kernel's tests
+//! (`tests/suite/kernel.rs`: the same generator, seeds and distributions) come from the test
+//! kit.
 #![allow(dead_code)]
 
 use std::io::Write as _;
 use std::sync::{Arc, OnceLock};
 
 use glam::Vec3;
-use smoothtri::{Bvh, BvhNode, Patch};
+use smoothtri::{Bvh, BvhNode, Patch, Ray};
 use smoothtri_gpu::{Gpu, GpuError};
+use smoothtri_testkit::random::{Rng, random_ray};
 
 /// Set (to anything but `0`) to make a missing adapter a test failure instead of a skip
 /// (`.ci/run` sets it).
@@ -65,4 +67,16 @@ impl Tree {
 pub fn perpendiculars(d: Vec3) -> (Vec3, Vec3) {
     let u = d.normalize().any_orthonormal_vector();
     (u, d.normalize().cross(u))
+}
+
+/// `count` of the test kit's random rays (`random_ray`, from the generator seeded with `seed`)
+/// aimed within `target_radius` of the origin, in `f32`.
+pub fn random_rays(seed: u64, count: usize, target_radius: f64) -> Vec<Ray> {
+    let mut rng = Rng(seed);
+    (0..count)
+        .map(|_| {
+            let (o, d) = random_ray(&mut rng, target_radius);
+            Ray::new(o.as_vec3(), d.as_vec3())
+        })
+        .collect()
 }
