@@ -8,7 +8,7 @@ y up), interleaved rounds of:
 
 - ``rust``: the core's ``Scene::closest_hit`` over rayon's ``par_iter`` into a ``Vec``, the
   rays converted beforehand (``smoothtri._smoothtri.rust_baseline``, in this process);
-- ``python``: ``scene.intersect(origins, directions)`` on float64 arrays: reading them,
+- ``python``: ``scene.closest_hit(origins, directions)`` on float64 arrays: reading them,
   the same queries, eight new result arrays;
 - ``python out=``: the same with the result arrays of the previous call reused;
 - ``python f32 in``: float32 input arrays (no rounding per ray);
@@ -70,7 +70,7 @@ def main() -> None:
     n = len(o)
     if a.case is not None:
         if a.case == "python":
-            hits = scene.intersect(o, d, iterations=a.iterations, threads=1).hit.sum()
+            hits = scene.closest_hit(o, d, iterations=a.iterations, threads=1).hit.sum()
         elif a.case == "rust":
             hits = _smoothtri.rust_baseline(scene._native, o, d, iterations=a.iterations, threads=1)[1]
         else:
@@ -95,16 +95,16 @@ def main() -> None:
         f()
         return time.perf_counter() - start
 
-    prev = scene.intersect(o, d, **kw)
+    prev = scene.closest_hit(o, d, **kw)
     assert prev.hit.sum() == _smoothtri.rust_baseline(scene._native, o, d, **kw)[1]
     one = dict(kw, threads=1)
     cases = {
         "rust": rust,
-        "python": lambda: timed(lambda: scene.intersect(o, d, **kw)),
-        "python out=": lambda: timed(lambda: scene.intersect(o, d, out=prev, **kw)),
-        "python f32 in": lambda: timed(lambda: scene.intersect(o32, d32, **kw)),
+        "python": lambda: timed(lambda: scene.closest_hit(o, d, **kw)),
+        "python out=": lambda: timed(lambda: scene.closest_hit(o, d, out=prev, **kw)),
+        "python f32 in": lambda: timed(lambda: scene.closest_hit(o32, d32, **kw)),
         "rust, 1 thread": lambda: _smoothtri.rust_baseline(scene._native, o, d, **one)[0],
-        "python, 1 thread": lambda: timed(lambda: scene.intersect(o, d, **one)),
+        "python, 1 thread": lambda: timed(lambda: scene.closest_hit(o, d, **one)),
     }
     try:
         from embreex import rtcore_scene

@@ -40,7 +40,7 @@ def main() -> None:
 
     origins, directions = smoothtri.camera_rays(mesh.vertices, *a.size, up=a.up)
     start = time.perf_counter()
-    hits = scene.intersect(origins, directions)
+    hits = scene.closest_hit(origins, directions)
     secs = time.perf_counter() - start
     print(f"{len(hits)} rays, {hits.hit.sum()} hits in {secs:.3f} s on every core "
           f"({len(hits) / secs / 1e6:.2f} Mrays/s), largest t_error {hits.t_error[hits.hit].max():.2e}")

@@ -1,7 +1,8 @@
 """Type stubs of the native module ``smoothtri._smoothtri`` (Rust, pyo3). The public API is
-``smoothtri`` (``smoothtri/__init__.py``), which documents every argument; these are its
-building blocks. Arrays are numpy arrays; ``Any`` inputs are anything ``numpy.asarray``
-takes."""
+``smoothtri`` (gathered in ``smoothtri/__init__.py`` from its modules: ``_scene.py`` wraps
+``NativeScene``, ``_mesh.py`` ``load``, ``_camera.py`` ``camera_rays``, ``_precision.py``
+``precision_sweep``), which documents every argument; these are its building blocks. Arrays
+are numpy arrays; ``Any`` inputs are anything ``numpy.asarray`` takes."""
 
 from __future__ import annotations
 
@@ -31,7 +32,7 @@ DEFAULT_MAX_BYTES: int
 SUPPORTED_ITERATIONS: List[int]
 """The iteration budgets ``N`` the queries accept: 0..=16, 20, 24, 32, 40."""
 HIT_FIELDS: List[str]
-"""The names of ``NativeScene.intersect``'s arrays, in order."""
+"""The names of ``NativeScene.closest_hit``'s arrays, in order."""
 SURFACE_FIELDS: List[str]
 """The names of ``NativeScene.evaluate``'s arrays, in order."""
 MAX_THREADS: int
@@ -74,7 +75,7 @@ class NativeScene:
     @property
     def report(self) -> Dict[str, Any]: ...
     def update(self, vertices: Any, normals: Any, *, threads: Optional[int] = None) -> None: ...
-    def intersect(
+    def closest_hit(
         self,
         origins: Any,
         directions: Any,
@@ -94,7 +95,7 @@ class NativeScene:
         npt.NDArray[np.int64],
         FloatArray,
     ]: ...
-    def occluded(
+    def any_hit(
         self,
         origins: Any,
         directions: Any,

@@ -21,7 +21,9 @@ from typing import Any, List, Optional, Tuple
 
 import numpy as np
 
-from . import Scene, _smoothtri, from_trimesh
+from . import _smoothtri
+from ._mesh import from_trimesh
+from ._scene import Scene
 
 __all__ = ["Intersector"]
 
@@ -68,7 +70,7 @@ class Intersector:
         return o.reshape(-1, 3) if o.size == 0 else o, d.reshape(-1, 3) if d.size == 0 else d
 
     def _first(self, o: np.ndarray, d: np.ndarray, t_min: Any = 0.0):
-        return self.scene.intersect(o, d, iterations=self.iterations, t_min=t_min, threads=self.threads)
+        return self.scene.closest_hit(o, d, iterations=self.iterations, t_min=t_min, threads=self.threads)
 
     def intersects_first(self, ray_origins: Any, ray_directions: Any, **kwargs: Any) -> np.ndarray:
         """The index of the first triangle each ray hits.
@@ -90,7 +92,7 @@ class Intersector:
             ``(n,)`` bool.
         """
         o, d = self._rays(ray_origins, ray_directions)
-        return self.scene.occluded(o, d, iterations=self.iterations, threads=self.threads)
+        return self.scene.any_hit(o, d, iterations=self.iterations, threads=self.threads)
 
     def _all_hits(
         self, o: np.ndarray, d: np.ndarray, multiple_hits: bool, max_hits: int

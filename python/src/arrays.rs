@@ -4,7 +4,7 @@
 
 use numpy::ndarray::{ArrayView1, ArrayView2};
 use numpy::{
-    Element, PyArray, PyArray1, PyArray2, PyArrayDescrMethods, PyArrayMethods, PyReadonlyArray1,
+    Element, PyArray, PyArrayDescrMethods, PyArrayMethods, PyReadonlyArray, PyReadonlyArray1,
     PyReadonlyArray2, PyReadwriteArray, PyUntypedArray, PyUntypedArrayMethods,
 };
 use pyo3::exceptions::{PyTypeError, PyValueError};
@@ -124,6 +124,23 @@ fn borrow_error(name: &str, e: numpy::BorrowError) -> PyErr {
     PyValueError::new_err(format!("{name}: {e}"))
 }
 
+/// `a` (of the shape wanted) checked to hold real numbers and borrowed for reading where it
+/// lies: `float32` as given (`f32`), any other real dtype as `float64` (`f64`, converted by
+/// numpy unless it is `float64` already).
+fn read_reals<'py, D: numpy::ndarray::Dimension, R>(
+    a: &Bound<'py, PyUntypedArray>,
+    name: &str,
+    f32: impl FnOnce(PyReadonlyArray<'py, f32, D>) -> R,
+    f64: impl FnOnce(PyReadonlyArray<'py, f64, D>) -> R,
+) -> PyResult<R> {
+    check_real(a, name)?;
+    if let Ok(x) = a.cast::<PyArray<f32, D>>() {
+        return x.try_readonly().map(f32).map_err(|e| borrow_error(name, e));
+    }
+    let x = as_type::<f64, D>(a, "float64")?;
+    x.try_readonly().map(f64).map_err(|e| borrow_error(name, e))
+}
+
 /// A 2-D array of real numbers read where it lies: `float32` or `float64` as given, any other
 /// real dtype converted to `float64`.
 pub enum Reals2<'py> {
@@ -143,17 +160,7 @@ impl<'py> Reals2<'py> {
             a = empty.cast_into::<PyUntypedArray>()?;
         }
         check_shape(&a, name, 2, Some(cols), want)?;
-        check_real(&a, name)?;
-        if let Ok(x) = a.cast::<PyArray2<f32>>() {
-            return x
-                .try_readonly()
-                .map(Reals2::F32)
-                .map_err(|e| borrow_error(name, e));
-        }
-        let x = as_type::<f64, numpy::Ix2>(&a, "float64")?;
-        x.try_readonly()
-            .map(Reals2::F64)
-            .map_err(|e| borrow_error(name, e))
+        read_reals(&a, name, Reals2::F32, Reals2::F64)
     }
 
     /// The rows.
@@ -237,6 +244,23 @@ impl Rows<'_> {
     }
 }
 
+/// Two arrays of shape `(N, 3)` (`want` names it in messages) with as many rows each, `a` and
+/// `b` checked in that order; `mismatch(a rows, b rows)` words the error when the counts
+/// differ.
+pub fn paired_rows<'py>(
+    (a, a_name): (&Bound<'py, PyAny>, &str),
+    (b, b_name): (&Bound<'py, PyAny>, &str),
+    want: &str,
+    mismatch: impl FnOnce(usize, usize) -> String,
+) -> PyResult<(Reals2<'py>, Reals2<'py>)> {
+    let a = Reals2::new(a, a_name, 3, want)?;
+    let b = Reals2::new(b, b_name, 3, want)?;
+    if a.len() != b.len() {
+        return Err(PyValueError::new_err(mismatch(a.len(), b.len())));
+    }
+    Ok((a, b))
+}
+
 /// A 1-D array of real numbers, read as [`Reals2`] reads.
 pub enum Reals1<'py> {
     /// `float32` input.
@@ -256,17 +280,7 @@ impl<'py> Reals1<'py> {
                 shape_text(a.shape())
             )));
         }
-        check_real(&a, name)?;
-        if let Ok(x) = a.cast::<PyArray1<f32>>() {
-            return x
-                .try_readonly()
-                .map(Reals1::F32)
-                .map_err(|e| borrow_error(name, e));
-        }
-        let x = as_type::<f64, numpy::Ix1>(&a, "float64")?;
-        x.try_readonly()
-            .map(Reals1::F64)
-            .map_err(|e| borrow_error(name, e))
+        read_reals(&a, name, Reals1::F32, Reals1::F64)
     }
 
     /// A view for reading without the GIL.

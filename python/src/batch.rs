@@ -119,6 +119,28 @@ pub trait Split: Send + Sized {
     fn split_at(self, mid: usize) -> (Self, Self);
 }
 
+/// [`Split`] for a struct of outputs whose fields (lifetime `'_`, element type `F`) are each a
+/// [`Split`] over the same items: its items are the first field's, and every field splits at
+/// the same item.
+macro_rules! split_fields {
+    ($out:ident: $first:ident $(, $field:ident)* $(,)?) => {
+        impl<F: Send> $crate::batch::Split for $out<'_, F> {
+            fn len(&self) -> usize {
+                $crate::batch::Split::len(&self.$first)
+            }
+            fn split_at(self, mid: usize) -> (Self, Self) {
+                let $first = $crate::batch::Split::split_at(self.$first, mid);
+                $(let $field = $crate::batch::Split::split_at(self.$field, mid);)*
+                (
+                    $out { $first: $first.0, $($field: $field.0),* },
+                    $out { $first: $first.1, $($field: $field.1),* },
+                )
+            }
+        }
+    };
+}
+pub(crate) use split_fields;
+
 /// A range of item indices (work whose outputs are gathered elsewhere).
 impl Split for std::ops::Range<usize> {
     fn len(&self) -> usize {

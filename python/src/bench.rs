@@ -12,7 +12,7 @@ use crate::arrays::Reals2;
 use crate::batch::Threads;
 use crate::budget::Budget;
 use crate::precision::Prec;
-use crate::scene::{Built, NativeScene, parse_budget};
+use crate::scene::{NativeScene, in_precision, parse_budget};
 
 /// The closest hits (`t` in `[0, inf]`) of prepared rays through the Rust API, collected into
 /// a `Vec` over rayon's `par_iter` as a Rust caller writes it: `(seconds, hits)`.
@@ -78,8 +78,7 @@ pub fn rust_baseline(
     let threads = Threads::new(threads)?;
     let o = Reals2::new(origins, "origins", 3, "(R, 3)")?;
     let d = Reals2::new(directions, "directions", 3, "(R, 3)")?;
-    Ok(match &scene.get().snapshot().built {
-        Built::F32(s) => run(py, s, &o, &d, budget, &threads),
-        Built::F64(s) => run(py, s, &o, &d, budget, &threads),
-    })
+    Ok(in_precision!(&scene.get().snapshot().built, |s| {
+        run(py, s, &o, &d, budget, &threads)
+    }))
 }

@@ -6,7 +6,7 @@
 use smoothtri::{Ray, Scene};
 
 use crate::arrays::{PerRay, Rows, num};
-use crate::batch::{FirstBad, Rows as Out, Split, Threads};
+use crate::batch::{FirstBad, Rows as Out, Split, Threads, split_fields};
 use crate::budget::Budget;
 use crate::precision::Prec;
 
@@ -110,48 +110,17 @@ pub struct HitsOut<'a, F> {
     pub barycentric: Out<'a, F, 2>,
 }
 
-impl<F: Send> Split for HitsOut<'_, F> {
-    fn len(&self) -> usize {
-        self.hit.len()
-    }
-    fn split_at(self, mid: usize) -> (Self, Self) {
-        let (h0, h1) = self.hit.split_at_mut(mid);
-        let (t0, t1) = self.t.split_at_mut(mid);
-        let (e0, e1) = self.t_error.split_at_mut(mid);
-        let (p0, p1) = self.point.split_at(mid);
-        let (n0, n1) = self.normal.split_at(mid);
-        let (s0, s1) = self.shading_normal.split_at(mid);
-        let (i0, i1) = self.triangle.split_at_mut(mid);
-        let (b0, b1) = self.barycentric.split_at(mid);
-        (
-            HitsOut {
-                hit: h0,
-                t: t0,
-                t_error: e0,
-                point: p0,
-                normal: n0,
-                shading_normal: s0,
-                triangle: i0,
-                barycentric: b0,
-            },
-            HitsOut {
-                hit: h1,
-                t: t1,
-                t_error: e1,
-                point: p1,
-                normal: n1,
-                shading_normal: s1,
-                triangle: i1,
-                barycentric: b1,
-            },
-        )
-    }
-}
+split_fields!(HitsOut: hit, t, t_error, point, normal, shading_normal, triangle, barycentric);
+
+/// A batched ray query ([`closest_hit`], [`any_hit`]): the scene, the rays, the budget, the
+/// outputs `O`, the threads.
+pub type RayQueryFn<F, O> =
+    fn(&Scene<'_, F>, &RayBatch<'_>, Budget, O, &Threads) -> Result<(), BadInput>;
 
 /// Writes the closest hit of every ray of `rays` with `t` in its interval into `out`
 /// (`Scene::closest_hit` at `budget`). A miss writes `hit = false`, `t = inf`, `t_error = 0`,
 /// zero vectors, `triangle = -1`. Returns the first ray that is not a ray.
-pub fn intersect<F: Prec>(
+pub fn closest_hit<F: Prec>(
     scene: &Scene<'_, F>,
     rays: &RayBatch<'_>,
     budget: Budget,
@@ -210,7 +179,7 @@ pub fn intersect<F: Prec>(
 
 /// Writes into `out` whether each ray of `rays` hits anything with `t` in its interval
 /// (`Scene::any_hit` at `budget`). Returns the first ray that is not a ray.
-pub fn occluded<F: Prec>(
+pub fn any_hit<F: Prec>(
     scene: &Scene<'_, F>,
     rays: &RayBatch<'_>,
     budget: Budget,
@@ -262,28 +231,7 @@ pub struct SurfaceOut<'a, F> {
     pub shading_normal: Out<'a, F, 3>,
 }
 
-impl<F: Send> Split for SurfaceOut<'_, F> {
-    fn len(&self) -> usize {
-        self.point.len()
-    }
-    fn split_at(self, mid: usize) -> (Self, Self) {
-        let (p0, p1) = self.point.split_at(mid);
-        let (n0, n1) = self.normal.split_at(mid);
-        let (s0, s1) = self.shading_normal.split_at(mid);
-        (
-            SurfaceOut {
-                point: p0,
-                normal: n0,
-                shading_normal: s0,
-            },
-            SurfaceOut {
-                point: p1,
-                normal: n1,
-                shading_normal: s1,
-            },
-        )
-    }
-}
+split_fields!(SurfaceOut: point, normal, shading_normal);
 
 /// Writes the surface point, geometric normal and shading normal of every point of `points`
 /// into `out` (`Patch::point_normal`, then `Seam::correct` where the scene has seams).

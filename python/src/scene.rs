@@ -18,15 +18,28 @@ use crate::arrays::{self, Bound1, Reals2};
 use crate::batch::{Rows as Out, Threads};
 use crate::budget::{Budget, SUPPORTED_TEXT};
 use crate::precision::Prec;
-use crate::query::{self, BadInput, HitsOut, PointBatch, RayBatch, SurfaceOut};
+use crate::query::{self, BadInput, HitsOut, PointBatch, RayBatch, RayQueryFn, SurfaceOut};
 
 /// The core's scene in the precision it was built in.
+#[derive(Clone)]
 pub enum Built {
     /// Built and traced in `f32`.
     F32(OwnedScene<f32>),
     /// Built and traced in `f64`.
     F64(OwnedScene<f64>),
 }
+
+/// `$body` with `$scene` bound to the scene of `$built` (a [`Built`], by reference), whichever
+/// its precision: the expression is compiled once for each.
+macro_rules! in_precision {
+    ($built:expr, |$scene:ident| $body:expr) => {
+        match $built {
+            $crate::scene::Built::F32($scene) => $body,
+            $crate::scene::Built::F64($scene) => $body,
+        }
+    };
+}
+pub(crate) use in_precision;
 
 /// A scene and the mesh of its current pose: never changed once shared (an update makes a
 /// new one).
@@ -122,6 +135,35 @@ fn vectors(a: &Reals2<'_>, name: &str) -> PyResult<Vec<DVec3>> {
     Ok(out)
 }
 
+/// The positions and normals of `(vertices, normals)`, checked: shapes, dtypes, one normal per
+/// vertex, finite values.
+fn vertex_rows(
+    vertices: &Bound<'_, PyAny>,
+    normals: &Bound<'_, PyAny>,
+) -> PyResult<(Vec<DVec3>, Vec<DVec3>)> {
+    let (v, n) = arrays::paired_rows(
+        (vertices, "vertices"),
+        (normals, "normals"),
+        "(V, 3)",
+        |v, n| format!("normals has {n} rows but vertices has {v}: one normal per vertex"),
+    )?;
+    Ok((vectors(&v, "vertices")?, vectors(&n, "normals")?))
+}
+
+/// The origins and directions of a batch of rays, checked: shapes, dtypes, one of each per
+/// ray.
+pub fn ray_rows<'py>(
+    origins: &Bound<'py, PyAny>,
+    directions: &Bound<'py, PyAny>,
+) -> PyResult<(Reals2<'py>, Reals2<'py>)> {
+    arrays::paired_rows(
+        (origins, "origins"),
+        (directions, "directions"),
+        "(R, 3)",
+        |o, d| format!("origins has {o} rows but directions has {d}: one of each per ray"),
+    )
+}
+
 /// The mesh of `(vertices, normals, faces)`, checked: shapes, dtypes, finite values, indices
 /// in range.
 pub fn mesh_of(
@@ -129,17 +171,7 @@ pub fn mesh_of(
     normals: &Bound<'_, PyAny>,
     faces: &Bound<'_, PyAny>,
 ) -> PyResult<Mesh> {
-    let v = Reals2::new(vertices, "vertices", 3, "(V, 3)")?;
-    let n = Reals2::new(normals, "normals", 3, "(V, 3)")?;
-    if v.len() != n.len() {
-        return Err(PyValueError::new_err(format!(
-            "normals has {} rows but vertices has {}: one normal per vertex",
-            n.len(),
-            v.len()
-        )));
-    }
-    let positions = vectors(&v, "vertices")?;
-    let normals = vectors(&n, "normals")?;
+    let (positions, normals) = vertex_rows(vertices, normals)?;
     let flat = arrays::indices(
         faces,
         "faces",
@@ -193,32 +225,36 @@ fn bad(e: BadInput) -> PyErr {
     PyValueError::new_err(e.why)
 }
 
-/// The origins, directions and bounds of a ray query, checked.
-struct RayArgs<'py> {
+/// The arguments of a ray query, checked: the rays, their interval of `t`, the budget and the
+/// threads.
+struct RayQuery<'py> {
     origins: Reals2<'py>,
     directions: Reals2<'py>,
     t_min: Bound1<'py>,
     t_max: Bound1<'py>,
+    budget: Budget,
+    threads: Threads,
 }
 
-impl<'py> RayArgs<'py> {
+impl<'py> RayQuery<'py> {
+    /// Checks the arguments in this order: `iterations`, the rays, their interval (`None`:
+    /// `t_min = 0`, `t_max = inf`), `threads`.
     fn new(
+        py: Python<'py>,
         origins: &Bound<'py, PyAny>,
         directions: &Bound<'py, PyAny>,
-        t_min: &Bound<'py, PyAny>,
-        t_max: &Bound<'py, PyAny>,
+        iterations: i64,
+        t_min: Option<&Bound<'py, PyAny>>,
+        t_max: Option<&Bound<'py, PyAny>>,
+        threads: Option<i64>,
     ) -> PyResult<Self> {
-        let origins = Reals2::new(origins, "origins", 3, "(R, 3)")?;
-        let directions = Reals2::new(directions, "directions", 3, "(R, 3)")?;
+        let budget = parse_budget(iterations, "iterations")?;
+        let (origins, directions) = ray_rows(origins, directions)?;
         let r = origins.len();
-        if directions.len() != r {
-            return Err(PyValueError::new_err(format!(
-                "origins has {r} rows but directions has {}: one of each per ray",
-                directions.len()
-            )));
-        }
-        let t_min = Bound1::new(t_min, "t_min", r)?;
-        let t_max = Bound1::new(t_max, "t_max", r)?;
+        let zero = 0.0f64.into_pyobject(py)?.into_any();
+        let inf = f64::INFINITY.into_pyobject(py)?.into_any();
+        let t_min = Bound1::new(t_min.unwrap_or(&zero), "t_min", r)?;
+        let t_max = Bound1::new(t_max.unwrap_or(&inf), "t_max", r)?;
         if let (Bound1::All(a), Bound1::All(b)) = (&t_min, &t_max)
             && (a.is_nan() || b.is_nan() || a > b)
         {
@@ -235,21 +271,35 @@ impl<'py> RayArgs<'py> {
                 return Err(PyValueError::new_err(format!("{name} is nan")));
             }
         }
-        Ok(RayArgs {
+        Ok(RayQuery {
             origins,
             directions,
             t_min,
             t_max,
+            budget,
+            threads: Threads::new(threads)?,
         })
     }
 
-    fn batch(&self) -> RayBatch<'_> {
-        RayBatch {
+    /// `batched` (a ray query of [`query`]) of these rays through `scene` into `out`, without
+    /// the GIL.
+    fn run<F: Prec, O: Send>(
+        &self,
+        py: Python<'_>,
+        scene: &OwnedScene<F>,
+        out: O,
+        batched: RayQueryFn<F, O>,
+    ) -> PyResult<()> {
+        let batch = RayBatch {
             origins: self.origins.view(),
             directions: self.directions.view(),
             t_min: self.t_min.view(),
             t_max: self.t_max.view(),
-        }
+        };
+        let (budget, threads) = (self.budget, &self.threads);
+        let scene = scene.scene();
+        py.detach(|| batched(&scene, &batch, budget, out, threads))
+            .map_err(bad)
     }
 }
 
@@ -284,16 +334,14 @@ pub const HIT_FIELDS: [&str; 8] = [
 /// The names of the evaluation outputs, in the order of the tuple.
 pub const SURFACE_FIELDS: [&str; 3] = ["point", "normal", "shading_normal"];
 
-fn intersect_in<'py, F: Prec>(
+fn closest_hit_in<'py, F: Prec>(
     py: Python<'py>,
     scene: &OwnedScene<F>,
-    args: &RayArgs<'py>,
-    budget: Budget,
-    threads: &Threads,
+    query: &RayQuery<'py>,
     out: Option<&Bound<'py, PyTuple>>,
 ) -> PyResult<Bound<'py, PyTuple>> {
     check_out(out, 8, "Hits")?;
-    let r = args.origins.len();
+    let r = query.origins.len();
     let name = |i: usize| format!("out.{}", HIT_FIELDS[i]);
     let d = F::DTYPE;
     let hit =
@@ -327,10 +375,7 @@ fn intersect_in<'py, F: Prec>(
             triangle: arrays::slice(&mut w.6, &name(6))?,
             barycentric: Out(arrays::slice(&mut w.7, &name(7))?),
         };
-        let batch = args.batch();
-        let scene = scene.scene();
-        py.detach(|| query::intersect(&scene, &batch, budget, hits, threads))
-            .map_err(bad)?;
+        query.run(py, scene, hits, query::closest_hit)?;
     }
     PyTuple::new(
         py,
@@ -347,23 +392,18 @@ fn intersect_in<'py, F: Prec>(
     )
 }
 
-fn occluded_in<'py, F: Prec>(
+fn any_hit_in<'py, F: Prec>(
     py: Python<'py>,
     scene: &OwnedScene<F>,
-    args: &RayArgs<'py>,
-    budget: Budget,
-    threads: &Threads,
+    query: &RayQuery<'py>,
     out: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyArray1<bool>>> {
-    let r = args.origins.len();
+    let r = query.origins.len();
     let a = arrays::output::<bool, numpy::Ix1>(py, out, "out", &[r], "bool")?;
     {
         let mut w = arrays::write(&a, "out")?;
         let slots = arrays::slice(&mut w, "out")?;
-        let batch = args.batch();
-        let scene = scene.scene();
-        py.detach(|| query::occluded(&scene, &batch, budget, slots, threads))
-            .map_err(bad)?;
+        query.run(py, scene, slots, query::any_hit)?;
     }
     Ok(a)
 }
@@ -466,17 +506,7 @@ impl NativeScene {
         normals: &Bound<'py, PyAny>,
         threads: Option<i64>,
     ) -> PyResult<()> {
-        let v = Reals2::new(vertices, "vertices", 3, "(V, 3)")?;
-        let n = Reals2::new(normals, "normals", 3, "(V, 3)")?;
-        if v.len() != n.len() {
-            return Err(PyValueError::new_err(format!(
-                "normals has {} rows but vertices has {}: one normal per vertex",
-                n.len(),
-                v.len()
-            )));
-        }
-        let positions = vectors(&v, "vertices")?;
-        let normals = vectors(&n, "normals")?;
+        let (positions, normals) = vertex_rows(vertices, normals)?;
         let threads = Threads::new(threads)?;
         let options = self.options;
         py.detach(|| {
@@ -497,15 +527,9 @@ impl NativeScene {
                 triangles: old.mesh.triangles.clone(),
             };
             // The core's update in place, of a copy: queries keep reading `old` meanwhile.
-            let mut built = match &old.built {
-                Built::F32(s) => Built::F32(s.clone()),
-                Built::F64(s) => Built::F64(s.clone()),
-            };
-            match &mut built {
-                Built::F32(s) => update_in(&mesh, s, options, &threads),
-                Built::F64(s) => update_in(&mesh, s, options, &threads),
-            }
-            .map_err(|e| BuildError::new_err(e.to_string()))?;
+            let mut built = old.built.clone();
+            in_precision!(&mut built, |s| update_in(&mesh, s, options, &threads))
+                .map_err(|e| BuildError::new_err(e.to_string()))?;
             let new = Arc::new(Posed {
                 built,
                 mesh,
@@ -571,10 +595,10 @@ impl NativeScene {
     #[getter]
     fn report<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let posed = self.snapshot();
-        let (r, memory) = match &posed.built {
-            Built::F32(s) => (*s.scene().report(), s.scene().memory_bytes()),
-            Built::F64(s) => (*s.scene().report(), s.scene().memory_bytes()),
-        };
+        let (r, memory) = in_precision!(&posed.built, |s| (
+            *s.scene().report(),
+            s.scene().memory_bytes()
+        ));
         let d = PyDict::new(py);
         d.set_item("pose", posed.pose)?;
         d.set_item("triangles", r.triangles)?;
@@ -607,7 +631,7 @@ impl NativeScene {
     /// The closest hits: a tuple of arrays in the order of `HIT_FIELDS`.
     #[pyo3(signature = (origins, directions, *, iterations = 4, t_min = None, t_max = None, threads = None, out = None))]
     #[allow(clippy::too_many_arguments)]
-    fn intersect<'py>(
+    fn closest_hit<'py>(
         &self,
         py: Python<'py>,
         origins: &Bound<'py, PyAny>,
@@ -618,19 +642,14 @@ impl NativeScene {
         threads: Option<i64>,
         out: Option<&Bound<'py, PyTuple>>,
     ) -> PyResult<Bound<'py, PyTuple>> {
-        let budget = parse_budget(iterations, "iterations")?;
-        let args = ray_args(py, origins, directions, t_min, t_max)?;
-        let threads = Threads::new(threads)?;
-        match &self.snapshot().built {
-            Built::F32(s) => intersect_in(py, s, &args, budget, &threads, out),
-            Built::F64(s) => intersect_in(py, s, &args, budget, &threads, out),
-        }
+        let query = RayQuery::new(py, origins, directions, iterations, t_min, t_max, threads)?;
+        in_precision!(&self.snapshot().built, |s| closest_hit_in(py, s, &query, out))
     }
 
     /// Whether each ray hits anything: a bool array.
     #[pyo3(signature = (origins, directions, *, iterations = 4, t_min = None, t_max = None, threads = None, out = None))]
     #[allow(clippy::too_many_arguments)]
-    fn occluded<'py>(
+    fn any_hit<'py>(
         &self,
         py: Python<'py>,
         origins: &Bound<'py, PyAny>,
@@ -641,13 +660,8 @@ impl NativeScene {
         threads: Option<i64>,
         out: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyArray1<bool>>> {
-        let budget = parse_budget(iterations, "iterations")?;
-        let args = ray_args(py, origins, directions, t_min, t_max)?;
-        let threads = Threads::new(threads)?;
-        match &self.snapshot().built {
-            Built::F32(s) => occluded_in(py, s, &args, budget, &threads, out),
-            Built::F64(s) => occluded_in(py, s, &args, budget, &threads, out),
-        }
+        let query = RayQuery::new(py, origins, directions, iterations, t_min, t_max, threads)?;
+        in_precision!(&self.snapshot().built, |s| any_hit_in(py, s, &query, out))
     }
 
     /// Surface points and normals: a tuple of arrays in the order of `SURFACE_FIELDS`.
@@ -679,27 +693,8 @@ impl NativeScene {
             )));
         }
         let threads = Threads::new(threads)?;
-        match &self.snapshot().built {
-            Built::F32(s) => evaluate_in(py, s, &triangles, &bary, &threads, out),
-            Built::F64(s) => evaluate_in(py, s, &triangles, &bary, &threads, out),
-        }
+        in_precision!(&self.snapshot().built, |s| {
+            evaluate_in(py, s, &triangles, &bary, &threads, out)
+        })
     }
-}
-
-/// [`RayArgs::new`] with the defaults `t_min = 0`, `t_max = inf`.
-fn ray_args<'py>(
-    py: Python<'py>,
-    origins: &Bound<'py, PyAny>,
-    directions: &Bound<'py, PyAny>,
-    t_min: Option<&Bound<'py, PyAny>>,
-    t_max: Option<&Bound<'py, PyAny>>,
-) -> PyResult<RayArgs<'py>> {
-    let zero = 0.0f64.into_pyobject(py)?.into_any();
-    let inf = f64::INFINITY.into_pyobject(py)?.into_any();
-    RayArgs::new(
-        origins,
-        directions,
-        t_min.unwrap_or(&zero),
-        t_max.unwrap_or(&inf),
-    )
 }

@@ -9,19 +9,19 @@
 use std::time::Instant;
 
 use glam::DVec3;
-use numpy::PyArray1;
+use numpy::{Element, PyArray1};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use smoothtri::{BuildOptions, OwnedScene};
 use smoothtri_io::Mesh;
 
-use crate::arrays::{PerRay, Reals2};
+use crate::arrays::PerRay;
 use crate::batch::{FirstBad, Threads};
 use crate::budget::Budget;
 use crate::precision::Prec;
 use crate::query::RayBatch;
-use crate::scene::{Built, NativeScene, build, parse_budget, parse_precision};
+use crate::scene::{Built, NativeScene, build, parse_budget, parse_precision, ray_rows};
 
 /// `(t, point, t_error)` of one hit, widened to `f64`.
 type Traced = (f64, DVec3, f64);
@@ -123,6 +123,15 @@ fn row_of(
     }
 }
 
+/// A column of the study: `f` of each row, as a numpy array.
+fn column<'py, T: Element>(
+    py: Python<'py>,
+    rows: &[Row],
+    f: impl Fn(&Row) -> T,
+) -> Bound<'py, PyArray1<T>> {
+    PyArray1::from_vec(py, rows.iter().map(f).collect())
+}
+
 /// The scene of `base`'s mesh in `F` for the study: `base` itself when it is in `F`, else
 /// built on the same line field without seams (they change no hit point).
 fn scene_in<F: Prec>(
@@ -172,15 +181,7 @@ pub fn precision_sweep<'py>(
         ));
     }
     let threads = Threads::new(threads)?;
-    let o = Reals2::new(origins, "origins", 3, "(R, 3)")?;
-    let d = Reals2::new(directions, "directions", 3, "(R, 3)")?;
-    if o.len() != d.len() {
-        return Err(PyValueError::new_err(format!(
-            "origins has {} rows but directions has {}: one of each per ray",
-            o.len(),
-            d.len()
-        )));
-    }
+    let (o, d) = ray_rows(origins, directions)?;
     let rays = RayBatch {
         origins: o.view(),
         directions: d.view(),
@@ -223,33 +224,20 @@ pub fn precision_sweep<'py>(
         }
     }
     let out = PyDict::new(py);
-    let col = |f: &dyn Fn(&Row) -> f64| rows.iter().map(f).collect::<Vec<f64>>();
-    let icol = |f: &dyn Fn(&Row) -> usize| rows.iter().map(|r| f(r) as i64).collect::<Vec<i64>>();
-    out.set_item(
-        "precision",
-        rows.iter().map(|r| r.precision).collect::<Vec<_>>(),
-    )?;
-    out.set_item(
-        "iterations",
-        PyArray1::from_vec(py, icol(&|r| r.iterations)),
-    )?;
-    out.set_item("hits", PyArray1::from_vec(py, icol(&|r| r.hits)))?;
-    out.set_item("max_error", PyArray1::from_vec(py, col(&|r| r.max)))?;
-    out.set_item("p999_error", PyArray1::from_vec(py, col(&|r| r.p999)))?;
-    out.set_item("mean_error", PyArray1::from_vec(py, col(&|r| r.mean)))?;
-    out.set_item(
-        "mean_t_error",
-        PyArray1::from_vec(py, col(&|r| r.mean_t_error)),
-    )?;
-    out.set_item(
-        "bound_holds",
-        PyArray1::from_vec(py, col(&|r| r.bound_holds)),
-    )?;
+    let precision: Vec<&str> = rows.iter().map(|r| r.precision).collect();
+    out.set_item("precision", precision)?;
+    out.set_item("iterations", column(py, &rows, |r| r.iterations as i64))?;
+    out.set_item("hits", column(py, &rows, |r| r.hits as i64))?;
+    out.set_item("max_error", column(py, &rows, |r| r.max))?;
+    out.set_item("p999_error", column(py, &rows, |r| r.p999))?;
+    out.set_item("mean_error", column(py, &rows, |r| r.mean))?;
+    out.set_item("mean_t_error", column(py, &rows, |r| r.mean_t_error))?;
+    out.set_item("bound_holds", column(py, &rows, |r| r.bound_holds))?;
     out.set_item(
         "disagreements",
-        PyArray1::from_vec(py, icol(&|r| r.disagreements)),
+        column(py, &rows, |r| r.disagreements as i64),
     )?;
-    out.set_item("ns_per_ray", PyArray1::from_vec(py, col(&|r| r.ns_per_ray)))?;
+    out.set_item("ns_per_ray", column(py, &rows, |r| r.ns_per_ray))?;
     out.set_item("rays", rays.len())?;
     out.set_item("diagonal", diag)?;
     out.set_item("reference_iterations", reference_budget.get())?;

@@ -51,19 +51,16 @@ struct Field {
     count: usize,
 }
 
-/// A structured array written as `.npy` (version 1.0): `rows` records of `fields`, the bytes
-/// of each record in `data`.
-fn write_npy(path: &Path, fields: &[Field], rows: usize, data: &[u8]) {
-    let mut descr = String::from("[");
-    for f in fields {
-        if f.count == 1 {
-            let _ = write!(descr, "('{}', '{}'), ", f.name, f.descr);
-        } else {
-            let _ = write!(descr, "('{}', '{}', ({},)), ", f.name, f.descr, f.count);
-        }
+impl Field {
+    const fn new(name: &'static str, descr: &'static str, count: usize) -> Self {
+        Field { name, descr, count }
     }
-    descr.push(']');
-    let mut header = format!("{{'descr': {descr}, 'fortran_order': False, 'shape': ({rows},), }}");
+}
+
+/// An `.npy` file (version 1.0): the header of `descr` and `shape` (as numpy writes them in
+/// it), then the bytes `data`.
+fn write_npy(path: &Path, descr: &str, shape: &str, data: &[u8]) {
+    let mut header = format!("{{'descr': {descr}, 'fortran_order': False, 'shape': {shape}, }}");
     // Magic (6) + version (2) + length (2) + header + '\n', padded to a multiple of 64.
     while (10 + header.len() + 1) % 64 != 0 {
         header.push(' ');
@@ -76,6 +73,21 @@ fn write_npy(path: &Path, fields: &[Field], rows: usize, data: &[u8]) {
     std::fs::write(path, bytes).unwrap();
 }
 
+/// A structured array as `.npy`: `rows` records of `fields`, the bytes of each record in
+/// `data`.
+fn write_records(path: &Path, fields: &[Field], rows: usize, data: &[u8]) {
+    let mut descr = String::from("[");
+    for f in fields {
+        if f.count == 1 {
+            let _ = write!(descr, "('{}', '{}'), ", f.name, f.descr);
+        } else {
+            let _ = write!(descr, "('{}', '{}', ({},)), ", f.name, f.descr, f.count);
+        }
+    }
+    descr.push(']');
+    write_npy(path, &descr, &format!("({rows},)"), data);
+}
+
 /// A plain `(rows, cols)` array as `.npy`.
 fn write_matrix<T: Copy>(
     path: &Path,
@@ -86,17 +98,12 @@ fn write_matrix<T: Copy>(
 ) {
     let rows = values.len() / cols;
     let data: Vec<u8> = values.iter().flat_map(|&v| bytes(v)).collect();
-    let mut header =
-        format!("{{'descr': '{descr}', 'fortran_order': False, 'shape': ({rows}, {cols}), }}");
-    while (10 + header.len() + 1) % 64 != 0 {
-        header.push(' ');
-    }
-    header.push('\n');
-    let mut out = b"\x93NUMPY\x01\x00".to_vec();
-    out.extend_from_slice(&(header.len() as u16).to_le_bytes());
-    out.extend_from_slice(header.as_bytes());
-    out.extend_from_slice(&data);
-    std::fs::write(path, out).unwrap();
+    write_npy(
+        path,
+        &format!("'{descr}'"),
+        &format!("({rows}, {cols})"),
+        &data,
+    );
 }
 
 fn f64s(v: f64) -> Vec<u8> {
@@ -161,51 +168,15 @@ fn vec_bytes<F: Bytes>(v: F::Vec3) -> Vec<u8> {
 fn hits<F: Bytes, const N: usize>(scene: &OwnedScene<F>, rays: &[(DVec3, DVec3)], path: &Path) {
     let s = scene.scene();
     let fields = [
-        Field {
-            name: "hit",
-            descr: "|b1",
-            count: 1,
-        },
-        Field {
-            name: "t",
-            descr: F::DESCR,
-            count: 1,
-        },
-        Field {
-            name: "t_error",
-            descr: F::DESCR,
-            count: 1,
-        },
-        Field {
-            name: "point",
-            descr: F::DESCR,
-            count: 3,
-        },
-        Field {
-            name: "normal",
-            descr: F::DESCR,
-            count: 3,
-        },
-        Field {
-            name: "shading_normal",
-            descr: F::DESCR,
-            count: 3,
-        },
-        Field {
-            name: "triangle",
-            descr: "<i8",
-            count: 1,
-        },
-        Field {
-            name: "barycentric",
-            descr: F::DESCR,
-            count: 2,
-        },
-        Field {
-            name: "occluded",
-            descr: "|b1",
-            count: 1,
-        },
+        Field::new("hit", "|b1", 1),
+        Field::new("t", F::DESCR, 1),
+        Field::new("t_error", F::DESCR, 1),
+        Field::new("point", F::DESCR, 3),
+        Field::new("normal", F::DESCR, 3),
+        Field::new("shading_normal", F::DESCR, 3),
+        Field::new("triangle", "<i8", 1),
+        Field::new("barycentric", F::DESCR, 2),
+        Field::new("occluded", "|b1", 1),
     ];
     let mut data = Vec::new();
     for &(o, d) in rays {
@@ -238,7 +209,7 @@ fn hits<F: Bytes, const N: usize>(scene: &OwnedScene<F>, rays: &[(DVec3, DVec3)]
         }
         data.push(u8::from(occluded));
     }
-    write_npy(path, &fields, rays.len(), &data);
+    write_records(path, &fields, rays.len(), &data);
 }
 
 /// Random surface points of accepted triangles, and the core's point, normal and shading
@@ -246,31 +217,11 @@ fn hits<F: Bytes, const N: usize>(scene: &OwnedScene<F>, rays: &[(DVec3, DVec3)]
 fn surface<F: Bytes>(scene: &OwnedScene<F>, rng: &mut Rng, path: &Path) {
     let s = scene.scene();
     let fields = [
-        Field {
-            name: "triangle",
-            descr: "<i8",
-            count: 1,
-        },
-        Field {
-            name: "w",
-            descr: "<f8",
-            count: 2,
-        },
-        Field {
-            name: "point",
-            descr: F::DESCR,
-            count: 3,
-        },
-        Field {
-            name: "normal",
-            descr: F::DESCR,
-            count: 3,
-        },
-        Field {
-            name: "shading_normal",
-            descr: F::DESCR,
-            count: 3,
-        },
+        Field::new("triangle", "<i8", 1),
+        Field::new("w", "<f8", 2),
+        Field::new("point", F::DESCR, 3),
+        Field::new("normal", F::DESCR, 3),
+        Field::new("shading_normal", F::DESCR, 3),
     ];
     let ids = s.triangle_ids();
     let mut data = Vec::new();
@@ -297,7 +248,7 @@ fn surface<F: Bytes>(scene: &OwnedScene<F>, rng: &mut Rng, path: &Path) {
         data.extend(vec_bytes::<F>(n));
         data.extend(vec_bytes::<F>(sn));
     }
-    write_npy(path, &fields, POINTS, &data);
+    write_records(path, &fields, POINTS, &data);
 }
 
 /// The report's counts, `key=value` per line.

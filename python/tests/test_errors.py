@@ -90,29 +90,29 @@ def test_non_finite_rays(scene: smoothtri.Scene, bad: float) -> None:
     o[77, 1] = bad
     o[90, 1] = bad
     with pytest.raises(ValueError, match=r"origins\[77\] = .* is not finite in float32"):
-        scene.intersect(o, d)
+        scene.closest_hit(o, d)
     with pytest.raises(ValueError, match=r"origins\[77\]"):
-        scene.occluded(o, d)
+        scene.any_hit(o, d)
     d2 = np.repeat(D, 50, axis=0)
     d2[5, 0] = bad
     with pytest.raises(ValueError, match=r"directions\[5\] = .* is not finite"):
-        scene.intersect(np.repeat(O, 50, axis=0), d2)
+        scene.closest_hit(np.repeat(O, 50, axis=0), d2)
 
 
 def test_rays_that_overflow_float32(scene: smoothtri.Scene) -> None:
     o = O.copy()
     o[1, 0] = 1e39  # finite in float64, infinite in float32
     with pytest.raises(ValueError, match=r"origins\[1\] = \(1e39, 0.0, 3.0\) is not finite in float32"):
-        scene.intersect(o, D)
+        scene.closest_hit(o, D)
     s64 = smoothtri.Scene(V, N, F, precision="f64")
-    assert s64.intersect(o, D).hit.tolist() == [True, False]
+    assert s64.closest_hit(o, D).hit.tolist() == [True, False]
 
 
 def test_zero_direction(scene: smoothtri.Scene) -> None:
     d = D.copy()
     d[1] = 0
     with pytest.raises(ValueError, match=r"directions\[1\] = \(0.0, 0.0, 0.0\) is zero in float32: a ray needs a direction"):
-        scene.intersect(O, d)
+        scene.closest_hit(O, d)
 
 
 @pytest.mark.parametrize(
@@ -130,14 +130,14 @@ def test_zero_direction(scene: smoothtri.Scene) -> None:
 )
 def test_bad_bounds(scene: smoothtri.Scene, kw: dict, match: str) -> None:
     with pytest.raises(ValueError, match=match):
-        scene.intersect(O, D, **kw)
+        scene.closest_hit(O, D, **kw)
 
 
 def test_mismatched_rays(scene: smoothtri.Scene) -> None:
     with pytest.raises(ValueError, match=r"origins has 2 rows but directions has 1"):
-        scene.intersect(O, D[:1])
+        scene.closest_hit(O, D[:1])
     with pytest.raises(ValueError, match=r"directions must have shape \(R, 3\), got \(2, 4\)"):
-        scene.intersect(O, np.zeros((2, 4)))
+        scene.closest_hit(O, np.zeros((2, 4)))
 
 
 # Indices out of range, zero triangles.
@@ -191,63 +191,63 @@ def test_some_triangles_rejected_are_reported() -> None:
 @pytest.mark.parametrize("n", [-1, 65, 1000])
 def test_iterations_out_of_range(scene: smoothtri.Scene, n: int) -> None:
     with pytest.raises(ValueError, match=rf"iterations must be one of 0..=64 .*, got {n}"):
-        scene.intersect(O, D, iterations=n)
+        scene.closest_hit(O, D, iterations=n)
     with pytest.raises(ValueError, match="iterations must be one of"):
-        scene.occluded(O, D, iterations=n)
+        scene.any_hit(O, D, iterations=n)
 
 
 def test_iterations_must_be_integers(scene: smoothtri.Scene) -> None:
     with pytest.raises(TypeError, match="iterations must be an integer, got 4.0"):
-        scene.intersect(O, D, iterations=4.0)
+        scene.closest_hit(O, D, iterations=4.0)
     with pytest.raises(TypeError, match="iterations must be an integer"):
-        scene.intersect(O, D, iterations=True)
+        scene.closest_hit(O, D, iterations=True)
 
 
 def test_every_supported_budget_runs(scene: smoothtri.Scene) -> None:
     assert smoothtri.SUPPORTED_ITERATIONS == list(range(65))
     for n in smoothtri.SUPPORTED_ITERATIONS:
-        assert scene.intersect(O, D, iterations=n).hit.all()
+        assert scene.closest_hit(O, D, iterations=n).hit.all()
 
 
 # Read-only or non-contiguous arrays where one is written.
 
 
 def test_read_only_out(scene: smoothtri.Scene) -> None:
-    out = scene.intersect(O, D)
+    out = scene.closest_hit(O, D)
     out.t.setflags(write=False)
     with pytest.raises(ValueError, match=r"out.t is read-only: it must be a writeable C-contiguous numpy array of dtype float32 and shape \(2,\)"):
-        scene.intersect(O, D, out=out)
+        scene.closest_hit(O, D, out=out)
     occ = np.zeros(2, dtype=bool)
     occ.setflags(write=False)
     with pytest.raises(ValueError, match=r"out is read-only"):
-        scene.occluded(O, D, out=occ)
+        scene.any_hit(O, D, out=occ)
 
 
 def test_non_contiguous_out(scene: smoothtri.Scene) -> None:
-    out = scene.intersect(O, D)
+    out = scene.closest_hit(O, D)
     out.point = np.zeros((2, 6), dtype=np.float32)[:, ::2]
     with pytest.raises(ValueError, match=r"out.point is not C-contiguous"):
-        scene.intersect(O, D, out=out)
-    out = scene.intersect(O, D)
+        scene.closest_hit(O, D, out=out)
+    out = scene.closest_hit(O, D)
     out.normal = np.asfortranarray(np.zeros((2, 3), dtype=np.float32))
     with pytest.raises(ValueError, match=r"out.normal is not C-contiguous"):
-        scene.intersect(O, D, out=out)
+        scene.closest_hit(O, D, out=out)
     with pytest.raises(ValueError, match=r"out is not C-contiguous"):
-        scene.occluded(O, D, out=np.zeros(4, dtype=bool)[::2])
+        scene.any_hit(O, D, out=np.zeros(4, dtype=bool)[::2])
 
 
 def test_wrong_out(scene: smoothtri.Scene) -> None:
-    out = scene.intersect(O, D)
+    out = scene.closest_hit(O, D)
     out.t = np.zeros(2, dtype=np.float64)
     with pytest.raises(TypeError, match=r"out.t has dtype float64: it must be .* float32"):
-        scene.intersect(O, D, out=out)
-    out = scene.intersect(O, D)
+        scene.closest_hit(O, D, out=out)
+    out = scene.closest_hit(O, D)
     out.triangle = np.zeros(3, dtype=np.int64)
     with pytest.raises(ValueError, match=r"out.triangle has shape \(3,\)"):
-        scene.intersect(O, D, out=out)
+        scene.closest_hit(O, D, out=out)
     out.triangle = [0, 0]
     with pytest.raises(TypeError, match=r"out.triangle must be a writeable"):
-        scene.intersect(O, D, out=out)
+        scene.closest_hit(O, D, out=out)
     pts = scene.evaluate([0], [[0.1, 0.1]])
     pts.point = pts.point.astype(np.float64)
     with pytest.raises(TypeError, match=r"out.point has dtype float64"):
@@ -257,10 +257,10 @@ def test_wrong_out(scene: smoothtri.Scene) -> None:
 def test_out_that_is_an_input(scene: smoothtri.Scene) -> None:
     """An output array that is also an input is refused, not raced."""
     o = O.astype(np.float32)
-    out = scene.intersect(o, D)
+    out = scene.closest_hit(o, D)
     out.point = o
     with pytest.raises(ValueError, match="out.point"):
-        scene.intersect(o, D, out=out)
+        scene.closest_hit(o, D, out=out)
 
 
 # An empty ray batch returns empty arrays.
@@ -270,15 +270,15 @@ def test_out_that_is_an_input(scene: smoothtri.Scene) -> None:
 def test_empty_batch(precision: str, dtype: type) -> None:
     s = smoothtri.Scene(V, N, F, precision=precision)
     e = np.zeros((0, 3))
-    h = s.intersect(e, e)
+    h = s.closest_hit(e, e)
     assert len(h) == 0
     assert h.point.shape == (0, 3) and h.point.dtype == dtype
     assert h.barycentric.shape == (0, 2) and h.triangle.dtype == np.int64 and h.hit.dtype == bool
-    assert s.occluded(e, e).shape == (0,)
-    assert s.occluded([], []).shape == (0,)
+    assert s.any_hit(e, e).shape == (0,)
+    assert s.any_hit([], []).shape == (0,)
     p = s.evaluate(np.zeros(0, dtype=np.int64), np.zeros((0, 2)))
     assert p.point.shape == (0, 3)
-    assert s.intersect(e, e, t_max=np.zeros(0)).t.shape == (0,)
+    assert s.closest_hit(e, e, t_max=np.zeros(0)).t.shape == (0,)
 
 
 # Other arguments.

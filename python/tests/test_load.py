@@ -37,7 +37,7 @@ def test_obj_with_normals(tmp_path: pathlib.Path) -> None:
     # The same triangles, corner by corner (the loader numbers vertices as it meets them).
     assert (m.vertices[m.faces] == v[f]).all() and (m.normals[m.faces] == n[f]).all()
     s = smoothtri.Scene.from_mesh(m, precision="f64")
-    h = s.intersect([[0.1, 0.2, 3.0]], [[0, 0, -1.0]], iterations=8)
+    h = s.closest_hit([[0.1, 0.2, 3.0]], [[0, 0, -1.0]], iterations=8)
     assert abs(np.linalg.norm(h.point[0]) - 1) <= smoothtri.ACCURACY["F64_SPHERE_HIT"]
 
 
@@ -66,8 +66,8 @@ def test_formats_from_trimesh(tmp_path: pathlib.Path, ext: str) -> None:
     t = smoothtri.from_trimesh(mesh)
     assert (t.vertices == v).all() and (t.faces == f).all() and np.allclose(t.normals, n)
     o, d = smoothtri.camera_rays(v, 20, 20)
-    a = smoothtri.Scene.from_mesh(t).intersect(o, d)
-    b = s.intersect(o, d)
+    a = smoothtri.Scene.from_mesh(t).closest_hit(o, d)
+    b = s.closest_hit(o, d)
     assert (a.hit == b.hit).sum() >= 398  # the same sphere, up to the file's rounding
 
 
@@ -88,7 +88,7 @@ def test_real_exports(name: str, up: str) -> None:
     assert r.patches + sum(r.rejected.values()) == r.triangles == len(m.faces)
     assert r.patches > 0.9 * r.triangles
     o, d = smoothtri.camera_rays(m.vertices, 64, 48, up=up)
-    h = s.intersect(o, d)
+    h = s.closest_hit(o, d)
     assert 200 < h.hit.sum() < len(o)
     assert np.isfinite(h.point).all() and (h.t_error[h.hit] >= 0).all()
     # Shading normals are unit vectors facing like the geometric ones.

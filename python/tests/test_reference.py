@@ -70,10 +70,10 @@ def test_hits_equal_the_rust_api(reference_dir: pathlib.Path, name: str, config:
     s = scene(reference_dir, name, *config)
     want = np.load(reference_dir / f"{name}-{tag(*config)}-N{n}.npy")
     o, d = rays(reference_dir, name)
-    hits = s.intersect(o, d, iterations=n)
+    hits = s.closest_hit(o, d, iterations=n)
     assert 0 < want["hit"].sum() < len(want), "the rays should both hit and miss"
     assert_hits(hits, want, f"{name} {tag(*config)} N={n}")
-    assert_bits(s.occluded(o, d, iterations=n), want["occluded"], "occluded")
+    assert_bits(s.any_hit(o, d, iterations=n), want["occluded"], "occluded")
 
 
 @pytest.mark.parametrize("name", SCENES)
@@ -137,10 +137,10 @@ def test_layouts_and_dtypes_give_the_same_hits(reference_dir: pathlib.Path, prec
     if precision == "f32":
         # Round once here so that every layout below holds the values the scene traces.
         o, d = o.astype(np.float32).astype(np.float64), d.astype(np.float32).astype(np.float64)
-        want = s.intersect(o, d)
+        want = s.closest_hit(o, d)
         want = {f: getattr(want, f) for f in HIT_FIELDS}
     for (lo, oo), (ld, dd) in zip(layouts(o, precision).items(), layouts(d, precision).items()):
-        assert_hits(s.intersect(oo, dd), want, f"{precision} {lo}")
+        assert_hits(s.closest_hit(oo, dd), want, f"{precision} {lo}")
 
 
 def test_broadcast_origin(reference_dir: pathlib.Path) -> None:
@@ -148,8 +148,8 @@ def test_broadcast_origin(reference_dir: pathlib.Path) -> None:
     s = scene(reference_dir, "torus", "f64", "face", True)
     _, d = rays(reference_dir, "torus")
     eye = np.array([0.3, -2.5, 1.7])
-    shared = s.intersect(np.broadcast_to(eye, d.shape), d)
-    copied = s.intersect(np.tile(eye, (len(d), 1)), d)
+    shared = s.closest_hit(np.broadcast_to(eye, d.shape), d)
+    copied = s.closest_hit(np.tile(eye, (len(d), 1)), d)
     assert shared.hit.any()
     for f in HIT_FIELDS:
         assert_bits(getattr(shared, f), getattr(copied, f), f)
@@ -164,10 +164,10 @@ def test_threads_give_the_results_of_one_thread(reference_dir: pathlib.Path, pre
     one = smoothtri.Scene(v, n, f, precision=precision, threads=1)
     many = smoothtri.Scene(v, n, f, precision=precision, threads=3)
     assert one.report == many.report
-    want = one.intersect(o, d, threads=1)
+    want = one.closest_hit(o, d, threads=1)
     for threads in (None, 2, 3, 7):
-        assert_hits(many.intersect(o, d, threads=threads), {f: getattr(want, f) for f in HIT_FIELDS}, f"threads={threads}")
-        assert_bits(many.occluded(o, d, threads=threads), one.occluded(o, d, threads=1), "occluded")
+        assert_hits(many.closest_hit(o, d, threads=threads), {f: getattr(want, f) for f in HIT_FIELDS}, f"threads={threads}")
+        assert_bits(many.any_hit(o, d, threads=threads), one.any_hit(o, d, threads=1), "occluded")
     hit = want.hit
     points = one.evaluate(want.triangle[hit], want.barycentric[hit], threads=1)
     for threads in (None, 3):
@@ -180,13 +180,13 @@ def test_out_arrays_are_overwritten_in_place(reference_dir: pathlib.Path) -> Non
     s = scene(reference_dir, "cube", "f32", "face", True)
     want = np.load(reference_dir / f"cube-{tag('f32', 'face', True)}-N8.npy")
     o, d = rays(reference_dir, "cube")
-    out = s.intersect(o[::-1], d[::-1], iterations=8)  # other results, then overwritten
+    out = s.closest_hit(o[::-1], d[::-1], iterations=8)  # other results, then overwritten
     ids = {f: id(getattr(out, f)) for f in HIT_FIELDS}
-    got = s.intersect(o, d, iterations=8, out=out)
+    got = s.closest_hit(o, d, iterations=8, out=out)
     assert got is out and {f: id(getattr(out, f)) for f in HIT_FIELDS} == ids
     assert_hits(out, want, "out=")
     occ = np.ones(len(o), dtype=bool)
-    assert s.occluded(o, d, iterations=8, out=occ) is occ
+    assert s.any_hit(o, d, iterations=8, out=occ) is occ
     assert_bits(occ, want["occluded"], "occluded out=")
 
 
@@ -195,7 +195,7 @@ def test_evaluate_round_trips_the_hits(reference_dir: pathlib.Path) -> None:
     is ``origin + t·direction``, within its ``t_error`` of the surface along the ray)."""
     s = scene(reference_dir, "torus", "f64", "face", True)
     o, d = rays(reference_dir, "torus")
-    h = s.intersect(o, d, iterations=8)
+    h = s.closest_hit(o, d, iterations=8)
     p = s.evaluate(h.triangle[h.hit], h.barycentric[h.hit])
     gap = np.linalg.norm(p.point - h.point[h.hit], axis=1)
     bound = h.t_error[h.hit] * np.linalg.norm(d[h.hit], axis=1) + 1e-12

@@ -32,7 +32,7 @@ def test_sphere_hits_are_exact(precision: str, shape: str) -> None:
     if precision == "f32":
         # The rays as the scene traces them, so the analytic roots are of the same rays.
         o, d = o.astype(np.float32).astype(np.float64), d.astype(np.float32).astype(np.float64)
-    hits = scene.intersect(o, d, iterations=8)
+    hits = scene.closest_hit(o, d, iterations=8)
     t_true = sphere_root(o / radius, d / radius)
     # Rays that miss the sphere by a margin miss; rays that cross it with a chord longer than
     # about one sampling step of the kernel hit (shorter chords, within 0.5 % of grazing, may
@@ -87,11 +87,11 @@ def test_occluded_agrees_with_intersect() -> None:
     v, n, f = octahedron()
     scene = smoothtri.Scene(v, n, f, precision="f64")
     o, d = rays_through_ball(2000, 1.5, seed=11)
-    hits = scene.intersect(o, d)
-    assert (scene.occluded(o, d) == hits.hit).all()
+    hits = scene.closest_hit(o, d)
+    assert (scene.any_hit(o, d) == hits.hit).all()
     # Shadow rays to just before the first hit see nothing; to just after, something.
     t = np.where(hits.hit, hits.t, 1.0)
-    assert not scene.occluded(o, d, t_max=np.where(hits.hit, 0.999 * t, 1.0))[hits.hit].any()
-    assert scene.occluded(o, d, t_max=np.where(hits.hit, 1.001 * t, 1.0))[hits.hit].all()
+    assert not scene.any_hit(o, d, t_max=np.where(hits.hit, 0.999 * t, 1.0))[hits.hit].any()
+    assert scene.any_hit(o, d, t_max=np.where(hits.hit, 1.001 * t, 1.0))[hits.hit].all()
     # A per-ray interval that is empty is a miss, not an error.
-    assert not scene.occluded(o, d, t_min=2.0, t_max=np.ones(len(o))).any()
+    assert not scene.any_hit(o, d, t_min=2.0, t_max=np.ones(len(o))).any()

@@ -146,10 +146,10 @@ def stress(seconds: float) -> dict:
             threads = 1 if (n + i) % 2 else None
             kind = (n + i) % 3
             if kind == 0:
-                k = pose_of_hits(e, scene.intersect(e.origins, e.directions, iterations=8, threads=threads))
+                k = pose_of_hits(e, scene.closest_hit(e.origins, e.directions, iterations=8, threads=threads))
                 tally("intersect", "" if k >= 0 else "hits of no pose")
             elif kind == 1:
-                got = scene.occluded(e.origins, e.directions, iterations=8, threads=threads)
+                got = scene.any_hit(e.origins, e.directions, iterations=8, threads=threads)
                 ok = any(np.array_equal(got, m) for m in e.masks)
                 tally("occluded", "" if ok else "occlusion of no pose")
             else:
@@ -166,7 +166,7 @@ def stress(seconds: float) -> dict:
             # A small query between two reads of the report (the rays of the two smallest
             # offsets).
             few = slice(0, 2 * RAYS_PER_OFFSET)
-            hits = scene.intersect(e.origins[few], e.directions[few], iterations=8, threads=1)
+            hits = scene.closest_hit(e.origins[few], e.directions[few], iterations=8, threads=1)
             tally("intersect", "" if pose_of_hits(e, hits, few) >= 0 else "small query: hits of no pose")
             if n % 4 == 0:
                 s = smoothtri.precision_sweep(
@@ -194,7 +194,7 @@ def stress(seconds: float) -> dict:
         w.join()
     # Quiet now: the scene and its report are the last pose's.
     last = counts["update"] % len(RADII)
-    k = pose_of_hits(e, scene.intersect(e.origins, e.directions, iterations=8))
+    k = pose_of_hits(e, scene.closest_hit(e.origins, e.directions, iterations=8))
     if k != last:
         problems.append(f"after the threads: hits of pose {k}, the last update was to pose {last}")
     if scene.report.bvh_refitted != scene._native.report["bvh_refitted"]:

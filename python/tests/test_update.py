@@ -69,7 +69,7 @@ def test_updates_equal_fresh_scenes(precision: str, seams: bool) -> None:
         for x, y in zip((a.point, a.normal, a.shading_normal), (b.point, b.normal, b.shading_normal)):
             assert np.array_equal(x, y)
         ro, rd = centre + radius * o, radius * d
-        got, want = scene.intersect(ro, rd, iterations=8), fresh.intersect(ro, rd, iterations=8)
+        got, want = scene.closest_hit(ro, rd, iterations=8), fresh.closest_hit(ro, rd, iterations=8)
         assert np.array_equal(got.hit, want.hit)
         h = got.hit
         assert h.sum() > 500
@@ -86,7 +86,7 @@ def test_bad_updates_leave_the_scene() -> None:
     v, n, f = uv_sphere()
     scene = smoothtri.Scene(v, n, f)
     o, d = rays_through_ball(500, 1.0, seed=3)
-    before = scene.intersect(o, d)
+    before = scene.closest_hit(o, d)
     bad_nan = v.copy()
     bad_nan[5, 1] = np.nan
     with pytest.raises(ValueError, match=r"vertices\[5, 1\]"):
@@ -99,7 +99,7 @@ def test_bad_updates_leave_the_scene() -> None:
         scene.update(v[:, :2], n)
     with pytest.raises(TypeError):
         scene.update(np.array([["a", "b", "c"]] * len(v)), n)
-    after = scene.intersect(o, d)
+    after = scene.closest_hit(o, d)
     for field in ("hit", "t", "t_error", "triangle"):
         assert np.array_equal(getattr(before, field), getattr(after, field))
 
@@ -110,7 +110,7 @@ def test_a_collapsed_pose_misses_and_recovers() -> None:
     o, d = rays_through_ball(500, 1.0, seed=5)
     scene.update(np.zeros_like(v), n)
     assert scene.report.patches == 0
-    assert not scene.intersect(o, d).hit.any()
+    assert not scene.closest_hit(o, d).hit.any()
     scene.update(v, n)
     assert scene.report.patches == len(f)
-    assert scene.intersect(o, d).hit.sum() > 100
+    assert scene.closest_hit(o, d).hit.sum() > 100
