@@ -643,7 +643,9 @@ impl NativeScene {
         out: Option<&Bound<'py, PyTuple>>,
     ) -> PyResult<Bound<'py, PyTuple>> {
         let query = RayQuery::new(py, origins, directions, iterations, t_min, t_max, threads)?;
-        in_precision!(&self.snapshot().built, |s| closest_hit_in(py, s, &query, out))
+        in_precision!(&self.snapshot().built, |s| closest_hit_in(
+            py, s, &query, out
+        ))
     }
 
     /// Whether each ray hits anything: a bool array.
