@@ -183,14 +183,9 @@ fn our_flat_row(n: usize, rays: &[Ray], reps: usize) -> (Row, f64) {
         hits
     };
     // Embree on the same triangles (the vertices as the generator gives them).
-    let positions: Vec<[f32; 3]> = mesh
-        .positions
-        .iter()
-        .map(|p| p.as_vec3().to_array())
-        .collect();
     let vertex_normals: Vec<Vec3> = mesh.normals.iter().map(|p| p.as_vec3()).collect();
     let device = ffi::Device::new(c"threads=1");
-    let escene = ffi::Scene::triangles(&device, &positions, &mesh.triangles);
+    let escene = ffi::Scene::of_mesh(&device, &mesh);
     let mut ctx = ffi::RTCIntersectContext::new();
     let mut theirs = || {
         let mut hits = 0;
@@ -260,15 +255,10 @@ fn flat_table(n: usize, rays: &[Ray], embree_reps: usize) {
 /// The Embree row of the flat `n`×`n` torus; `equal` marks the grid of equal max error.
 fn embree_row(n: usize, equal: bool, rays: &[Ray], reps: usize) -> Row {
     let mesh = torus(n, n, BIG_R, SMALL_R);
-    let positions: Vec<[f32; 3]> = mesh
-        .positions
-        .iter()
-        .map(|p| p.as_vec3().to_array())
-        .collect();
     let normals: Vec<Vec3> = mesh.normals.iter().map(|p| p.as_vec3()).collect();
     let indices = mesh.triangles.clone();
     let device = ffi::Device::new(c"threads=1");
-    let scene = ffi::Scene::triangles(&device, &positions, &indices);
+    let scene = ffi::Scene::of_mesh(&device, &mesh);
     let (net, peak) = (device.net_bytes(), device.peak_bytes());
     let mut ctx = ffi::RTCIntersectContext::new();
     let secs = median_secs(reps, || {
@@ -296,7 +286,8 @@ fn embree_row(n: usize, equal: bool, rays: &[Ray], reps: usize) -> Row {
         "Embree {n}×{n}: the net bytes Embree's memory monitor reports after `rtcCommitScene` \
          ({net} B: its vertex and index buffers, {} B, and the BVH; the peak during the build \
          was {peak} B) + the vertex normals ({} B)",
-        size_of_val(positions.as_slice()) + size_of_val(indices.as_slice()),
+        // Embree's vertex buffer: one `[f32; 3]` per vertex.
+        mesh.positions.len() * size_of::<[f32; 3]>() + size_of_val(indices.as_slice()),
         size_of_val(normals.as_slice())
     );
     Row {

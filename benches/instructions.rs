@@ -10,7 +10,7 @@
 use std::hint::black_box;
 use std::process::Command;
 
-use smoothtri::{LineField, Patch, flat_hit, moller_trumbore};
+use smoothtri::{LineField, Patch, moller_trumbore};
 use smoothtri_testkit::scenes::{tilted_normal_sphere, torus};
 
 mod common;
@@ -46,16 +46,23 @@ const CASES: &[(&str, &str, usize)] = &[
     ("seam_correct_teapot4_f32", "normal", 992 * 10),
 ];
 
-macro_rules! per_patch {
-    ($s:expr, $reps:expr, $patch:expr, $rays:expr, $n:literal, $inf:expr) => {{
-        let mut hits = 0usize;
-        for _ in 0..$reps {
-            for r in $rays.iter() {
-                hits += $patch.closest_hit(black_box(r), 0.0, $inf, $n).is_some() as usize;
-            }
+/// How many of `rays` `hit` says are hit, over `reps` passes (each ray through `black_box`).
+fn count_hits<R>(reps: usize, rays: &[R], mut hit: impl FnMut(&R) -> bool) -> usize {
+    let mut hits = 0;
+    for _ in 0..reps {
+        for r in rays {
+            hits += hit(black_box(r)) as usize;
         }
-        hits
-    }};
+    }
+    hits
+}
+
+macro_rules! per_patch {
+    ($s:expr, $reps:expr, $patch:expr, $rays:expr, $n:literal, $inf:expr) => {
+        count_hits($reps, &$rays, |r| {
+            $patch.closest_hit(r, 0.0, $inf, $n).is_some()
+        })
+    };
 }
 
 /// The 160×120 camera rays through the BVH of the 8×8 torus, `reps` times.
@@ -66,15 +73,9 @@ fn scene_smooth<const N: usize>(reps: usize) -> usize {
 /// The 160×120 camera rays through the BVH of `scene`, `reps` times.
 fn scene_rays<const N: usize>(scene: &Scene, reps: usize) -> usize {
     let bvh = scene.bvh();
-    let rays = camera_rays(160, 120);
-    let mut hits = 0;
-    for _ in 0..reps {
-        for r in &rays {
-            let h = bvh.closest_hit(black_box(r), 0.0, f32::INFINITY, N);
-            hits += h.is_some() as usize;
-        }
-    }
-    hits
+    count_hits(reps, &camera_rays(160, 120), |r| {
+        bvh.closest_hit(r, 0.0, f32::INFINITY, N).is_some()
+    })
 }
 
 /// Runs one workload `reps` times; returns something derived from the results so nothing is
@@ -82,16 +83,9 @@ fn scene_rays<const N: usize>(scene: &Scene, reps: usize) -> usize {
 fn run_case(name: &str, reps: usize) -> usize {
     let s = setup();
     match name {
-        "moller_trumbore_f32" => {
-            let mut hits = 0;
-            for _ in 0..reps {
-                for r in &s.rays32 {
-                    let h = moller_trumbore(&s.tri32, black_box(r), 0.0, f32::INFINITY);
-                    hits += h.is_some() as usize;
-                }
-            }
-            hits
-        }
+        "moller_trumbore_f32" => count_hits(reps, &s.rays32, |r| {
+            moller_trumbore(&s.tri32, r, 0.0, f32::INFINITY).is_some()
+        }),
         "smooth_f32_N0" => per_patch!(s, reps, s.p32, s.rays32, 0, f32::INFINITY),
         "smooth_f32_N2" => per_patch!(s, reps, s.p32, s.rays32, 2, f32::INFINITY),
         "smooth_f32_N4" => per_patch!(s, reps, s.p32, s.rays32, 4, f32::INFINITY),
@@ -124,14 +118,9 @@ fn run_case(name: &str, reps: usize) -> usize {
                 .expect("WusonOBJ builds");
             let scene = built.scene();
             let rays = smoothtri_testkit::Camera::for_mesh(&mesh, 30.0, 35.0, 160, 120).rays_f32();
-            let mut hits = 0;
-            for _ in 0..reps {
-                for r in &rays {
-                    let h = scene.closest_hit(black_box(r), 0.0, f32::INFINITY, 8);
-                    hits += h.is_some() as usize;
-                }
-            }
-            hits
+            count_hits(reps, &rays, |r| {
+                scene.closest_hit(r, 0.0, f32::INFINITY, 8).is_some()
+            })
         }
         "scene_seams_two_steps_8x8_f32_N8" | "scene_seams_closest_hit_8x8_f32_N8" => {
             // The torus with seams: a closest hit with its seamless shading normal, as
@@ -165,17 +154,7 @@ fn run_case(name: &str, reps: usize) -> usize {
             let (n, _) = flat_torus_matching(7.4e-3);
             let scene = Scene::new(&torus(n, n, 1.0, 0.4));
             let bvh = scene.bvh();
-            let rays = camera_rays(160, 120);
-            let mut hits = 0;
-            for _ in 0..reps {
-                for r in &rays {
-                    let h = bvh.closest_with(black_box(r), 0.0, f32::INFINITY, |_, p, a, b| {
-                        flat_hit(&p.vertices(), None, r, a, b)
-                    });
-                    hits += h.is_some() as usize;
-                }
-            }
-            hits
+            count_hits(reps, &camera_rays(160, 120), |r| hits_flat(&bvh, r))
         }
         "bvh_flat_triangles_f32" => {
             // Our BVH on Embree's task (the `embree` bench's row): the flat 35×35 torus, boxes
@@ -183,14 +162,9 @@ fn run_case(name: &str, reps: usize) -> usize {
             let (n, _) = flat_torus_matching(7.4e-3);
             let flat = FlatBvh::new(&torus(n, n, 1.0, 0.4));
             let bvh = flat.bvh();
-            let rays = camera_rays(160, 120);
-            let mut hits = 0;
-            for _ in 0..reps {
-                for r in &rays {
-                    hits += flat.closest_hit(&bvh, black_box(r)).is_some() as usize;
-                }
-            }
-            hits
+            count_hits(reps, &camera_rays(160, 120), |r| {
+                flat.closest_hit(&bvh, r).is_some()
+            })
         }
         "construct_f32" => {
             let tris = triangles32(&torus(8, 8, 1.0, 0.4));

@@ -13,25 +13,26 @@ use criterion::{Criterion, criterion_group};
 mod common;
 use common::*;
 use smoothtri::max_height_evals;
-use smoothtri::{DEFAULT_SAMPLES, DRay, Patch, Ray, flat_hit, moller_trumbore};
+use smoothtri::{DEFAULT_SAMPLES, Patch, moller_trumbore};
 use smoothtri_testkit::scenes::torus;
 
-macro_rules! smooth32 {
-    ($s:expr, $n:literal) => {
-        |rays: &[Ray]| {
-            rays.iter()
-                .filter(|r| $s.p32.closest_hit(r, 0.0, f32::INFINITY, $n).is_some())
-                .count()
-        }
+/// How many of `rays` hit the triangle `tri` (Möller–Trumbore, in `[0, inf]`).
+macro_rules! mt_hits {
+    ($tri:expr, $rays:expr, $inf:expr) => {
+        $rays
+            .iter()
+            .filter(|r| moller_trumbore(&$tri, r, 0.0, $inf).is_some())
+            .count()
     };
 }
-macro_rules! smooth64 {
-    ($s:expr, $n:literal) => {
-        |rays: &[DRay]| {
-            rays.iter()
-                .filter(|r| $s.p64.closest_hit(r, 0.0, f64::INFINITY, $n).is_some())
-                .count()
-        }
+
+/// How many of `rays` hit `patch` (closest hit in `[0, inf]`, `n` refinement steps).
+macro_rules! smooth_hits {
+    ($patch:expr, $rays:expr, $inf:expr, $n:literal) => {
+        $rays
+            .iter()
+            .filter(|r| $patch.closest_hit(r, 0.0, $inf, $n).is_some())
+            .count()
     };
 }
 
@@ -39,28 +40,18 @@ fn bench_kernel(c: &mut Criterion) {
     let s = setup();
     let mut g = c.benchmark_group("per_ray_patch_test_1024_rays");
     g.bench_function("moller_trumbore_f32", |b| {
-        b.iter(|| {
-            s.rays32
-                .iter()
-                .filter(|r| moller_trumbore(&s.tri32, r, 0.0, f32::INFINITY).is_some())
-                .count()
-        })
+        b.iter(|| mt_hits!(s.tri32, s.rays32, f32::INFINITY))
     });
     g.bench_function("moller_trumbore_f64", |b| {
-        b.iter(|| {
-            s.rays64
-                .iter()
-                .filter(|r| moller_trumbore(&s.tri64, r, 0.0, f64::INFINITY).is_some())
-                .count()
-        })
+        b.iter(|| mt_hits!(s.tri64, s.rays64, f64::INFINITY))
     });
     macro_rules! smooth_benches {
         ($($n:literal),*) => {$(
             g.bench_function(concat!("smooth_f32_N", $n), |b| {
-                b.iter(|| smooth32!(s, $n)(black_box(&s.rays32)))
+                b.iter(|| smooth_hits!(s.p32, black_box(&s.rays32), f32::INFINITY, $n))
             });
             g.bench_function(concat!("smooth_f64_N", $n), |b| {
-                b.iter(|| smooth64!(s, $n)(black_box(&s.rays64)))
+                b.iter(|| smooth_hits!(s.p64, black_box(&s.rays64), f64::INFINITY, $n))
             });
         )*};
     }
@@ -96,16 +87,7 @@ fn bench_scene(c: &mut Criterion) {
     });
     g.bench_function(format!("flat_{n}x{n}_equal_error_f32"), |b| {
         let bvh = flat.bvh();
-        b.iter(|| {
-            rays.iter()
-                .filter(|r| {
-                    bvh.closest_with(r, 0.0, f32::INFINITY, |_, p, a, t| {
-                        flat_hit(&p.vertices(), None, r, a, t)
-                    })
-                    .is_some()
-                })
-                .count()
-        })
+        b.iter(|| rays.iter().filter(|r| hits_flat(&bvh, r)).count())
     });
     g.finish();
 }
@@ -144,22 +126,20 @@ fn summary() {
     );
     println!("| kernel | f32 ns/test | f32 × MT | f64 ns/test | f64 × MT |");
     println!("|---|---|---|---|---|");
-    let mt32 = || {
-        s.rays32
-            .iter()
-            .filter(|r| moller_trumbore(&s.tri32, r, 0.0, f32::INFINITY).is_some())
-            .count()
-    };
-    let mt64 = || {
-        s.rays64
-            .iter()
-            .filter(|r| moller_trumbore(&s.tri64, r, 0.0, f64::INFINITY).is_some())
-            .count()
-    };
+    let mt32 = || mt_hits!(s.tri32, s.rays32, f32::INFINITY);
+    let mt64 = || mt_hits!(s.tri64, s.rays64, f64::INFINITY);
     macro_rules! row {
         ($n:literal) => {{
-            let (m32, k32) = interleaved(mt32, || smooth32!(s, $n)(&s.rays32), 200);
-            let (m64, k64) = interleaved(mt64, || smooth64!(s, $n)(&s.rays64), 200);
+            let (m32, k32) = interleaved(
+                mt32,
+                || smooth_hits!(s.p32, s.rays32, f32::INFINITY, $n),
+                200,
+            );
+            let (m64, k64) = interleaved(
+                mt64,
+                || smooth_hits!(s.p64, s.rays64, f64::INFINITY, $n),
+                200,
+            );
             println!(
                 "| smooth N = {} | {:.1} | {:.1} | {:.1} | {:.1} |",
                 $n,
@@ -184,7 +164,7 @@ fn summary() {
     row!(16);
     #[cfg(feature = "micromath")]
     {
-        use smoothtri::FastF32;
+        use smoothtri::{FastF32, Ray};
         let (p, n) = torus(8, 8, 1.0, 0.4).triangle(21);
         let fast = Patch::<FastF32>::new(p.map(|x| x.as_vec3()), n.map(|x| x.as_vec3())).unwrap();
         let zero = FastF32(0.0);
@@ -289,16 +269,7 @@ fn summary() {
                 .filter(|r| bs.closest_hit(r, 0.0, f32::INFINITY, 8).is_some())
                 .count()
         },
-        || {
-            rays.iter()
-                .filter(|r| {
-                    bf.closest_with(r, 0.0, f32::INFINITY, |_, p, a, t| {
-                        flat_hit(&p.vertices(), None, r, a, t)
-                    })
-                    .is_some()
-                })
-                .count()
-        },
+        || rays.iter().filter(|r| hits_flat(&bf, r)).count(),
         10,
     );
     let mem = |sc: &Scene| std::mem::size_of_val(sc.patches()) + sc.bvh().memory_bytes();

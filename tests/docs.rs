@@ -71,6 +71,19 @@ fn files() -> Vec<PathBuf> {
     out
 }
 
+/// The files whose citations are checked, each with its path from the root and its text:
+/// every readable file of [`files`] but the [`HISTORY`] ones and those named in `skip`.
+fn cited_from(skip: &'static [&'static str]) -> impl Iterator<Item = (PathBuf, String, String)> {
+    files().into_iter().filter_map(move |f| {
+        let name = rel(&f);
+        if HISTORY.contains(&name.as_str()) || skip.contains(&name.as_str()) {
+            return None;
+        }
+        let text = std::fs::read_to_string(&f).ok()?;
+        Some((f, name, text))
+    })
+}
+
 /// The repository's top-level folders: a cited path starts with one of them.
 fn top_dirs() -> Vec<String> {
     let mut dirs: Vec<String> = std::fs::read_dir(root())
@@ -142,19 +155,27 @@ fn rel(p: &Path) -> String {
     p.strip_prefix(root()).unwrap_or(p).display().to_string()
 }
 
+/// The verdict of a scan of the cited `what`: more than `min` found (else the scan is broken),
+/// and none of them bad (`bad`: one line each, listed under `heading`).
+fn check_scan(min: usize, cited: usize, what: &str, heading: &str, bad: &[String]) {
+    assert!(
+        cited > min,
+        "only {cited} cited {what} found: is the scan broken?"
+    );
+    assert!(
+        bad.is_empty(),
+        "{} {heading}:\n{}",
+        bad.len(),
+        bad.join("\n")
+    );
+}
+
 #[test]
 fn every_cited_path_exists() {
     let tops = top_dirs();
     let mut bad = Vec::new();
     let mut cited = 0;
-    for f in files() {
-        let name = rel(&f);
-        if HISTORY.contains(&name.as_str()) {
-            continue;
-        }
-        let Ok(text) = std::fs::read_to_string(&f) else {
-            continue;
-        };
+    for (f, name, text) in cited_from(&[]) {
         for (line, p) in cited_paths(&text, &tops) {
             cited += 1;
             if GENERATED.iter().any(|g| p.starts_with(g)) || resolves(&f, &p) {
@@ -163,16 +184,7 @@ fn every_cited_path_exists() {
             bad.push(format!("{name}:{line}: `{p}` does not exist"));
         }
     }
-    assert!(
-        cited > 100,
-        "only {cited} cited paths found: is the scan broken?"
-    );
-    assert!(
-        bad.is_empty(),
-        "{} missing paths:\n{}",
-        bad.len(),
-        bad.join("\n")
-    );
+    check_scan(100, cited, "paths", "missing paths", &bad);
 }
 
 /// `text` with the comment markers of each line removed and the lines joined, so that a
@@ -301,14 +313,7 @@ fn cited_sections(text: &str) -> Vec<(String, String, bool)> {
 fn every_cited_section_exists() {
     let mut bad = Vec::new();
     let mut cited = 0;
-    for f in files() {
-        let name = rel(&f);
-        if HISTORY.contains(&name.as_str()) {
-            continue;
-        }
-        let Ok(text) = std::fs::read_to_string(&f) else {
-            continue;
-        };
+    for (f, name, text) in cited_from(&[]) {
         for (doc, title, anchor) in cited_sections(&text) {
             let Some(path) = document(&f, &doc) else {
                 continue; // a document outside the repository (a crate's README, say)
@@ -330,16 +335,7 @@ fn every_cited_section_exists() {
             }
         }
     }
-    assert!(
-        cited > 5,
-        "only {cited} cited sections found: is the scan broken?"
-    );
-    assert!(
-        bad.is_empty(),
-        "{} missing sections:\n{}",
-        bad.len(),
-        bad.join("\n")
-    );
+    check_scan(5, cited, "sections", "missing sections", &bad);
 }
 
 /// The names cited right after a source file's path in `text` (flattened: a citation may break
@@ -401,14 +397,7 @@ fn every_cited_name_is_in_its_file() {
     let tops = top_dirs();
     let mut bad = Vec::new();
     let mut cited = 0;
-    for f in files() {
-        let name = rel(&f);
-        if HISTORY.contains(&name.as_str()) || name == "docs/MEASUREMENTS.md" {
-            continue;
-        }
-        let Ok(text) = std::fs::read_to_string(&f) else {
-            continue;
-        };
+    for (f, name, text) in cited_from(&["docs/MEASUREMENTS.md"]) {
         for (p, word) in cited_names(&text, &tops) {
             let bases = [
                 Some(root()),
@@ -436,16 +425,7 @@ fn every_cited_name_is_in_its_file() {
             }
         }
     }
-    assert!(
-        cited > 20,
-        "only {cited} cited names found: is the scan broken?"
-    );
-    assert!(
-        bad.is_empty(),
-        "{} names not in the file cited:\n{}",
-        bad.len(),
-        bad.join("\n")
-    );
+    check_scan(20, cited, "names", "names not in the file cited", &bad);
 }
 
 #[test]

@@ -3,7 +3,7 @@
 #![allow(dead_code)]
 
 use glam::{DVec3, Vec3};
-use smoothtri::{Bvh, DPatch, DRay, LineField, OwnedScene, Patch, Ray};
+use smoothtri::{Bvh, DPatch, DRay, LineField, OwnedScene, Patch, Ray, flat_hit};
 use smoothtri_testkit::scenes::{torus, torus_distance};
 use smoothtri_testkit::{Mesh, Rng, build_scene};
 
@@ -128,6 +128,17 @@ pub fn camera_rays(w: usize, h: usize) -> Vec<Ray> {
     rays
 }
 
+/// Whether `r` hits the flat triangles of `bvh`, a BVH of a mesh's patches: the closest hit
+/// with [`flat_hit`] on each patch's triangle in the leaves (no normal), as a flat renderer
+/// traces the same BVH.
+#[inline]
+pub fn hits_flat(bvh: &Bvh<'_, f32>, r: &Ray) -> bool {
+    bvh.closest_with(r, 0.0, f32::INFINITY, |_, p, a, t| {
+        flat_hit(&p.vertices(), None, r, a, t)
+    })
+    .is_some()
+}
+
 /// The CPU's model name (`/proc/cpuinfo`), for the tables.
 pub fn cpu_name() -> String {
     std::fs::read_to_string("/proc/cpuinfo")
@@ -152,9 +163,7 @@ pub struct FlatBvh {
 
 impl FlatBvh {
     pub fn new(m: &Mesh) -> Self {
-        let triangles: Vec<[Vec3; 3]> = (0..m.triangles.len())
-            .map(|t| m.triangle(t).0.map(|p| p.as_vec3()))
-            .collect();
+        let triangles = smoothtri_testkit::flat_triangles32(m);
         let patches: Vec<Patch> = triangles
             .iter()
             .map(|p| {

@@ -6,6 +6,7 @@ use std::ffi::{CStr, c_char, c_void};
 
 use glam::Vec3;
 use smoothtri::Ray;
+use smoothtri_io::Mesh;
 use std::sync::atomic::{AtomicI64, Ordering};
 
 type RTCDevice = *mut c_void;
@@ -194,6 +195,29 @@ impl Drop for Device {
     }
 }
 
+/// Gives `geom` a new buffer of `kind` (`(buffer type, format, name for errors)`) holding a copy
+/// of `items`: `rtcSetNewGeometryBuffer` with 12-byte items, checked.
+///
+/// # Safety
+/// `geom` is a live geometry of `device`, and `T` is a 12-byte item of the format (`[f32; 3]`
+/// for FLOAT3, `[u32; 3]` for UINT3).
+unsafe fn new_buffer<T: Copy>(
+    device: &Device,
+    geom: RTCGeometry,
+    (kind, format, name): (u32, u32, &str),
+    items: &[T],
+) {
+    // SAFETY: as the caller promises; the buffer Embree returns has room for `items.len()`
+    // items of 12 bytes and is 4-byte aligned (Embree aligns to 16), so the copy stays in
+    // bounds.
+    unsafe {
+        let buffer = rtcSetNewGeometryBuffer(geom, kind, 0, format, 12, items.len()) as *mut T;
+        device.check(&format!("rtcSetNewGeometryBuffer({name})"));
+        assert!(!buffer.is_null());
+        std::ptr::copy_nonoverlapping(items.as_ptr(), buffer, items.len());
+    }
+}
+
 /// A committed scene holding one triangle mesh.
 pub struct Scene<'d> {
     raw: RTCScene,
@@ -212,28 +236,10 @@ impl<'d> Scene<'d> {
             let scene = rtcNewScene(device.raw);
             let geom = rtcNewGeometry(device.raw, RTC_GEOMETRY_TYPE_TRIANGLE);
             device.check("rtcNewGeometry");
-            let vb = rtcSetNewGeometryBuffer(
-                geom,
-                RTC_BUFFER_TYPE_VERTEX,
-                0,
-                RTC_FORMAT_FLOAT3,
-                12,
-                positions.len(),
-            ) as *mut [f32; 3];
-            device.check("rtcSetNewGeometryBuffer(vertex)");
-            assert!(!vb.is_null());
-            std::ptr::copy_nonoverlapping(positions.as_ptr(), vb, positions.len());
-            let ib = rtcSetNewGeometryBuffer(
-                geom,
-                RTC_BUFFER_TYPE_INDEX,
-                0,
-                RTC_FORMAT_UINT3,
-                12,
-                indices.len(),
-            ) as *mut [u32; 3];
-            device.check("rtcSetNewGeometryBuffer(index)");
-            assert!(!ib.is_null());
-            std::ptr::copy_nonoverlapping(indices.as_ptr(), ib, indices.len());
+            let vertex = (RTC_BUFFER_TYPE_VERTEX, RTC_FORMAT_FLOAT3, "vertex");
+            new_buffer(device, geom, vertex, positions);
+            let index = (RTC_BUFFER_TYPE_INDEX, RTC_FORMAT_UINT3, "index");
+            new_buffer(device, geom, index, indices);
             rtcCommitGeometry(geom);
             rtcAttachGeometry(scene, geom);
             rtcReleaseGeometry(geom);
@@ -244,6 +250,16 @@ impl<'d> Scene<'d> {
                 _device: device,
             }
         }
+    }
+
+    /// [`Scene::triangles`] of `mesh`'s triangles over its vertices rounded to `f32`.
+    pub fn of_mesh(device: &'d Device, mesh: &Mesh) -> Self {
+        let positions: Vec<[f32; 3]> = mesh
+            .positions
+            .iter()
+            .map(|p| p.as_vec3().to_array())
+            .collect();
+        Self::triangles(device, &positions, &mesh.triangles)
     }
 
     /// `rtcIntersect1`: fills `rh.ray.tfar` and `rh.hit` on a hit (`rh.hit.geom_id` must be

@@ -4,7 +4,8 @@
 //! for it (not published; no shipped crate depends on it):
 //!
 //! - [`random`]: the tests' deterministic random numbers ([`Rng`]) and random geometry;
-//! - [`patches32`]: a mesh's patches one by one;
+//! - [`patches32`]: a mesh's patches one by one; [`flat_triangles32`] and [`triangle_boxes`]: its
+//!   flat triangles and their boxes;
 //! - [`assimp_models`]: where the real meshes of Debian's `assimp-testmodels` are;
 //! - for the tests' convenience, the shipped host crate's items they use, re-exported from
 //!   [`smoothtri_host`]: the built-in [`scenes`] and [`twist`], [`RayonExecutor`] and
@@ -16,10 +17,12 @@
 #![deny(missing_docs)]
 
 mod assets;
+mod flat;
 mod patches;
 pub mod random;
 
 pub use assets::assimp_models;
+pub use flat::{flat_triangles32, triangle_boxes};
 pub use patches::patches32;
 pub use random::Rng;
 pub use smoothtri_host::{

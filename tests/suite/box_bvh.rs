@@ -6,6 +6,7 @@ use crate::common::*;
 use glam::Vec3;
 use smoothtri::{Aabb, BoxBvh, Bvh, BvhError, BvhNode, Patch, Ray, flat_hit, moller_trumbore};
 use smoothtri_testkit::scenes::{teapot, torus};
+use smoothtri_testkit::{flat_triangles32, triangle_boxes};
 
 fn patches_of(mesh: &smoothtri_io::Mesh) -> Vec<Patch> {
     (0..mesh.triangles.len())
@@ -75,13 +76,8 @@ fn camera_rays_around(mesh: &smoothtri_io::Mesh, k: usize) -> Vec<Ray> {
 #[test]
 fn flat_triangles_equal_brute_force() {
     let mesh = torus(20, 14, 1.0, 0.4);
-    let tris: Vec<[Vec3; 3]> = (0..mesh.triangles.len())
-        .map(|t| mesh.triangle(t).0.map(|p| p.as_vec3()))
-        .collect();
-    let boxes: Vec<Aabb> = tris
-        .iter()
-        .map(|t| Aabb::new(t[0].min(t[1]).min(t[2]), t[0].max(t[1]).max(t[2])))
-        .collect();
+    let tris = flat_triangles32(&mesh);
+    let boxes = triangle_boxes(&tris);
     let mut nodes = vec![BvhNode::default(); BoxBvh::<f32>::nodes_needed(tris.len())];
     let mut order = vec![0u32; tris.len()];
     let tree = BoxBvh::build(&boxes, &mut nodes, &mut order).unwrap();

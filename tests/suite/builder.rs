@@ -9,19 +9,10 @@ use smoothtri::mesh::{
     Seam, SharedEdge, VertexClamp, clamp_vertex_normals, close_cracks, fit_seams,
 };
 use smoothtri::{
-    BuildError, BuildOptions, Bvh, BvhNode, EdgeWork, Executor, Float, LineField, OnRejected,
-    OwnedScene, Patch, PatchError, Ray, Scene, SceneSizes, SceneStorage, Vertices,
+    BuildError, BuildOptions, Bvh, BvhNode, Float, LineField, OnRejected, OwnedScene, Patch,
+    PatchError, Ray, Scene, SceneSizes, Vertices,
 };
 use smoothtri_testkit::{Mesh, scenes};
-
-fn flat(v: &[DVec3]) -> Vec<f64> {
-    v.iter().flat_map(|p| p.to_array()).collect()
-}
-
-/// The mesh's buffers, packed `f64`.
-fn buffers(m: &Mesh) -> (Vec<f64>, Vec<f64>) {
-    (flat(&m.positions), flat(&m.normals))
-}
 
 /// What the builder must equal: the steps of `smoothtri::mesh` called one by one (per-vertex
 /// remedy on the shared field, patches with the per-patch remedy, crack closure, seams).
@@ -66,14 +57,7 @@ fn camera_rays(m: &Mesh, n: usize, seed: u64) -> Vec<(DVec3, DVec3)> {
 }
 
 fn check_equals_steps<F: Float>(name: &str, m: &Mesh, mut options: BuildOptions) {
-    let (pos, nrm) = buffers(m);
-    let owned = OwnedScene::<F>::build(
-        Vertices::packed(&pos),
-        Vertices::packed(&nrm),
-        &m.triangles,
-        &mut options,
-    )
-    .unwrap();
+    let owned = build_owned::<F>(m, &mut options).unwrap();
     let scene = owned.scene();
     let (patches, ids, seams) = by_steps::<F>(m, &options);
     // These meshes have a slot for every triangle and no placeholder: the slots are the steps'
@@ -154,58 +138,6 @@ fn the_builder_equals_the_steps_bit_for_bit() {
     }
 }
 
-/// Owned storage of the sizes `n` (slice `short`, counted in `SceneStorage`'s field order, one
-/// slot short), lent out as a `SceneStorage`.
-struct Store<F: Float> {
-    patches: Vec<Patch<F>>,
-    ids: Vec<u32>,
-    nodes: Vec<BvhNode<F>>,
-    order: Vec<u32>,
-    seams: Vec<Seam<F>>,
-    tris: Vec<[u32; 3]>,
-    edges: Vec<SharedEdge>,
-    vertex: [Vec<F::Vec3>; 3],
-    clamps: Vec<VertexClamp<F>>,
-    work: Vec<EdgeWork<F>>,
-}
-
-impl<F: Float> Store<F> {
-    fn new(n: &SceneSizes, short: Option<usize>) -> Self {
-        let len = |k: usize, want: usize| if short == Some(k) { want - 1 } else { want };
-        let z = F::from_dvec3(DVec3::ZERO);
-        Store {
-            patches: vec![Patch::default(); len(0, n.patches)],
-            ids: vec![0; len(1, n.patches)],
-            nodes: vec![BvhNode::default(); len(2, n.nodes)],
-            order: vec![0; len(3, n.patches)],
-            seams: vec![Seam::default(); len(4, n.seams)],
-            tris: vec![[0; 3]; len(5, n.patches)],
-            edges: vec![SharedEdge::default(); len(6, n.edges)],
-            vertex: [7, 8, 9].map(|k| vec![z; len(k, n.vertices)]),
-            clamps: vec![VertexClamp::default(); len(10, n.vertices)],
-            work: vec![EdgeWork::default(); len(11, n.edge_work)],
-        }
-    }
-
-    fn storage(&mut self) -> SceneStorage<'_, F> {
-        let [vp, vn, vc] = &mut self.vertex;
-        SceneStorage {
-            patches: &mut self.patches,
-            triangle_ids: &mut self.ids,
-            nodes: &mut self.nodes,
-            order: &mut self.order,
-            seams: &mut self.seams,
-            triangles: &mut self.tris,
-            edges: &mut self.edges,
-            edge_work: &mut self.work,
-            vertex_positions: vp,
-            vertex_normals: vn,
-            clamped_normals: vc,
-            vertex_clamps: &mut self.clamps,
-        }
-    }
-}
-
 /// Storage of exactly the sizes `SceneSizes` gives (arrays on the stack would do as well),
 /// interleaved `f32` input read with a stride, against packed `f64` input rounded once.
 #[test]
@@ -238,14 +170,7 @@ fn strided_input_into_exact_storage() {
     );
     let mut store = Store::<f32>::new(&n, None);
     let scene = Scene::<f32>::build(pos, nrm, &m.triangles, &mut options, store.storage()).unwrap();
-    let (p64, n64) = buffers(&m);
-    let owned = OwnedScene::<f32>::build(
-        Vertices::packed(&p64),
-        Vertices::packed(&n64),
-        &m.triangles,
-        &mut options,
-    )
-    .unwrap();
+    let owned = build_owned::<f32>(&m, &mut options).unwrap();
     let o = owned.scene();
     assert_eq!(scene.patches(), o.patches());
     assert_eq!(scene.seams(), o.seams());
@@ -478,29 +403,18 @@ fn the_observer_sees_every_step_in_order() {
     }
 }
 
-/// An executor that runs chunks of one element, last first: the most different order from a
-/// single call a thread pool could produce.
-struct Backwards;
-
-impl Executor for Backwards {
-    fn run_chunks<T: Send>(
-        &self,
-        items: &mut [T],
-        _grain: usize,
-        work: &(dyn Fn(usize, &mut [T]) + Sync),
-    ) {
-        let n = items.len();
-        for (k, c) in items
-            .chunks_mut(1)
-            .enumerate()
-            .collect::<Vec<_>>()
-            .into_iter()
-            .rev()
-        {
-            assert!(k < n);
-            work(k, c);
-        }
-    }
+/// `m` built with `options` on the calling thread, on rayon's pool and in the most shuffled
+/// order ([`Backwards`]), in that order.
+fn on_each_executor<F: Float>(m: &Mesh, options: BuildOptions) -> [OwnedScene<F>; 3] {
+    [
+        build_owned(m, &mut { options }).unwrap(),
+        build_owned(
+            m,
+            &mut options.with_executor(smoothtri_testkit::RayonExecutor),
+        )
+        .unwrap(),
+        build_owned(m, &mut options.with_executor(Backwards)).unwrap(),
+    ]
 }
 
 /// The build is bit for bit the same on one thread, on rayon's pool and in the most shuffled
@@ -508,18 +422,12 @@ impl Executor for Backwards {
 #[test]
 fn parallel_builds_are_bit_identical() {
     fn check<F: Float>(m: &Mesh, field: LineField) {
-        let (p, n) = (flat(&m.positions), flat(&m.normals));
-        let (pv, nv) = (Vertices::packed(&p), Vertices::packed(&n));
         let options = BuildOptions {
             field,
             seams: true,
             ..BuildOptions::default()
         };
-        let serial = OwnedScene::<F>::build(pv, nv, &m.triangles, &mut { options }).unwrap();
-        let mut pool_options = options.with_executor(smoothtri_testkit::RayonExecutor);
-        let pool = OwnedScene::<F>::build(pv, nv, &m.triangles, &mut pool_options).unwrap();
-        let mut back_options = options.with_executor(Backwards);
-        let back = OwnedScene::<F>::build(pv, nv, &m.triangles, &mut back_options).unwrap();
+        let [serial, pool, back] = on_each_executor::<F>(m, options);
         for other in [&pool, &back] {
             let (a, b) = (serial.scene(), other.scene());
             assert_eq!(a.patches(), b.patches());
@@ -545,14 +453,8 @@ fn parallel_builds_are_bit_identical() {
 fn large_trees_are_bit_identical_on_any_executor() {
     let m = smoothtri_testkit::twist::twisting_torus(130, 0.3);
     assert!(m.triangles.len() >= 2 * 16 * 1024);
-    let (p, n) = (flat(&m.positions), flat(&m.normals));
-    let (pv, nv) = (Vertices::packed(&p), Vertices::packed(&n));
     let options = BuildOptions::default();
-    let serial = OwnedScene::<f32>::build(pv, nv, &m.triangles, &mut { options }).unwrap();
-    let mut pool_options = options.with_executor(smoothtri_testkit::RayonExecutor);
-    let pool = OwnedScene::<f32>::build(pv, nv, &m.triangles, &mut pool_options).unwrap();
-    let mut back_options = options.with_executor(Backwards);
-    let back = OwnedScene::<f32>::build(pv, nv, &m.triangles, &mut back_options).unwrap();
+    let [serial, pool, back] = on_each_executor::<f32>(&m, options);
     for other in [&pool, &back] {
         let (a, b) = (serial.scene(), other.scene());
         assert_eq!(a.bvh().nodes(), b.bvh().nodes());

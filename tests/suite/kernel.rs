@@ -9,7 +9,7 @@ use crate::common::*;
 use glam::{DVec3, Vec3};
 use smoothtri::accuracy::*;
 use smoothtri::internal::{EARLY_STOP, WORST_SHRINK};
-use smoothtri::{DEFAULT_SAMPLES, DPatch, DRay, Float, Patch, Ray};
+use smoothtri::{DEFAULT_SAMPLES, DPatch, DRay, Float, Hit, Patch, Ray};
 use smoothtri::{max_height_evals, max_lane_calls};
 use smoothtri_isa::{Dispatch, kernels};
 use smoothtri_testkit::scenes::{cube, icosphere, sphere_root, torus};
@@ -24,22 +24,13 @@ fn patches64(m: &Mesh) -> Vec<DPatch> {
         .collect()
 }
 
-/// Closest hit over all patches (brute force).
-fn closest64<const N: usize>(ps: &[DPatch], ray: &DRay) -> Option<smoothtri::DHit> {
-    let mut best: Option<smoothtri::DHit> = None;
+/// Closest hit over all patches (brute force), `N` refinement steps.
+fn closest_brute<F: Float, const N: usize>(ps: &[Patch<F>], ray: &Ray<F>) -> Option<Hit<F>> {
+    let mut best: Option<Hit<F>> = None;
     for p in ps {
         // `t_max` is the best so far, so any hit is closer.
-        if let Some(h) = p.closest_hit_isa(ray, 0.0, best.map_or(f64::INFINITY, |b| b.t), N) {
-            best = Some(h);
-        }
-    }
-    best
-}
-fn closest32<const N: usize>(ps: &[Patch], ray: &Ray) -> Option<smoothtri::Hit> {
-    let mut best: Option<smoothtri::Hit> = None;
-    for p in ps {
-        // `t_max` is the best so far, so any hit is closer.
-        if let Some(h) = p.closest_hit_isa(ray, 0.0, best.map_or(f32::INFINITY, |b| b.t), N) {
+        let t_max = best.map_or(F::from_f64(f64::INFINITY), |b| b.t);
+        if let Some(h) = p.closest_hit_isa(ray, F::from_f64(0.0), t_max, N) {
             best = Some(h);
         }
     }
@@ -60,8 +51,8 @@ fn check_sphere_scene(name: &str, mesh: &Mesh, r: f64) {
     for _ in 0..3000 {
         let (o, d) = random_ray(&mut rng, 1.3 * r);
         let (root, closest) = sphere_root(o, d, r);
-        let h64 = closest64::<8>(&ps64, &DRay::new(o, d));
-        let h32 = closest32::<8>(&ps32, &Ray::new(o.as_vec3(), d.as_vec3()));
+        let h64 = closest_brute::<f64, 8>(&ps64, &DRay::new(o, d));
+        let h32 = closest_brute::<f32, 8>(&ps32, &Ray::new(o.as_vec3(), d.as_vec3()));
         let margin = 0.01 * r;
         if closest < r - margin {
             let t = root.unwrap();
@@ -139,7 +130,7 @@ fn cube_with_averaged_normals_is_a_sphere() {
 }
 
 macro_rules! per_n {
-    ($f:ident, $($n:literal),*) => { [$( (($n) as usize, $f::<$n> as fn(&[DPatch], &DRay) -> Option<smoothtri::DHit>) ),*] };
+    ($f:ident, $($n:literal),*) => { [$( (($n) as usize, $f::<f64, $n> as fn(&[DPatch], &DRay) -> Option<smoothtri::DHit>) ),*] };
 }
 
 /// Torus 8×8, f64, 1500 random rays from outside: for every budget N the hit/miss answer is
@@ -152,12 +143,12 @@ macro_rules! per_n {
 fn precision_versus_iterations_is_certified() {
     let mesh = torus(8, 8, 1.0, 0.4);
     let ps = patches64(&mesh);
-    let table = per_n!(closest64, 0, 1, 2, 4, 8, 16, 24);
+    let table = per_n!(closest_brute, 0, 1, 2, 4, 8, 16, 24);
     let mut rng = Rng(5);
     let rays: Vec<(DVec3, DVec3)> = (0..1500).map(|_| random_ray(&mut rng, 1.4)).collect();
     let reference: Vec<_> = rays
         .iter()
-        .map(|&(o, d)| closest64::<40>(&ps, &DRay::new(o, d)))
+        .map(|&(o, d)| closest_brute::<f64, 40>(&ps, &DRay::new(o, d)))
         .collect();
     let reference_hits = reference.iter().flatten().count();
     assert_eq!(

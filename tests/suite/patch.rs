@@ -27,6 +27,14 @@ struct Worst {
 }
 
 impl Worst {
+    /// Asserts `value ≤ bound` (the message names the seed, `what`, the value and `unit`), then
+    /// records it ([`Worst::see`]).
+    fn check(&mut self, value: f64, bound: f64, seed: u64, what: &str, unit: &str) {
+        assert!(value <= bound, "seed {seed:#x}: {what} {value:e}{unit}");
+        self.see(value, seed);
+    }
+
+    /// Records `value` seen at `seed` when it is the largest so far (NaN counts as the largest).
     fn see(&mut self, value: f64, seed: u64) {
         // NaN counts as the worst.
         if value.is_nan() || value > self.value {
@@ -85,26 +93,10 @@ fn interpolates_vertices_and_edges() {
                 e32 = e32.max((x32.as_dvec3() - c32.as_dvec3()).length() / scale);
             }
         }
-        assert!(
-            e64 <= F64_INTERPOLATION,
-            "seed {seed:#x}: f64 points {e64:e} of the size"
-        );
-        assert!(
-            e32 <= F32_INTERPOLATION,
-            "seed {seed:#x}: f32 points {e32:e} of the scale"
-        );
-        assert!(
-            en64 <= F64_INTERPOLATION,
-            "seed {seed:#x}: f64 edge normals {en64:e}"
-        );
-        assert!(
-            en32 <= F32_INTERPOLATION,
-            "seed {seed:#x}: f32 edge normals {en32:e}"
-        );
-        w64.see(e64, seed);
-        w32.see(e32, seed);
-        wn64.see(en64, seed);
-        wn32.see(en32, seed);
+        w64.check(e64, F64_INTERPOLATION, seed, "f64 points", " of the size");
+        w32.check(e32, F32_INTERPOLATION, seed, "f32 points", " of the scale");
+        wn64.check(en64, F64_INTERPOLATION, seed, "f64 edge normals", "");
+        wn32.check(en32, F32_INTERPOLATION, seed, "f32 edge normals", "");
     }
     eprintln!(
         "interpolation: f64 points {w64}, normals {wn64} (bound {F64_INTERPOLATION:e}); \
@@ -131,13 +123,8 @@ fn flat_normals_give_flat_triangle() {
             ep = ep.max((x - flat).length() / scale);
             en = en.max((nrm - nf).length());
         }
-        assert!(
-            ep <= F64_FLAT_TRIANGLE,
-            "seed {seed:#x}: points {ep:e} of the scale"
-        );
-        assert!(en <= F64_FLAT_TRIANGLE, "seed {seed:#x}: normals {en:e}");
-        wp.see(ep, seed);
-        wn.see(en, seed);
+        wp.check(ep, F64_FLAT_TRIANGLE, seed, "points", " of the scale");
+        wn.check(en, F64_FLAT_TRIANGLE, seed, "normals", "");
     }
     eprintln!("flat normals: points {wp}, normals {wn} (bound {F64_FLAT_TRIANGLE:e})");
 }
@@ -172,26 +159,10 @@ fn spheres_are_exact() {
             ep32 = ep32.max(((y - o32).length() - r).abs() / r);
             en32 = en32.max((m.as_dvec3() - (y - o32).normalize()).length());
         }
-        assert!(
-            ep64 <= F64_SPHERE_POINT,
-            "seed {seed:#x}: f64 points {ep64:e}"
-        );
-        assert!(
-            ep32 <= F32_SPHERE_POINT,
-            "seed {seed:#x}: f32 points {ep32:e}"
-        );
-        assert!(
-            en64 <= F64_SPHERE_NORMAL,
-            "seed {seed:#x}: f64 normals {en64:e}"
-        );
-        assert!(
-            en32 <= F32_SPHERE_NORMAL,
-            "seed {seed:#x}: f32 normals {en32:e}"
-        );
-        wp64.see(ep64, seed);
-        wp32.see(ep32, seed);
-        wn64.see(en64, seed);
-        wn32.see(en32, seed);
+        wp64.check(ep64, F64_SPHERE_POINT, seed, "f64 points", "");
+        wp32.check(ep32, F32_SPHERE_POINT, seed, "f32 points", "");
+        wn64.check(en64, F64_SPHERE_NORMAL, seed, "f64 normals", "");
+        wn32.check(en32, F32_SPHERE_NORMAL, seed, "f32 normals", "");
     }
     eprintln!(
         "spheres: f64 points {wp64}, normals {wn64}; f32 points {wp32}, normals {wn32} (of the radius)"

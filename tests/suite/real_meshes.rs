@@ -9,6 +9,7 @@
 //! with the creases (split normals) and the edges left without a seam counted and pinned; and
 //! the band's cull changes no patch test's result on the way.
 
+use crate::common::buffers;
 use glam::DVec3;
 use smoothtri::accuracy::SEAM_JUMP_DEG;
 use smoothtri::{BuildOptions, DEFAULT_SAMPLES, LineField, OwnedScene, Ray, Vertices};
@@ -32,10 +33,6 @@ const MODELS: &[(&str, usize, usize, usize)] = &[
     ),
 ];
 
-fn flat(v: &[DVec3]) -> Vec<f64> {
-    v.iter().flat_map(|p| p.to_array()).collect()
-}
-
 #[test]
 fn real_meshes_build_and_trace() {
     let Some(root) = smoothtri_testkit::assimp_models().unwrap() else {
@@ -46,7 +43,7 @@ fn real_meshes_build_and_trace() {
         let loaded =
             smoothtri_io::load(path.to_str().unwrap()).unwrap_or_else(|e| panic!("{file}: {e}"));
         let m = &loaded.mesh;
-        let (p, n) = (flat(&m.positions), flat(&m.normals));
+        let (p, n) = buffers(m);
         let mut options = BuildOptions {
             field: LineField::Face,
             seams: true,

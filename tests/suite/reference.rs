@@ -31,17 +31,23 @@ fn surface_points_match_reference_f64_and_f32() {
         let scale = p.iter().fold(size, |m, x| m.max(x.abs().max_element()));
         let e = (got - want).length() / size;
         let e_scale = (got - want).length() / scale;
-        worst64 = worst64.max(e);
-        worst_scale = worst_scale.max(e_scale);
-        assert!(
-            e <= F64_SURFACE_VS_REFERENCE_OF_SIZE,
-            "patch {} at ({w1},{w2}): {got} vs {want}, rel {e:e}",
-            r[0]
-        );
-        assert!(
-            e_scale <= F64_SURFACE_VS_REFERENCE,
-            "patch {} at ({w1},{w2}): {got} vs {want}, rel {e_scale:e}",
-            r[0]
+        // Each relative error within its bound, the message naming the case; then the worst.
+        let within =
+            |worst: &mut f64, e: f64, bound: f64, got: &dyn std::fmt::Display, what: &str| {
+                *worst = worst.max(e);
+                assert!(
+                    e <= bound,
+                    "{what}patch {} at ({w1},{w2}): {got} vs {want}, rel {e:e}",
+                    r[0]
+                );
+            };
+        within(&mut worst64, e, F64_SURFACE_VS_REFERENCE_OF_SIZE, &got, "");
+        within(
+            &mut worst_scale,
+            e_scale,
+            F64_SURFACE_VS_REFERENCE,
+            &got,
+            "",
         );
         let wn = v(r, 24);
         if wn.is_finite() {
@@ -62,15 +68,9 @@ fn surface_points_match_reference_f64_and_f32() {
             .unwrap()
             .point(w1 as f32 as f64, w2 as f32 as f64);
         // f32 output cannot be finer than the rounding of world coordinates: scale by the
-        // larger of the triangle size and the coordinates' magnitude.
-        let scale = p.iter().fold(size, |m, x| m.max(x.abs().max_element()));
+        // larger of the triangle size and the coordinates' magnitude (`scale`).
         let e32 = (got32.as_dvec3() - want32).length() / scale;
-        worst32 = worst32.max(e32);
-        assert!(
-            e32 <= F32_VS_F64_POINT,
-            "f32 patch {} at ({w1},{w2}): {got32} vs {want}, rel {e32:e}",
-            r[0]
-        );
+        within(&mut worst32, e32, F32_VS_F64_POINT, &got32, "f32 ");
     }
     eprintln!(
         "reference surface points: worst error f64 {worst64:.2e} of the size, {worst_scale:.2e} of \

@@ -282,7 +282,7 @@ fn vertex_normals_are_exact_at_double_roots() {
 /// Bug: `Bvh::closest_hit` could return another crossing than brute force: it tested each
 /// patch with `t_max` lowered to the best hit so far, and the kernel's answer depends on its
 /// range (the shell interval is sampled differently). In this scene (found by
-/// `bvh_agrees_with_brute_force_f64`; patch indices count the accepted inputs) the ray meets
+/// `bvh_agrees_with_brute_force` (f64); patch indices count the accepted inputs) the ray meets
 /// patch 1 (size 1e10) at t ≈ 3.7748, on the patch's boundary edge (barycentric `w0` ≈
 /// 1e-15), and crosses its interior at t ≈ 3.8001; which of the two the kernel reports depends
 /// on `t_max` (3.8001 for `t_max` = ∞; 3.7748 for 3.83 and 3.81; none for 3.80), so a BVH that

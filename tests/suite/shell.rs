@@ -7,14 +7,19 @@ use crate::common::*;
 use glam::DVec3;
 use smoothtri::{DPatch, LineField, Patch};
 
+/// The cases of a test: each line field with each normal tilt of `degs` (degrees), the face
+/// field's first.
+fn cases(degs: &[f64]) -> impl Iterator<Item = (LineField, f64)> + '_ {
+    [LineField::Face, LineField::Vertex]
+        .into_iter()
+        .flat_map(move |f| degs.iter().map(move |&deg| (f, deg)))
+}
+
 #[test]
 fn height_range_and_box_contain_dense_samples() {
     let mut rng = Rng(7);
     let grid = bary_grid(40);
-    let cases = [LineField::Face, LineField::Vertex]
-        .into_iter()
-        .flat_map(|f| [10.0, 20.0, 30.0, 40.0, 50.0].map(|deg| (f, deg)));
-    for (field, deg) in cases {
+    for (field, deg) in cases(&[10.0, 20.0, 30.0, 40.0, 50.0]) {
         let mut worst = f64::NEG_INFINITY;
         for _ in 0..400 {
             let (p, n) = random_patch(&mut rng, deg);
@@ -90,10 +95,7 @@ fn band_residual(patch: &DPatch, x: DVec3) -> Option<(f64, f64, f64)> {
 fn band_contains_dense_samples() {
     let mut rng = Rng(17);
     let grid = bary_grid(40);
-    let cases = [LineField::Face, LineField::Vertex]
-        .into_iter()
-        .flat_map(|f| [20.0, 40.0, 50.0, 60.0].map(|deg| (f, deg)));
-    for (field, deg) in cases {
+    for (field, deg) in cases(&[20.0, 40.0, 50.0, 60.0]) {
         let (mut worst, mut bounded, mut steep) = (f64::NEG_INFINITY, 0, 0);
         for _ in 0..400 {
             let (p, n) = random_patch(&mut rng, deg);

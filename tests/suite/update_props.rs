@@ -20,7 +20,6 @@
 use crate::common::*;
 use glam::DVec3;
 use proptest::prelude::*;
-use proptest::test_runner::{Config, RngSeed};
 use smoothtri::{BuildOptions, LineField, OwnedScene, Ray, Scene, Vertices};
 use smoothtri_testkit::random::Rng;
 use smoothtri_testkit::{Mesh, scenes};
@@ -28,19 +27,8 @@ use smoothtri_testkit::{Mesh, scenes};
 /// Default cases for CI (debug mode).
 const QUICK_CASES: u32 = 48;
 
-fn config() -> Config {
-    let long = std::env::var_os("SMOOTHTRI_CASES").is_some();
-    Config {
-        cases: env_cases(QUICK_CASES),
-        failure_persistence: None,
-        rng_seed: if long {
-            RngSeed::Random
-        } else {
-            RngSeed::Fixed(0x0DA7_E064)
-        },
-        ..Config::default()
-    }
-}
+/// The quick default run's seed ([`proptest_config`]).
+const SEED: u64 = 0x0DA7_E064;
 
 /// What one case draws.
 #[derive(Clone, Debug)]
@@ -127,10 +115,6 @@ fn displaced(m: &Mesh, rng: &mut Rng, amount: f64, tilt: f64, collapse: bool) ->
     out
 }
 
-fn packed(v: &[DVec3]) -> Vec<f64> {
-    v.iter().flat_map(|p| p.to_array()).collect()
-}
-
 /// Rays from around the unit ball toward its middle, the same for every case.
 fn rays() -> Vec<(DVec3, DVec3)> {
     let mut rng = Rng(0x5EED_0064);
@@ -143,29 +127,13 @@ fn rays() -> Vec<(DVec3, DVec3)> {
 }
 
 fn build<F: Float>(m: &Mesh, options: &mut BuildOptions) -> Option<OwnedScene<F>> {
-    let (p, n) = (packed(&m.positions), packed(&m.normals));
-    OwnedScene::<F>::build(
-        Vertices::packed(&p),
-        Vertices::packed(&n),
-        &m.triangles,
-        options,
-    )
-    .ok()
+    build_owned(m, options).ok()
 }
 
 /// The updated scene against the fresh build, as the module says.
 fn same<F: Float>(a: &Scene<'_, F>, b: &Scene<'_, F>) -> Result<(), TestCaseError> {
-    prop_assert_eq!(a.patches(), b.patches(), "patches");
-    prop_assert_eq!(a.triangle_ids(), b.triangle_ids(), "slots");
-    prop_assert_eq!(a.seams(), b.seams(), "seams");
-    let (ra, rb) = (a.report(), b.report());
-    prop_assert_eq!(
-        (ra.triangles, ra.patches, ra.rejected, ra.remedied),
-        (rb.triangles, rb.patches, rb.rejected, rb.remedied),
-        "report"
-    );
-    prop_assert_eq!(ra.seam_edges, rb.seam_edges, "seams fitted");
-    let refitted = ra.bvh_refitted;
+    same_parts("", a, b)?;
+    let refitted = a.report().bvh_refitted;
     let inf = F::from_f64(f64::INFINITY);
     for (k, (o, d)) in rays().into_iter().enumerate() {
         let ray = Ray::<F>::new(F::from_dvec3(o), F::from_dvec3(d));
@@ -218,7 +186,7 @@ fn check<F: Float>(c: &Case) -> Result<(), TestCaseError> {
     };
     for &(amount, collapse) in &c.poses {
         let pose = displaced(&first, &mut rng, amount, c.tilt * 0.5, collapse);
-        let (p, n) = (packed(&pose.positions), packed(&pose.normals));
+        let (p, n) = buffers(&pose);
         let updated = scene.update(Vertices::packed(&p), Vertices::packed(&n), &mut options);
         prop_assert!(updated.is_ok(), "update: {:?}", updated.err());
         match build::<F>(&pose, &mut options) {
@@ -231,7 +199,7 @@ fn check<F: Float>(c: &Case) -> Result<(), TestCaseError> {
 }
 
 proptest! {
-    #![proptest_config(config())]
+    #![proptest_config(proptest_config(QUICK_CASES, SEED))]
 
     /// An update of a random mesh to random poses equals a fresh build of each pose (the
     /// module's comparison), in either precision, line field and seams setting.

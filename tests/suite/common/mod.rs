@@ -1,43 +1,68 @@
 //! Shared helpers of the integration tests: approximate assertions, random geometry, reference
-//! data loading.
+//! data loading, the property tests' configuration, and what the builder's and the update's
+//! tests share (an executor in reverse order, caller storage, the parts of a build compared).
 #![allow(dead_code)]
 
 use std::collections::HashMap;
 
 use glam::DVec3;
+use proptest::prop_assert_eq;
+use proptest::test_runner::{Config, RngSeed, TestCaseError};
 pub use smoothtri::Float;
+use smoothtri::mesh::{Seam, SharedEdge, VertexClamp};
+use smoothtri::{
+    BuildError, BuildOptions, BvhNode, EdgeWork, Executor, OwnedScene, Patch, Scene, SceneSizes,
+    SceneStorage, Vertices,
+};
 use smoothtri_testkit::{Mesh, scenes};
 
 pub mod pins;
 pub use smoothtri_testkit::random::*;
 
-/// Asserts `|a − b| ≤ tol`, printing both values (glam's `assert_approx_eq!` style).
+/// Asserts `|a − b| ≤ tol`, printing both values (glam's `assert_approx_eq!` style), then the
+/// optional message (`format!` arguments).
 #[macro_export]
 macro_rules! assert_close {
-    ($a:expr, $b:expr, $tol:expr) => {{
-        let (a, b, tol) = ($a, $b, $tol);
-        let d = (a - b).abs();
-        assert!(d <= tol, "{} = {:?}\n{} = {:?}\n|diff| = {:e} > {:e}", stringify!($a), a, stringify!($b), b, d, tol);
-    }};
-    ($a:expr, $b:expr, $tol:expr, $($msg:tt)+) => {{
-        let (a, b, tol) = ($a, $b, $tol);
-        let d = (a - b).abs();
-        assert!(d <= tol, "{} = {:?}\n{} = {:?}\n|diff| = {:e} > {:e}: {}", stringify!($a), a, stringify!($b), b, d, tol, format!($($msg)+));
-    }};
+    ($a:expr, $b:expr, $tol:expr $(, $($msg:tt)+)?) => {
+        $crate::assert_within!(abs, $a, $b, $tol $(, $($msg)+)?)
+    };
 }
 
-/// Asserts `|a − b| ≤ tol` for vectors (Euclidean distance), printing both.
+/// Asserts `|a − b| ≤ tol` for vectors (Euclidean distance), printing both, then the optional
+/// message.
 #[macro_export]
 macro_rules! assert_vec_close {
-    ($a:expr, $b:expr, $tol:expr) => {{
+    ($a:expr, $b:expr, $tol:expr $(, $($msg:tt)+)?) => {
+        $crate::assert_within!(length, $a, $b, $tol $(, $($msg)+)?)
+    };
+}
+
+/// What [`assert_close!`] and [`assert_vec_close!`] expand to: asserts that the distance
+/// `(a − b).$norm()` is at most `tol`, printing both values, the distance and `tol`, then the
+/// message after `": "` when there is one.
+#[macro_export]
+macro_rules! assert_within {
+    ($norm:ident, $a:expr, $b:expr, $tol:expr) => {
+        $crate::assert_within!($norm, $a, $b, $tol; "", "")
+    };
+    ($norm:ident, $a:expr, $b:expr, $tol:expr, $($msg:tt)+) => {
+        $crate::assert_within!($norm, $a, $b, $tol; ": ", format!($($msg)+))
+    };
+    ($norm:ident, $a:expr, $b:expr, $tol:expr; $sep:expr, $msg:expr) => {{
         let (a, b, tol) = ($a, $b, $tol);
-        let d = (a - b).length();
-        assert!(d <= tol, "{} = {:?}\n{} = {:?}\n|diff| = {:e} > {:e}", stringify!($a), a, stringify!($b), b, d, tol);
-    }};
-    ($a:expr, $b:expr, $tol:expr, $($msg:tt)+) => {{
-        let (a, b, tol) = ($a, $b, $tol);
-        let d = (a - b).length();
-        assert!(d <= tol, "{} = {:?}\n{} = {:?}\n|diff| = {:e} > {:e}: {}", stringify!($a), a, stringify!($b), b, d, tol, format!($($msg)+));
+        let d = (a - b).$norm();
+        assert!(
+            d <= tol,
+            "{} = {:?}\n{} = {:?}\n|diff| = {:e} > {:e}{}{}",
+            stringify!($a),
+            a,
+            stringify!($b),
+            b,
+            d,
+            tol,
+            $sep,
+            $msg
+        );
     }};
 }
 
@@ -198,27 +223,16 @@ pub fn averaged(p: Vec<DVec3>, t: Vec<[usize; 3]>) -> M {
     }
 }
 
+/// A box of sides `sx`, `sy`, `sz` centred at the origin, with averaged vertex normals.
 pub fn box_mesh(sx: f64, sy: f64, sz: f64) -> M {
-    let p: Vec<DVec3> = (0..8)
-        .map(|k| {
-            DVec3::new(
-                if k & 1 != 0 { sx } else { -sx },
-                if k & 2 != 0 { sy } else { -sy },
-                if k & 4 != 0 { sz } else { -sz },
-            ) * 0.5
-        })
-        .collect();
-    let quads = [
-        [0, 2, 3, 1],
-        [4, 5, 7, 6],
-        [0, 1, 5, 4],
-        [2, 6, 7, 3],
-        [0, 4, 6, 2],
-        [1, 3, 7, 5],
-    ];
-    let t = quads
+    // The built-in cube (corners ±1, the same corner order and triangles), scaled.
+    let cube = scenes::cube();
+    let half = DVec3::new(sx, sy, sz) * 0.5;
+    let p = cube.positions.iter().map(|&c| c * half).collect();
+    let t = cube
+        .triangles
         .iter()
-        .flat_map(|&[a, b, c, d]| [[a, b, c], [a, c, d]])
+        .map(|t| t.map(|i| i as usize))
         .collect();
     averaged(p, t)
 }
@@ -259,4 +273,151 @@ pub fn noisy_sphere(rng: &mut Rng, noise_deg: f64) -> M {
             .map(|t| t.map(|i| i as usize))
             .collect(),
     }
+}
+
+/// An executor that runs chunks of one element, last first: the most different order from a
+/// single call a thread pool could produce.
+pub struct Backwards;
+
+impl Executor for Backwards {
+    fn run_chunks<T: Send>(
+        &self,
+        items: &mut [T],
+        _grain: usize,
+        work: &(dyn Fn(usize, &mut [T]) + Sync),
+    ) {
+        let n = items.len();
+        for (k, c) in items
+            .chunks_mut(1)
+            .enumerate()
+            .collect::<Vec<_>>()
+            .into_iter()
+            .rev()
+        {
+            assert!(k < n);
+            work(k, c);
+        }
+    }
+}
+
+/// The property tests' configuration: `default` cases (more with `SMOOTHTRI_CASES`, see
+/// [`env_cases`]), no regression files (reproducers are written by hand in
+/// `tests/suite/regressions.rs`); the quick default run uses the fixed `seed` (CI is
+/// deterministic), a run with `SMOOTHTRI_CASES` set a random seed (printed by proptest on
+/// failure).
+pub fn proptest_config(default: u32, seed: u64) -> Config {
+    let long = std::env::var_os("SMOOTHTRI_CASES").is_some();
+    Config {
+        cases: env_cases(default),
+        failure_persistence: None,
+        rng_seed: if long {
+            RngSeed::Random
+        } else {
+            RngSeed::Fixed(seed)
+        },
+        ..Config::default()
+    }
+}
+
+/// Owned storage of the sizes `n` (slice `short`, counted in `SceneStorage`'s field order, one
+/// slot short), lent out as a `SceneStorage`.
+pub struct Store<F: Float> {
+    patches: Vec<Patch<F>>,
+    ids: Vec<u32>,
+    nodes: Vec<BvhNode<F>>,
+    order: Vec<u32>,
+    seams: Vec<Seam<F>>,
+    tris: Vec<[u32; 3]>,
+    edges: Vec<SharedEdge>,
+    vertex: [Vec<F::Vec3>; 3],
+    clamps: Vec<VertexClamp<F>>,
+    work: Vec<EdgeWork<F>>,
+}
+
+impl<F: Float> Store<F> {
+    /// Storage of the sizes `n`; slice number `short` (in `SceneStorage`'s field order) one
+    /// slot short.
+    pub fn new(n: &SceneSizes, short: Option<usize>) -> Self {
+        let len = |k: usize, want: usize| if short == Some(k) { want - 1 } else { want };
+        let z = F::from_dvec3(DVec3::ZERO);
+        Store {
+            patches: vec![Patch::default(); len(0, n.patches)],
+            ids: vec![0; len(1, n.patches)],
+            nodes: vec![BvhNode::default(); len(2, n.nodes)],
+            order: vec![0; len(3, n.patches)],
+            seams: vec![Seam::default(); len(4, n.seams)],
+            tris: vec![[0; 3]; len(5, n.patches)],
+            edges: vec![SharedEdge::default(); len(6, n.edges)],
+            vertex: [7, 8, 9].map(|k| vec![z; len(k, n.vertices)]),
+            clamps: vec![VertexClamp::default(); len(10, n.vertices)],
+            work: vec![EdgeWork::default(); len(11, n.edge_work)],
+        }
+    }
+
+    /// The whole storage, lent out.
+    pub fn storage(&mut self) -> SceneStorage<'_, F> {
+        let [vp, vn, vc] = &mut self.vertex;
+        SceneStorage {
+            patches: &mut self.patches,
+            triangle_ids: &mut self.ids,
+            nodes: &mut self.nodes,
+            order: &mut self.order,
+            seams: &mut self.seams,
+            triangles: &mut self.tris,
+            edges: &mut self.edges,
+            edge_work: &mut self.work,
+            vertex_positions: vp,
+            vertex_normals: vn,
+            clamped_normals: vc,
+            vertex_clamps: &mut self.clamps,
+        }
+    }
+}
+
+/// What an updated scene shares with a fresh build of the same vertices, bit for bit: the
+/// patches, their triangles' slots, the seams, the counts the build reported (triangles,
+/// patches, rejected, remedied) and the seam edges fitted. Returns the first that differs,
+/// both values shown, its name after `prefix`.
+pub fn same_parts<F: Float>(
+    prefix: &str,
+    a: &Scene<'_, F>,
+    b: &Scene<'_, F>,
+) -> Result<(), TestCaseError> {
+    prop_assert_eq!(a.patches(), b.patches(), "{}patches", prefix);
+    prop_assert_eq!(a.triangle_ids(), b.triangle_ids(), "{}slots", prefix);
+    prop_assert_eq!(a.seams(), b.seams(), "{}seams", prefix);
+    let (ra, rb) = (a.report(), b.report());
+    prop_assert_eq!(
+        (ra.triangles, ra.patches, ra.rejected, ra.remedied),
+        (rb.triangles, rb.patches, rb.rejected, rb.remedied),
+        "{}report",
+        prefix
+    );
+    prop_assert_eq!(ra.seam_edges, rb.seam_edges, "{}seams fitted", prefix);
+    Ok(())
+}
+
+/// The coordinates of `v` packed `x, y, z, x, …`: the builder's packed `f64` input.
+pub fn packed(v: &[DVec3]) -> Vec<f64> {
+    v.iter().flat_map(|p| p.to_array()).collect()
+}
+
+/// The positions and the normals of `m`, each [`packed`].
+pub fn buffers(m: &Mesh) -> (Vec<f64>, Vec<f64>) {
+    (packed(&m.positions), packed(&m.normals))
+}
+
+/// `OwnedScene::build` of `m` from its [`buffers`] with `options`: the scene, or the
+/// builder's error.
+pub fn build_owned<F: Float>(
+    m: &Mesh,
+    options: &mut BuildOptions<(), impl Executor>,
+) -> Result<OwnedScene<F>, BuildError> {
+    let (p, n) = buffers(m);
+    OwnedScene::<F>::build(
+        Vertices::packed(&p),
+        Vertices::packed(&n),
+        &m.triangles,
+        options,
+    )
 }
