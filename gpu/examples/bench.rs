@@ -137,15 +137,15 @@ fn rate(
     repeat: usize,
 ) -> Result<Rate, smoothtri_gpu::GpuError> {
     let mut hits = vec![None; rays.len()];
-    scene.closest_hit_with(
-        n,
+    scene.closest_hit(
         rays.get(..256).unwrap_or(rays),
         0.0,
         f32::MAX,
+        n,
         &mut hits[..rays.len().min(256)],
     )?;
     let (call, kernel) = best_of(repeat, rays.len(), || {
-        scene.closest_hit_timed(n, rays, 0.0, f32::MAX, &mut hits)
+        scene.closest_hit_timed(rays, 0.0, f32::MAX, n, &mut hits)
     })?;
     let hits = hits.iter().flatten().count();
     Ok(Rate { call, kernel, hits })

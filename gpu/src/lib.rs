@@ -3,7 +3,7 @@
 //! smoothtri's bounded-work ray kernel as a WGSL compute shader (wgpu, Vulkan backend): the
 //! patches and the BVH of a scene go to the GPU as storage buffers, and a batch of rays is traced
 //! with one invocation per ray, in `f32`, with the mathematics of the CPU kernel
-//! (docs/METHOD.md §2–§8): box and shell clip, bracketing at 8 points, exactly `N` refinement
+//! (docs/METHOD.md §2–§8): box and shell clip, bracketing at 8 points, exactly `n` refinement
 //! steps of 8 points each, the certified `t_error` (final bracket plus the rounding allowance
 //! `16 ε L / |f′|`), and the exact surface normal once per ray (forward-mode derivatives written
 //! out in the shader, no finite differences).
@@ -11,8 +11,9 @@
 //! Two ways in. **Batches**, mirroring the CPU API: [`GpuScene::closest_hit`] fills a slice of
 //! [`Option<Hit>`](smoothtri::Hit) for a slice of [`Ray`](smoothtri::Ray)s (the CPU's
 //! [`Bvh::closest_hit`](smoothtri::Bvh::closest_hit) per ray), [`GpuScene::any_hit`] a slice of
-//! `bool` (shadow rays), with the iteration budget `N` a compile-time constant of the pipeline.
-//! [`GpuScene::closest_shaded_with`] adds each hit's shading normal: the seamless normal of
+//! `bool` (shadow rays), each with its refinement budget `n` given at run time, as the CPU's
+//! `Scene::closest_hit` (each budget is its own pipeline, compiled once).
+//! [`GpuScene::closest_shaded`] adds each hit's shading normal: the seamless normal of
 //! smooth patches uploaded with their seams ([`GpuScene::smooth_seamless`], the CPU's
 //! `Scene::shading_normal` in WGSL) or the Phong normal of flat triangles ([`GpuScene::phong`]).
 //! **Frames**, for real-time use: [`GpuScene::render_frame`] makes the camera rays of a
@@ -26,8 +27,8 @@
 //! panics on bad input.
 //!
 //! # Bounded work
-//! Per patch test at most `8 + 8·N + 8` height evaluations ([`SAMPLES`]` + 2` bracketing
-//! points, `N` steps of 8 and, for `N ≥ 1`, two estimate steps of 4, as the CPU's
+//! Per patch test at most `8 + 8·n + 8` height evaluations ([`SAMPLES`]` + 2` bracketing
+//! points, `n` steps of 8 and, for `n ≥ 1`, two estimate steps of 4, as the CPU's
 //! `smoothtri::max_height_evals`), every loop of the kernel with a constant trip count; per ray at most one
 //! visit per BVH node, one test per index of the tree's order, and [`STACK`] pending nodes; per
 //! pixel of a frame two such rays (the camera ray and at most one shadow ray) and at most four
@@ -47,7 +48,7 @@
 //! let scene = GpuScene::smooth(&gpu, &bvh)?;
 //! let rays = [Ray::new(Vec3::splat(2.0), -Vec3::ONE)];
 //! let mut hits = [None; 1];
-//! scene.closest_hit::<4>(&rays, 0.0, f32::INFINITY, &mut hits)?;
+//! scene.closest_hit(&rays, 0.0, f32::INFINITY, 4, &mut hits)?;
 //! assert!((hits[0].unwrap().point.length() - 1.0).abs() < 1e-5);
 //! # Ok::<(), smoothtri_gpu::GpuError>(())
 //! ```

@@ -6,17 +6,10 @@
 mod common;
 
 use common::*;
-use glam::Vec3;
-use smoothtri::{Aabb, BoxBvh, BvhNode, flat_hit, moller_trumbore};
+use smoothtri::{BoxBvh, BvhNode, flat_hit, moller_trumbore};
 use smoothtri_gpu::FlatScene;
-use smoothtri_testkit::Mesh;
 use smoothtri_testkit::scenes::{teapot, torus};
-
-fn triangles(m: &Mesh) -> Vec<[Vec3; 3]> {
-    (0..m.triangles.len())
-        .map(|t| m.triangle(t).0.map(|p| p.as_vec3()))
-        .collect()
-}
+use smoothtri_testkit::{flat_triangles32, triangle_boxes};
 
 #[test]
 fn flat_pipeline_equals_cpu_moller_trumbore() {
@@ -25,12 +18,9 @@ fn flat_pipeline_equals_cpu_moller_trumbore() {
         ("torus 35×35", torus(35, 35, 1.0, 0.4)),
         ("teapot", teapot(4)),
     ] {
-        let tris = triangles(&mesh);
+        let tris = flat_triangles32(&mesh);
         let scene = FlatScene::new(&gpu, &tris).expect("upload");
-        let boxes: Vec<Aabb> = tris
-            .iter()
-            .map(|t| Aabb::new(t[0].min(t[1]).min(t[2]), t[0].max(t[1]).max(t[2])))
-            .collect();
+        let boxes = triangle_boxes(&tris);
         let mut nodes = vec![BvhNode::default(); BoxBvh::<f32>::nodes_needed(tris.len())];
         let mut order = vec![0u32; tris.len()];
         let tree = BoxBvh::build(&boxes, &mut nodes, &mut order).unwrap();

@@ -8,7 +8,7 @@ use common::*;
 use glam::{DVec3, Vec3};
 use smoothtri::accuracy::{F32_SPHERE_HIT, F32_SPHERE_NORMAL};
 use smoothtri::mesh::{SharedEdge, close_cracks};
-use smoothtri::{Hit, LineField, Patch, Ray};
+use smoothtri::{Bvh, Hit, LineField, Patch, Ray};
 use smoothtri_gpu::{Gpu, GpuScene};
 use smoothtri_testkit::random::{Rng, random_ray};
 use smoothtri_testkit::scenes::{
@@ -59,10 +59,9 @@ fn compare(
     let tree = Tree::new(patches);
     let bvh = tree.bvh(patches);
     let scene = GpuScene::smooth(gpu, &bvh).expect("upload");
-    let mut got = vec![None; rays.len()];
-    scene
-        .closest_hit::<N>(rays, 0.0, f32::INFINITY, &mut got)
-        .expect("trace");
+    let got = traced(rays, None, |out| {
+        scene.closest_hit(rays, 0.0, f32::INFINITY, N, out)
+    });
     let mut s = Parity {
         rays: rays.len(),
         ..Parity::default()
@@ -220,82 +219,81 @@ fn cpu_near_silhouette(bvh: &smoothtri::Bvh<'_, f32>, ray: &Ray) -> bool {
         .any(|&s| hit(&Ray::new(ray.origin + s * SILHOUETTE, ray.dir)) != base)
 }
 
-#[test]
-fn torus_matches_the_cpu_kernel() {
+/// Runs `check` with the device, the CPU BVH over the 8×8 torus (the CPU kernel's tests' torus)
+/// and 1500 random rays aimed at it from the generator seeded with `seed`; nothing without a
+/// device (the skip of [`gpu`]).
+fn on_torus(seed: u64, check: impl FnOnce(&Arc<Gpu>, &Bvh<'_, f32>, &[Ray])) {
     let Some(gpu) = gpu() else { return };
     let patches = patches32(&torus(8, 8, 1.0, 0.4));
-    let rays = random_rays(5, 1500, 1.4);
     let tree = Tree::new(&patches);
-    let bvh = tree.bvh(&patches);
-    let near = |ray: &Ray| cpu_near_silhouette(&bvh, ray);
-    let (s, _) = compare("torus 8x8", &gpu, &patches, &rays, &near);
-    assert!(s.hits > 900, "{s:?}");
+    check(&gpu, &tree.bvh(&patches), &random_rays(seed, 1500, 1.4));
+}
+
+#[test]
+fn torus_matches_the_cpu_kernel() {
+    on_torus(5, |gpu, bvh, rays| {
+        let near = |ray: &Ray| cpu_near_silhouette(bvh, ray);
+        let (s, _) = compare("torus 8x8", gpu, bvh.patches(), rays, &near);
+        assert!(s.hits > 900, "{s:?}");
+    });
 }
 
 /// Shadow rays: the GPU's any-hit answers are the CPU's, away from silhouettes.
 #[test]
 fn any_hit_matches_the_cpu() {
-    let Some(gpu) = gpu() else { return };
-    let patches = patches32(&torus(8, 8, 1.0, 0.4));
-    let tree = Tree::new(&patches);
-    let bvh = tree.bvh(&patches);
-    let scene = GpuScene::smooth(&gpu, &bvh).expect("upload");
-    let rays = random_rays(17, 1500, 1.4);
-    let mut occluded = vec![false; rays.len()];
-    scene
-        .any_hit::<N>(&rays, 0.0, f32::INFINITY, &mut occluded)
-        .expect("trace");
-    let (mut hits, mut excused) = (0, 0);
-    for (ray, &g) in rays.iter().zip(&occluded) {
-        let c = bvh.any_hit(ray, 0.0, f32::INFINITY, N);
-        hits += usize::from(c);
-        if g != c {
-            assert!(cpu_near_silhouette(&bvh, ray), "any hit differs: {ray:?}");
-            excused += 1;
+    on_torus(17, |gpu, bvh, rays| {
+        let scene = GpuScene::smooth(gpu, bvh).expect("upload");
+        let occluded = traced(rays, false, |out| {
+            scene.any_hit(rays, 0.0, f32::INFINITY, N, out)
+        });
+        let (mut hits, mut excused) = (0, 0);
+        for (ray, &g) in rays.iter().zip(&occluded) {
+            let c = bvh.any_hit(ray, 0.0, f32::INFINITY, N);
+            hits += usize::from(c);
+            if g != c {
+                assert!(cpu_near_silhouette(bvh, ray), "any hit differs: {ray:?}");
+                excused += 1;
+            }
         }
-    }
-    eprintln!(
-        "any hit: {hits} of 1500 occluded on the CPU; {excused} differ, all near a silhouette"
-    );
-    assert!(hits > 900);
+        eprintln!(
+            "any hit: {hits} of 1500 occluded on the CPU; {excused} differ, all near a silhouette"
+        );
+        assert!(hits > 900);
+    });
 }
 
 /// The flat baseline (same traversal, Möller–Trumbore) equals the CPU's flat tracer.
 #[test]
 fn flat_baseline_matches_the_cpu() {
-    let Some(gpu) = gpu() else { return };
-    let patches = patches32(&torus(8, 8, 1.0, 0.4));
-    let tree = Tree::new(&patches);
-    let bvh = tree.bvh(&patches);
-    let scene = GpuScene::flat(&gpu, &bvh).expect("upload");
-    let rays = random_rays(23, 1500, 1.4);
-    let mut got = vec![None; rays.len()];
-    scene
-        .closest_hit::<0>(&rays, 0.0, f32::INFINITY, &mut got)
-        .expect("trace");
-    let (mut hits, mut worst) = (0, 0.0f32);
-    for (ray, g) in rays.iter().zip(&got) {
-        let c = bvh.closest_with(ray, 0.0, f32::INFINITY, |_, p, a, b| {
-            smoothtri::flat_hit(&p.vertices(), None, ray, a, b)
+    on_torus(23, |gpu, bvh, rays| {
+        let scene = GpuScene::flat(gpu, bvh).expect("upload");
+        let got = traced(rays, None, |out| {
+            scene.closest_hit(rays, 0.0, f32::INFINITY, 0, out)
         });
-        match (g, c) {
-            (Some(g), Some(c)) => {
-                hits += 1;
-                worst = worst.max((g.t - c.t).abs() / c.t);
-                assert!((g.t - c.t).abs() <= 1e-5 * c.t, "{g:?} vs {c:?}");
-                assert!((g.normal - c.normal).length() < 1e-5);
-            }
-            (None, None) => {}
-            _ => {
-                // Only on a triangle's edge (Möller–Trumbore's bary tests in other rounding).
-                let h = g.or(c).expect("one hit");
-                let edge = h.w1.min(h.w2).min(1.0 - h.w1 - h.w2);
-                assert!(edge.abs() < 1e-4, "flat hit/miss differ: {g:?} vs {c:?}");
+        let (mut hits, mut worst) = (0, 0.0f32);
+        for (ray, g) in rays.iter().zip(&got) {
+            let c = bvh.closest_with(ray, 0.0, f32::INFINITY, |_, p, a, b| {
+                smoothtri::flat_hit(&p.vertices(), None, ray, a, b)
+            });
+            match (g, c) {
+                (Some(g), Some(c)) => {
+                    hits += 1;
+                    worst = worst.max((g.t - c.t).abs() / c.t);
+                    assert!((g.t - c.t).abs() <= 1e-5 * c.t, "{g:?} vs {c:?}");
+                    assert!((g.normal - c.normal).length() < 1e-5);
+                }
+                (None, None) => {}
+                _ => {
+                    // Only on a triangle's edge (Möller–Trumbore's bary tests in other rounding).
+                    let h = g.or(c).expect("one hit");
+                    let edge = h.w1.min(h.w2).min(1.0 - h.w1 - h.w2);
+                    assert!(edge.abs() < 1e-4, "flat hit/miss differ: {g:?} vs {c:?}");
+                }
             }
         }
-    }
-    eprintln!("flat: {hits} hits, |t_gpu − t_cpu| ≤ {worst:.1e} relative");
-    assert!(hits > 900);
+        eprintln!("flat: {hits} hits, |t_gpu − t_cpu| ≤ {worst:.1e} relative");
+        assert!(hits > 900);
+    });
 }
 
 /// The unit direction of every GPU normal and finite values on grazing rays near a patch's
@@ -315,10 +313,9 @@ fn grazing_rays_give_finite_answers() {
             Ray::new(o, d)
         })
         .collect();
-    let mut got = vec![None; rays.len()];
-    scene
-        .closest_hit::<8>(&rays, 0.0, f32::INFINITY, &mut got)
-        .expect("trace");
+    let got = traced(&rays, None, |out| {
+        scene.closest_hit(&rays, 0.0, f32::INFINITY, 8, out)
+    });
     let mut hits = 0;
     for h in got.iter().flatten() {
         hits += 1;
@@ -328,23 +325,25 @@ fn grazing_rays_give_finite_answers() {
     assert!(hits > 1000, "{hits}");
 }
 
-/// The shader's refinement, rounding, wall-margin and section-Newton constants are the CPU kernel's (one source of truth per figure:
-/// the WGSL repeats them, this test keeps them equal).
+/// The shader's refinement, rounding, wall-margin and section-Newton constants are the CPU
+/// kernel's (one source of truth per figure: the WGSL repeats them, this test keeps them equal).
 #[test]
 fn shader_constants_match_the_cpu_kernel() {
     use smoothtri::internal::{
         EARLY_STOP, INNER_OF_SPREAD, INNER_OF_STOP, OUTER_OF_INNER, OUTER_OF_SPREAD, OUTER_OF_WIDTH,
     };
     use smoothtri::internal::{ROUNDING_ULPS, WALL_MARGIN_ULPS};
-    let value = |name: &str| -> f64 {
-        let decl = format!("const {name}: f32 = ");
+    // The literal a `const {name}: {ty} = …;` of the shader declares.
+    let literal = |name: &str, ty: &str| -> &'static str {
+        let decl = format!("const {name}: {ty} = ");
         let at = smoothtri_gpu::SHADER
             .find(&decl)
             .unwrap_or_else(|| panic!("{name} not declared in the shader"));
         let rest = &smoothtri_gpu::SHADER[at + decl.len()..];
         let end = rest.find(';').expect("declaration ends");
-        rest[..end].trim().parse().expect("a number")
+        rest[..end].trim()
     };
+    let value = |name: &str| -> f64 { literal(name, "f32").parse().expect("a number") };
     for (name, cpu) in [
         ("EARLY_STOP", EARLY_STOP),
         ("INNER_OF_SPREAD", INNER_OF_SPREAD),
@@ -358,15 +357,8 @@ fn shader_constants_match_the_cpu_kernel() {
         assert_eq!(value(name), cpu, "{name}");
     }
     let count = |name: &str| -> usize {
-        let decl = format!("const {name}: u32 = ");
-        let at = smoothtri_gpu::SHADER
-            .find(&decl)
-            .unwrap_or_else(|| panic!("{name} not declared in the shader"));
-        let rest = &smoothtri_gpu::SHADER[at + decl.len()..];
-        rest[..rest.find("u;").expect("a u32")]
-            .trim()
-            .parse()
-            .expect("a number")
+        let u32 = literal(name, "u32").strip_suffix('u').expect("a u32");
+        u32.parse().expect("a number")
     };
     assert_eq!(count("ESTIMATE_STEPS"), smoothtri::internal::ESTIMATE_STEPS);
     assert_eq!(
@@ -444,10 +436,9 @@ const RAY_DIST: f32 = 2.0;
 fn fell_through(gpu: &Arc<Gpu>, patches: &[Patch], rays: &[Ray]) -> Vec<usize> {
     let tree = Tree::new(patches);
     let scene = GpuScene::smooth(gpu, &tree.bvh(patches)).expect("upload");
-    let mut got = vec![None; rays.len()];
-    scene
-        .closest_hit::<N>(rays, 0.0, f32::INFINITY, &mut got)
-        .expect("trace");
+    let got = traced(rays, None, |out| {
+        scene.closest_hit(rays, 0.0, f32::INFINITY, N, out)
+    });
     (0..got.len())
         .filter(|&i| got[i].is_none_or(|h| h.t > RAY_DIST * 1.01))
         .collect()
@@ -585,11 +576,11 @@ fn shading_normals_match_the_cpu() {
         let scene = build_scene::<f32>(&mesh, LineField::Face, true).expect("scene");
         let core = scene.scene();
         let rays = camera_rays(&mesh, 120, 90);
-        let mut got = vec![None; rays.len()];
-        GpuScene::smooth_seamless(&gpu, core.bvh(), core.seams())
-            .expect("upload")
-            .closest_shaded_with(N, &rays, 0.0, f32::INFINITY, &mut got)
-            .expect("trace");
+        let got = traced(&rays, None, |out| {
+            GpuScene::smooth_seamless(&gpu, core.bvh(), core.seams())
+                .expect("upload")
+                .closest_shaded(&rays, 0.0, f32::INFINITY, N, out)
+        });
         let (mut hits, mut corrected, mut worst) = (0, 0, 0.0f32);
         for (hit, shading) in got.iter().flatten() {
             let cpu = core.shading_normal(hit);
@@ -608,11 +599,11 @@ fn shading_normals_match_the_cpu() {
         );
         assert!(hits > rays.len() / 10 && corrected > hits / 10, "{name}");
 
-        let mut flat = vec![None; rays.len()];
-        GpuScene::phong(&gpu, core.bvh())
-            .expect("upload")
-            .closest_shaded_with(0, &rays, 0.0, f32::INFINITY, &mut flat)
-            .expect("trace");
+        let flat = traced(&rays, None, |out| {
+            GpuScene::phong(&gpu, core.bvh())
+                .expect("upload")
+                .closest_shaded(&rays, 0.0, f32::INFINITY, 0, out)
+        });
         let mut interpolated = 0;
         for (hit, shading) in flat.iter().flatten() {
             let [n0, n1, n2] = core.patches()[hit.patch as usize].normals();

@@ -26,7 +26,7 @@ fn still_works(gpu: &Arc<Gpu>) {
     )];
     let mut hits = [None];
     scene
-        .closest_hit::<4>(&rays, 0.0, f32::INFINITY, &mut hits)
+        .closest_hit(&rays, 0.0, f32::INFINITY, 4, &mut hits)
         .expect("trace");
     let h = hits[0].expect("hit");
     assert!(
@@ -65,13 +65,11 @@ fn degenerate_rays_are_misses() {
     ];
     for (ray, a, b) in cases {
         let mut hit = [None];
-        scene
-            .closest_hit::<4>(&[ray], a, b, &mut hit)
-            .expect("trace");
+        scene.closest_hit(&[ray], a, b, 4, &mut hit).expect("trace");
         assert!(hit[0].is_none(), "{ray:?} [{a}, {b}]: {:?}", hit[0]);
         assert!(bvh.closest_hit(&ray, a, b, 4).is_none());
         let mut occ = [true];
-        scene.any_hit::<4>(&[ray], a, b, &mut occ).expect("trace");
+        scene.any_hit(&[ray], a, b, 4, &mut occ).expect("trace");
         assert!(!occ[0], "{ray:?}");
     }
     // Extreme but finite rays: finite answers or misses.
@@ -84,7 +82,7 @@ fn degenerate_rays_are_misses() {
     ];
     let mut hits = vec![None; extreme.len()];
     scene
-        .closest_hit::<4>(&extreme, 0.0, f32::INFINITY, &mut hits)
+        .closest_hit(&extreme, 0.0, f32::INFINITY, 4, &mut hits)
         .expect("trace");
     for h in hits.iter().flatten() {
         assert!(
@@ -95,23 +93,23 @@ fn degenerate_rays_are_misses() {
     // Slices of different lengths, budgets out of range: typed errors.
     let mut two = [None, None];
     assert_eq!(
-        scene.closest_hit::<4>(&[Ray::new(o, toward)], 0.0, inf, &mut two),
+        scene.closest_hit(&[Ray::new(o, toward)], 0.0, inf, 4, &mut two),
         Err(GpuError::LengthMismatch { rays: 1, out: 2 })
     );
     let mut one = [None];
     assert_eq!(
-        scene.closest_hit_with(
-            MAX_ITERATIONS + 1,
+        scene.closest_hit(
             &[Ray::new(o, toward)],
             0.0,
             inf,
+            MAX_ITERATIONS + 1,
             &mut one
         ),
         Err(GpuError::Iterations(MAX_ITERATIONS + 1))
     );
     // No rays: nothing to do.
     scene
-        .closest_hit::<4>(&[], 0.0, inf, &mut [])
+        .closest_hit(&[], 0.0, inf, 4, &mut [])
         .expect("empty batch");
     still_works(&gpu);
 }
@@ -124,7 +122,7 @@ fn empty_scene_gives_misses() {
         let rays = [Ray::new(Vec3::splat(2.0), -Vec3::ONE); 3];
         let mut hits = [None; 3];
         scene
-            .closest_hit::<4>(&rays, 0.0, f32::INFINITY, &mut hits)
+            .closest_hit(&rays, 0.0, f32::INFINITY, 4, &mut hits)
             .expect("trace");
         assert!(hits.iter().all(Option::is_none));
     }
@@ -164,7 +162,7 @@ fn trace(
     let scene = GpuScene::from_parts(gpu, SceneKind::Smooth, data, nodes, order)?;
     let rays = [Ray::new(Vec3::splat(2.0), -Vec3::ONE); 100];
     let mut hits = vec![None; rays.len()];
-    scene.closest_hit::<4>(&rays, 0.0, f32::INFINITY, &mut hits)?;
+    scene.closest_hit(&rays, 0.0, f32::INFINITY, 4, &mut hits)?;
     Ok(hits)
 }
 
@@ -275,7 +273,7 @@ fn batches_larger_than_a_dispatch() {
         .collect();
     let mut occluded = vec![false; n];
     scene
-        .any_hit::<1>(&rays, 0.0, f32::INFINITY, &mut occluded)
+        .any_hit(&rays, 0.0, f32::INFINITY, 1, &mut occluded)
         .expect("trace");
     for (i, &o) in occluded.iter().enumerate() {
         assert_eq!(o, i % 997 == 0, "ray {i}");
@@ -300,10 +298,10 @@ fn timed_trace_returns_the_same_hits_and_a_kernel_time() {
     let mut plain = vec![None; rays.len()];
     let mut timed = vec![None; rays.len()];
     scene
-        .closest_hit_with(4, &rays, 0.0, f32::INFINITY, &mut plain)
+        .closest_hit(&rays, 0.0, f32::INFINITY, 4, &mut plain)
         .expect("trace");
     let seconds = scene
-        .closest_hit_timed(4, &rays, 0.0, f32::INFINITY, &mut timed)
+        .closest_hit_timed(&rays, 0.0, f32::INFINITY, 4, &mut timed)
         .expect("timed trace");
     assert_eq!(plain, timed);
     assert!(plain.iter().flatten().count() == rays.len());

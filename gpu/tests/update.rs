@@ -67,7 +67,7 @@ fn upload(gpu: &Arc<Gpu>, kind: &str, s: &Scene<'_, f32>) -> GpuScene {
 fn trace(gs: &GpuScene, m: &Mesh) -> Vec<Option<(Hit<f32>, Vec3)>> {
     let rays = Camera::for_mesh(m, 0.6, 0.5, 64, 48).rays_f32();
     let mut out = vec![None; rays.len()];
-    gs.closest_shaded_with(N, &rays, 0.0, f32::INFINITY, &mut out)
+    gs.closest_shaded(&rays, 0.0, f32::INFINITY, N, &mut out)
         .expect("trace");
     out
 }

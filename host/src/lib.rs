@@ -12,7 +12,9 @@
 //! - [`cracks()`]: the cracks and normal jumps between neighbouring patches, edge by edge
 //!   (`smoothtri inspect`);
 //! - [`tessellate`]: the smooth surface sampled into welded, watertight triangles for other
-//!   renderers (`smoothtri tessellate`), with its measured distance to the surface.
+//!   renderers (`smoothtri tessellate`), with its measured distance to the surface;
+//! - [`error_stats`]: the error statistics of a run's hits against a reference run (the
+//!   precision study of `smoothtri precision` and `smoothtri.precision_sweep`).
 //!
 //! It sits above the core and the loaders ([`smoothtri_io`], whose [`Mesh`] it re-exports) and
 //! below the demo, the Python package and the tests' kit (`smoothtri-testkit`, which no shipped
@@ -24,6 +26,7 @@ mod camera;
 mod cracks;
 mod executor;
 mod grid;
+mod precision_stats;
 pub mod scenes;
 pub mod teapot_data;
 pub mod tessellate;
@@ -32,4 +35,5 @@ pub mod twist;
 pub use camera::{Camera, FOV_DEG, SHADOW_OFFSET_F32, SHADOW_OFFSET_F64};
 pub use cracks::{Cracks, EDGE_SAMPLES, cracks};
 pub use executor::{RayonExecutor, build_scene};
+pub use precision_stats::{ErrorStats, Traced, error_stats, percentile};
 pub use smoothtri_io::Mesh;

@@ -185,7 +185,8 @@ class Scene:
                 a bad ``out`` array.
             TypeError: arrays that do not hold real numbers.
         """
-        arrays = self._native.closest_hit(
+        arrays = self._native.ray_query(
+            "closest_hit",
             origins,
             directions,
             **_ray_options(iterations, t_min, t_max, threads),
@@ -214,8 +215,8 @@ class Scene:
         Returns:
             ``(R,)`` bool, the core's ``Scene::any_hit``.
         """
-        return self._native.any_hit(
-            origins, directions, **_ray_options(iterations, t_min, t_max, threads), out=out
+        return self._native.ray_query(
+            "any_hit", origins, directions, **_ray_options(iterations, t_min, t_max, threads), out=out
         )
 
     def intersect(self, *args: Any, **kwargs: Any) -> Hits:
@@ -272,7 +273,7 @@ class Scene:
 def _ray_options(
     iterations: int, t_min: Union[float, ArrayLike], t_max: Union[float, ArrayLike], threads: Optional[int]
 ) -> Dict[str, Any]:
-    """The options of the native ray queries (``closest_hit``, ``any_hit``), checked."""
+    """The options of the native ray queries (``ray_query``), checked."""
     return {
         "iterations": iterations_arg(iterations),
         "t_min": t_min,

@@ -75,8 +75,9 @@ class NativeScene:
     @property
     def report(self) -> Dict[str, Any]: ...
     def update(self, vertices: Any, normals: Any, *, threads: Optional[int] = None) -> None: ...
-    def closest_hit(
+    def ray_query(
         self,
+        query: str,
         origins: Any,
         directions: Any,
         *,
@@ -84,28 +85,11 @@ class NativeScene:
         t_min: Optional[Union[float, Any]] = None,
         t_max: Optional[Union[float, Any]] = None,
         threads: Optional[int] = None,
-        out: Optional[Tuple[np.ndarray, ...]] = None,
-    ) -> Tuple[
-        npt.NDArray[np.bool_],
-        FloatArray,
-        FloatArray,
-        FloatArray,
-        FloatArray,
-        FloatArray,
-        npt.NDArray[np.int64],
-        FloatArray,
-    ]: ...
-    def any_hit(
-        self,
-        origins: Any,
-        directions: Any,
-        *,
-        iterations: int = 4,
-        t_min: Optional[Union[float, Any]] = None,
-        t_max: Optional[Union[float, Any]] = None,
-        threads: Optional[int] = None,
-        out: Optional[npt.NDArray[np.bool_]] = None,
-    ) -> npt.NDArray[np.bool_]: ...
+        out: Optional[Any] = None,
+    ) -> Any:
+        """``query="closest_hit"``: the closest hits, a tuple of arrays in the order of
+        ``HIT_FIELDS`` (``out``: such a tuple to overwrite); ``query="any_hit"``: whether each
+        ray hits anything, an ``(R,)`` bool array (``out``: such an array)."""
     def evaluate(
         self,
         triangles: Any,

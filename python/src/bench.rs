@@ -4,6 +4,7 @@
 
 use std::time::Instant;
 
+use glam::DVec3;
 use pyo3::prelude::*;
 use rayon::prelude::*;
 use smoothtri::{OwnedScene, Ray, Scene, SceneHit};
@@ -12,7 +13,7 @@ use crate::arrays::Reals2;
 use crate::batch::Threads;
 use crate::budget::Budget;
 use crate::precision::Prec;
-use crate::scene::{NativeScene, in_precision, parse_budget};
+use crate::scene::{NativeScene, in_precision, parse_budget, ray_rows};
 
 /// The closest hits (`t` in `[0, inf]`) of prepared rays through the Rust API, collected into
 /// a `Vec` over rayon's `par_iter` as a Rust caller writes it: `(seconds, hits)`.
@@ -26,7 +27,12 @@ fn run<F: Prec>(
 ) -> (f64, usize) {
     let (o, d) = (o.view(), d.view());
     let rays: Vec<Ray<F>> = (0..o.len())
-        .map(|i| Ray::new(F::vec(o.row3(i)), F::vec(d.row3(i))))
+        .map(|i| {
+            Ray::new(
+                F::from_dvec3(DVec3::from_array(o.row3(i))),
+                F::from_dvec3(DVec3::from_array(d.row3(i))),
+            )
+        })
         .collect();
     let scene = scene.scene();
     py.detach(|| {
@@ -76,8 +82,7 @@ pub fn rust_baseline(
 ) -> PyResult<(f64, usize)> {
     let budget = parse_budget(iterations, "iterations")?;
     let threads = Threads::new(threads)?;
-    let o = Reals2::new(origins, "origins", 3, "(R, 3)")?;
-    let d = Reals2::new(directions, "directions", 3, "(R, 3)")?;
+    let (o, d) = ray_rows(origins, directions)?;
     Ok(in_precision!(&scene.get().snapshot().built, |s| {
         run(py, s, &o, &d, budget, &threads)
     }))

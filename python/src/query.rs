@@ -54,7 +54,7 @@ impl RayBatch<'_> {
             return None;
         }
         Some((
-            Ray::new(F::from_arr([ox, oy, oz]), F::from_arr([dx, dy, dz])),
+            Ray::new(F::from_array3([ox, oy, oz]), F::from_array3([dx, dy, dz])),
             F::from_f64(t0),
             F::from_f64(t1),
         ))
@@ -65,7 +65,7 @@ impl RayBatch<'_> {
         let o = self.origins.row3(i);
         let d = self.directions.row3(i);
         let show = |v: [f64; 3]| format!("({}, {}, {})", num(v[0]), num(v[1]), num(v[2]));
-        let finite = |v: [f64; 3]| F::arr(F::vec(v)).iter().all(|x| x.is_fin());
+        let finite = |v: [f64; 3]| v.map(F::from_f64).iter().all(|x| x.is_fin());
         if !finite(o) {
             return format!("origins[{i}] = {} is not finite in {}", show(o), F::DTYPE);
         }
@@ -76,7 +76,7 @@ impl RayBatch<'_> {
                 F::DTYPE
             );
         }
-        if F::arr(F::vec(d)).iter().all(|&x| x == F::ZERO) {
+        if d.map(F::from_f64).iter().all(|&x| x == F::ZERO) {
             return format!(
                 "directions[{i}] = {} is zero in {}: a ray needs a direction",
                 show(d),
@@ -155,9 +155,9 @@ pub fn closest_hit<F: Prec>(
                     *hit = true;
                     t[k] = h.hit.t;
                     t_error[k] = h.hit.t_error;
-                    point[p..p + 3].copy_from_slice(&F::arr(h.hit.point));
-                    normal[nr..nr + 3].copy_from_slice(&F::arr(h.hit.normal));
-                    shading[s..s + 3].copy_from_slice(&F::arr(h.shading_normal));
+                    point[p..p + 3].copy_from_slice(&F::to_array3(h.hit.point));
+                    normal[nr..nr + 3].copy_from_slice(&F::to_array3(h.hit.normal));
+                    shading[s..s + 3].copy_from_slice(&F::to_array3(h.shading_normal));
                     triangle[k] = i64::from(h.triangle);
                     bary[2 * k..2 * k + 2].copy_from_slice(&[h.hit.w1, h.hit.w2]);
                 }
@@ -262,9 +262,9 @@ pub fn evaluate<F: Prec>(
                         Some(seam) => seam.correct(patch, w1, w2, n),
                         None => n,
                     };
-                    out.point.set(k, F::arr(x));
-                    out.normal.set(k, F::arr(n));
-                    out.shading_normal.set(k, F::arr(s));
+                    out.point.set(k, F::to_array3(x));
+                    out.normal.set(k, F::to_array3(n));
+                    out.shading_normal.set(k, F::to_array3(s));
                 }
                 _ => {
                     bad.report(i);

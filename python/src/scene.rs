@@ -236,51 +236,39 @@ struct RayQuery<'py> {
     threads: Threads,
 }
 
-impl<'py> RayQuery<'py> {
-    /// Checks the arguments in this order: `iterations`, the rays, their interval (`None`:
-    /// `t_min = 0`, `t_max = inf`), `threads`.
-    fn new(
-        py: Python<'py>,
-        origins: &Bound<'py, PyAny>,
-        directions: &Bound<'py, PyAny>,
-        iterations: i64,
-        t_min: Option<&Bound<'py, PyAny>>,
-        t_max: Option<&Bound<'py, PyAny>>,
-        threads: Option<i64>,
-    ) -> PyResult<Self> {
-        let budget = parse_budget(iterations, "iterations")?;
-        let (origins, directions) = ray_rows(origins, directions)?;
-        let r = origins.len();
-        let zero = 0.0f64.into_pyobject(py)?.into_any();
-        let inf = f64::INFINITY.into_pyobject(py)?.into_any();
-        let t_min = Bound1::new(t_min.unwrap_or(&zero), "t_min", r)?;
-        let t_max = Bound1::new(t_max.unwrap_or(&inf), "t_max", r)?;
-        if let (Bound1::All(a), Bound1::All(b)) = (&t_min, &t_max)
-            && (a.is_nan() || b.is_nan() || a > b)
-        {
-            return Err(PyValueError::new_err(format!(
-                "t_min and t_max must be numbers with t_min <= t_max, got {} and {}",
-                arrays::num(*a),
-                arrays::num(*b)
-            )));
-        }
-        for (b, name) in [(&t_min, "t_min"), (&t_max, "t_max")] {
-            if let Bound1::All(x) = b
-                && x.is_nan()
-            {
-                return Err(PyValueError::new_err(format!("{name} is nan")));
-            }
-        }
-        Ok(RayQuery {
-            origins,
-            directions,
-            t_min,
-            t_max,
-            budget,
-            threads: Threads::new(threads)?,
-        })
+/// The interval of `t` of a batch of `r` rays, checked: `t_min` and `t_max` floats or `(r,)`
+/// arrays (`None`: `t_min = 0`, `t_max = inf`), no NaN, and `t_min <= t_max` when both are
+/// floats.
+fn ray_interval<'py>(
+    py: Python<'py>,
+    t_min: Option<&Bound<'py, PyAny>>,
+    t_max: Option<&Bound<'py, PyAny>>,
+    r: usize,
+) -> PyResult<(Bound1<'py>, Bound1<'py>)> {
+    let zero = 0.0f64.into_pyobject(py)?.into_any();
+    let inf = f64::INFINITY.into_pyobject(py)?.into_any();
+    let t_min = Bound1::new(t_min.unwrap_or(&zero), "t_min", r)?;
+    let t_max = Bound1::new(t_max.unwrap_or(&inf), "t_max", r)?;
+    if let (Bound1::All(a), Bound1::All(b)) = (&t_min, &t_max)
+        && (a.is_nan() || b.is_nan() || a > b)
+    {
+        return Err(PyValueError::new_err(format!(
+            "t_min and t_max must be numbers with t_min <= t_max, got {} and {}",
+            arrays::num(*a),
+            arrays::num(*b)
+        )));
     }
+    for (b, name) in [(&t_min, "t_min"), (&t_max, "t_max")] {
+        if let Bound1::All(x) = b
+            && x.is_nan()
+        {
+            return Err(PyValueError::new_err(format!("{name} is nan")));
+        }
+    }
+    Ok((t_min, t_max))
+}
 
+impl<'py> RayQuery<'py> {
     /// `batched` (a ray query of [`query`]) of these rays through `scene` into `out`, without
     /// the GIL.
     fn run<F: Prec, O: Send>(
@@ -628,32 +616,16 @@ impl NativeScene {
         Ok(d)
     }
 
-    /// The closest hits: a tuple of arrays in the order of `HIT_FIELDS`.
-    #[pyo3(signature = (origins, directions, *, iterations = 4, t_min = None, t_max = None, threads = None, out = None))]
+    /// The batched ray query named by `query`: `"closest_hit"`, the closest hits as a tuple of
+    /// arrays in the order of `HIT_FIELDS` (`out`: such a tuple); `"any_hit"`, whether each ray
+    /// hits anything as a bool array (`out`: such an array). The rays' arguments are checked
+    /// the same way for both, before `query` and `out`.
+    #[pyo3(signature = (query, origins, directions, *, iterations = 4, t_min = None, t_max = None, threads = None, out = None))]
     #[allow(clippy::too_many_arguments)]
-    fn closest_hit<'py>(
+    fn ray_query<'py>(
         &self,
         py: Python<'py>,
-        origins: &Bound<'py, PyAny>,
-        directions: &Bound<'py, PyAny>,
-        iterations: i64,
-        t_min: Option<&Bound<'py, PyAny>>,
-        t_max: Option<&Bound<'py, PyAny>>,
-        threads: Option<i64>,
-        out: Option<&Bound<'py, PyTuple>>,
-    ) -> PyResult<Bound<'py, PyTuple>> {
-        let query = RayQuery::new(py, origins, directions, iterations, t_min, t_max, threads)?;
-        in_precision!(&self.snapshot().built, |s| closest_hit_in(
-            py, s, &query, out
-        ))
-    }
-
-    /// Whether each ray hits anything: a bool array.
-    #[pyo3(signature = (origins, directions, *, iterations = 4, t_min = None, t_max = None, threads = None, out = None))]
-    #[allow(clippy::too_many_arguments)]
-    fn any_hit<'py>(
-        &self,
-        py: Python<'py>,
+        query: &str,
         origins: &Bound<'py, PyAny>,
         directions: &Bound<'py, PyAny>,
         iterations: i64,
@@ -661,9 +633,33 @@ impl NativeScene {
         t_max: Option<&Bound<'py, PyAny>>,
         threads: Option<i64>,
         out: Option<&Bound<'py, PyAny>>,
-    ) -> PyResult<Bound<'py, PyArray1<bool>>> {
-        let query = RayQuery::new(py, origins, directions, iterations, t_min, t_max, threads)?;
-        in_precision!(&self.snapshot().built, |s| any_hit_in(py, s, &query, out))
+    ) -> PyResult<Bound<'py, PyAny>> {
+        // Checked in this order: `iterations`, the rays, their interval, `threads`.
+        let budget = parse_budget(iterations, "iterations")?;
+        let (origins, directions) = ray_rows(origins, directions)?;
+        let (t_min, t_max) = ray_interval(py, t_min, t_max, origins.len())?;
+        let rays = RayQuery {
+            origins,
+            directions,
+            t_min,
+            t_max,
+            budget,
+            threads: Threads::new(threads)?,
+        };
+        let posed = self.snapshot();
+        match query {
+            "closest_hit" => {
+                let out = out.map(|o| o.cast::<PyTuple>()).transpose()?;
+                in_precision!(&posed.built, |s| closest_hit_in(py, s, &rays, out))
+                    .map(Bound::into_any)
+            }
+            "any_hit" => {
+                in_precision!(&posed.built, |s| any_hit_in(py, s, &rays, out)).map(Bound::into_any)
+            }
+            _ => Err(PyValueError::new_err(format!(
+                "query must be \"closest_hit\" or \"any_hit\", got {query:?}"
+            ))),
+        }
     }
 
     /// Surface points and normals: a tuple of arrays in the order of `SURFACE_FIELDS`.

@@ -3,8 +3,8 @@
 //! the returned `t_error`'s coverage, hit/miss disagreements and the time per ray.
 //!
 //! The statistics are those of the demo's `precision` command (host-demo's
-//! `commands/precision.rs`, `row_of`), computed in the same order, so that the same rays give
-//! the same table (the Python tests compare the two).
+//! `commands/precision.rs`, `row_of`): both compute them with `smoothtri_host::error_stats`,
+//! so that the same rays give the same table (the Python tests compare the two).
 
 use std::time::Instant;
 
@@ -14,6 +14,7 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use smoothtri::{BuildOptions, OwnedScene};
+use smoothtri_host::{ErrorStats, Traced, error_stats};
 use smoothtri_io::Mesh;
 
 use crate::arrays::PerRay;
@@ -22,9 +23,6 @@ use crate::budget::Budget;
 use crate::precision::Prec;
 use crate::query::RayBatch;
 use crate::scene::{Built, NativeScene, build, parse_budget, parse_precision, ray_rows};
-
-/// `(t, point, t_error)` of one hit, widened to `f64`.
-type Traced = (f64, DVec3, f64);
 
 /// The closest hit (`t` in `[0, F::MAX]`, as the demo traces) of every ray at `budget`, and
 /// the wall time of the batch. Errors on the first ray that is not a ray in `F`.
@@ -61,23 +59,8 @@ fn trace_all<F: Prec>(
 struct Row {
     precision: &'static str,
     iterations: usize,
-    hits: usize,
-    max: f64,
-    p999: f64,
-    mean: f64,
-    mean_t_error: f64,
-    bound_holds: f64,
-    disagreements: usize,
+    stats: ErrorStats,
     ns_per_ray: f64,
-}
-
-/// The `q`-quantile of sorted values: the element at rank `⌈q·n⌉` (1-based), 0 when empty.
-fn percentile(sorted: &[f64], q: f64) -> f64 {
-    if sorted.is_empty() {
-        return 0.0;
-    }
-    let k = ((q * sorted.len() as f64).ceil() as usize).clamp(1, sorted.len()) - 1;
-    sorted.get(k).copied().unwrap_or(0.0)
 }
 
 /// The statistics of one run `res` (taking `secs`) against the reference `(t, point)`.
@@ -89,36 +72,10 @@ fn row_of(
     reference: &[Option<(f64, DVec3)>],
     diag: f64,
 ) -> Row {
-    let mut errs = Vec::new();
-    let mut terr = 0.0;
-    let mut holds = 0usize;
-    let mut dis = 0usize;
-    for (r, q) in res.iter().zip(reference) {
-        match (r, q) {
-            (Some((t, p, te)), Some((qt, qp))) => {
-                errs.push((*p - *qp).length() / diag);
-                terr += te / diag;
-                if (t - qt).abs() <= *te {
-                    holds += 1;
-                }
-            }
-            (None, None) => {}
-            _ => dis += 1,
-        }
-    }
-    let hits = errs.len();
-    let mean = errs.iter().sum::<f64>() / hits.max(1) as f64;
-    errs.sort_by(f64::total_cmp);
     Row {
         precision,
         iterations,
-        hits,
-        max: errs.last().copied().unwrap_or(0.0),
-        p999: percentile(&errs, 0.999),
-        mean,
-        mean_t_error: terr / hits.max(1) as f64,
-        bound_holds: holds as f64 / hits.max(1) as f64,
-        disagreements: dis,
+        stats: error_stats(res, reference, diag),
         ns_per_ray: secs * 1e9 / res.len().max(1) as f64,
     }
 }
@@ -227,15 +184,15 @@ pub fn precision_sweep<'py>(
     let precision: Vec<&str> = rows.iter().map(|r| r.precision).collect();
     out.set_item("precision", precision)?;
     out.set_item("iterations", column(py, &rows, |r| r.iterations as i64))?;
-    out.set_item("hits", column(py, &rows, |r| r.hits as i64))?;
-    out.set_item("max_error", column(py, &rows, |r| r.max))?;
-    out.set_item("p999_error", column(py, &rows, |r| r.p999))?;
-    out.set_item("mean_error", column(py, &rows, |r| r.mean))?;
-    out.set_item("mean_t_error", column(py, &rows, |r| r.mean_t_error))?;
-    out.set_item("bound_holds", column(py, &rows, |r| r.bound_holds))?;
+    out.set_item("hits", column(py, &rows, |r| r.stats.hits as i64))?;
+    out.set_item("max_error", column(py, &rows, |r| r.stats.max))?;
+    out.set_item("p999_error", column(py, &rows, |r| r.stats.p999))?;
+    out.set_item("mean_error", column(py, &rows, |r| r.stats.mean))?;
+    out.set_item("mean_t_error", column(py, &rows, |r| r.stats.mean_t_error))?;
+    out.set_item("bound_holds", column(py, &rows, |r| r.stats.bound_holds))?;
     out.set_item(
         "disagreements",
-        column(py, &rows, |r| r.disagreements as i64),
+        column(py, &rows, |r| r.stats.disagreements as i64),
     )?;
     out.set_item("ns_per_ray", column(py, &rows, |r| r.ns_per_ray))?;
     out.set_item("rays", rays.len())?;

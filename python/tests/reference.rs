@@ -4,7 +4,7 @@
 //!
 //! For each built-in scene (`smoothtri_testkit::scenes::builtin`): the mesh, random rays, and
 //! for each precision, line field and seam choice of [`CONFIGS`] at each budget of
-//! [`BUDGETS`] the core's `Scene::closest_hit::<N>` and `Scene::any_hit::<N>`; random surface
+//! [`BUDGETS`] the core's `Scene::closest_hit` and `Scene::any_hit` (budget `n`); random surface
 //! points through `Patch::point_normal` and `Seam::correct`; the build report. And the demo's
 //! precision study on the torus (`smoothtri_demo::commands::precision::sweep`) with its
 //! camera rays.

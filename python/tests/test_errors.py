@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 import smoothtri
+from smoothtri import _smoothtri
 from conftest import octahedron
 
 V, N, F = octahedron()
@@ -138,6 +139,14 @@ def test_mismatched_rays(scene: smoothtri.Scene) -> None:
         scene.closest_hit(O, D[:1])
     with pytest.raises(ValueError, match=r"directions must have shape \(R, 3\), got \(2, 4\)"):
         scene.closest_hit(O, np.zeros((2, 4)))
+
+
+def test_mismatched_rays_in_rust_baseline(scene: smoothtri.Scene) -> None:
+    # The benchmark's baseline reads its rays as the queries read them.
+    with pytest.raises(ValueError, match=r"origins has 2 rows but directions has 1: one of each per ray"):
+        _smoothtri.rust_baseline(scene._native, O, D[:1])
+    with pytest.raises(ValueError, match=r"origins has 1 rows but directions has 2"):
+        _smoothtri.rust_baseline(scene._native, O[:1], D)
 
 
 # Indices out of range, zero triangles.

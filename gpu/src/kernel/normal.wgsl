@@ -44,30 +44,15 @@ fn gv_dot(a: GV, b: GV) -> vec3<f32> {
 // Root nearest 0 of the line base + s·g (w = base − anchor) and the sphere with axis m
 // (|m|² = m2, value only: the double-root test's scale) and curvature kappa.
 fn root_g(w: GV, g: GV, m: GV, m2: f32, kappa: vec3<f32>) -> vec3<f32> {
-    let zero = vec3<f32>(0.0);
     let g2 = gv_dot(g, g);
     let w2 = gv_dot(w, w);
     let qa = g_mul(kappa, g2);
     let qb = g_mul(kappa, gv_dot(w, g)) - gv_dot(g, m);
     let qc = g_mul(kappa, w2) - 2.0 * gv_dot(w, m);
-    var disc = g_mul(qb, qb) - g_mul(qa, qc);
-    if (!(disc.x > 0.0)) {
-        disc = zero;
-    }
-    let sq = g_sqrt0(disc);
-    let q = select(-qb - sq, sq - qb, qb.x < 0.0);
-    let tol = EPS * 16.0;
     let kk = kappa.x * kappa.x;
     let c_scale = 2.0 * (kk * w2.x * w2.x + 4.0 * w2.x * m2);
     let b_scale = 2.0 * (kk * w2.x * g2.x + g2.x * m2);
-    if ((qc.x * qc.x <= tol * tol * c_scale && qb.x * qb.x <= tol * tol * b_scale) || q.x == 0.0) {
-        return zero;
-    }
-    let s = g_div(qc, q);
-    if (fin3(s)) {
-        return s;
-    }
-    return zero;
+    return quadratic_root(qa, qb, qc, vec2<f32>(c_scale, b_scale), false);
 }
 
 fn j_mul(a: vec3<f32>, b: vec3<f32>) -> vec3<f32> {
@@ -110,26 +95,51 @@ fn jv_dot_c(a: JV, m: vec3<f32>) -> vec3<f32> {
 
 // Edge-sphere root with its first two t-derivatives (unit axis m, constant curvature kappa).
 fn root_j(w: JV, g: JV, m: vec3<f32>, kappa: f32) -> vec3<f32> {
-    let zero = vec3<f32>(0.0);
     let g2 = jv_dot(g, g);
     let w2 = jv_dot(w, w);
     let qa = kappa * g2;
     let qb = kappa * jv_dot(w, g) - jv_dot_c(g, m);
     let qc = kappa * w2 - 2.0 * jv_dot_c(w, m);
-    var disc = j_mul(qb, qb) - j_mul(qa, qc);
-    if (!(disc.x > 0.0)) {
-        disc = zero;
-    }
-    let sq = j_sqrt0(disc);
-    let q = select(-qb - sq, sq - qb, qb.x < 0.0);
-    let tol = EPS * 16.0;
     let kk = kappa * kappa;
     let c_scale = 2.0 * (kk * w2.x * w2.x + 4.0 * w2.x);
     let b_scale = 2.0 * (kk * w2.x * g2.x + g2.x);
-    if ((qc.x * qc.x <= tol * tol * c_scale && qb.x * qb.x <= tol * tol * b_scale) || q.x == 0.0) {
+    return quadratic_root(qa, qb, qc, vec2<f32>(c_scale, b_scale), true);
+}
+
+// The root nearest 0 of qa s² + 2 qb s + qc = 0 for `root_g` (G values, `jets` false) and
+// `root_j` (J values, `jets` true), as core/src/surface/sphere.rs nearest_root: s = qc / q with
+// the cancellation-free q = −qb ∓ √max(qb² − qa qc, 0); 0 at a double root (qc and qb within
+// 16 ε of their scales, `scales` = (c's, b's)), where q is 0, or where s is not finite.
+fn quadratic_root(qa: vec3<f32>, qb: vec3<f32>, qc: vec3<f32>, scales: vec2<f32>, jets: bool)
+    -> vec3<f32> {
+    let zero = vec3<f32>(0.0);
+    var disc: vec3<f32>;
+    if (jets) {
+        disc = j_mul(qb, qb) - j_mul(qa, qc);
+    } else {
+        disc = g_mul(qb, qb) - g_mul(qa, qc);
+    }
+    if (!(disc.x > 0.0)) {
+        disc = zero;
+    }
+    var sq: vec3<f32>;
+    if (jets) {
+        sq = j_sqrt0(disc);
+    } else {
+        sq = g_sqrt0(disc);
+    }
+    let q = select(-qb - sq, sq - qb, qb.x < 0.0);
+    let tol = EPS * 16.0;
+    let double_root = qc.x * qc.x <= tol * tol * scales.x && qb.x * qb.x <= tol * tol * scales.y;
+    if (double_root || q.x == 0.0) {
         return zero;
     }
-    let s = j_div(qc, q);
+    var s: vec3<f32>;
+    if (jets) {
+        s = j_div(qc, q);
+    } else {
+        s = g_div(qc, q);
+    }
     if (fin3(s)) {
         return s;
     }

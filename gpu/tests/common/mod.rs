@@ -80,3 +80,15 @@ pub fn random_rays(seed: u64, count: usize, target_radius: f64) -> Vec<Ray> {
         })
         .collect()
 }
+
+/// One output slot per ray of `rays`, each `slot` at first, filled by `query` (a batch query of
+/// a GPU scene over those rays, writing into the slots it is given); panics on its error.
+pub fn traced<T: Clone>(
+    rays: &[Ray],
+    slot: T,
+    query: impl FnOnce(&mut [T]) -> Result<(), GpuError>,
+) -> Vec<T> {
+    let mut out = vec![slot; rays.len()];
+    query(&mut out).expect("trace");
+    out
+}

@@ -8,7 +8,7 @@ use std::sync::Arc;
 use glam::DVec3;
 use smoothtri::Ray;
 use smoothtri_gpu::{Gpu, GpuScene};
-use smoothtri_host::Camera;
+use smoothtri_host::{Camera, ErrorStats, Traced, error_stats};
 use smoothtri_io::Mesh;
 
 use super::render::{check_outputs, check_size};
@@ -108,20 +108,10 @@ pub struct Row {
     pub gpu: bool,
     /// Iteration budget.
     pub iterations: usize,
-    /// Hits compared (both this run and the reference hit).
-    pub hits: usize,
-    /// Maximum hit-point error.
-    pub max: f64,
-    /// 99.9th percentile hit-point error.
-    pub p999: f64,
-    /// Mean hit-point error.
-    pub mean: f64,
-    /// Mean returned `t_error` (relative to the diagonal; rays have unit directions).
-    pub mean_t_error: f64,
-    /// Fraction of hits whose true `|t − t_ref|` is within the returned `t_error`.
-    pub bound_holds: f64,
-    /// Rays that hit in one run and miss in the other.
-    pub disagreements: usize,
+    /// The hit-point errors, `t_error`s, bound coverage and disagreements against the
+    /// reference ([`error_stats`]; rays have unit directions, so `mean_t_error` is relative to
+    /// the diagonal too).
+    pub stats: ErrorStats,
     /// Time per primary ray, nanoseconds (one thread; GPU rows: the whole batch's wall time,
     /// transfers included, per ray).
     pub ns_per_ray: f64,
@@ -156,13 +146,13 @@ impl Row {
         (
             self.label(),
             self.iterations,
-            self.hits,
-            self.max,
-            self.p999,
-            self.mean,
-            self.mean_t_error,
-            self.bound_holds,
-            self.disagreements,
+            self.stats.hits,
+            self.stats.max,
+            self.stats.p999,
+            self.stats.mean,
+            self.stats.mean_t_error,
+            self.stats.bound_holds,
+            self.stats.disagreements,
             self.ns_per_ray,
         )
     }
@@ -176,11 +166,8 @@ pub struct Study {
     pub rows: Vec<Row>,
 }
 
-#[derive(Clone, Copy)]
-struct Ref {
-    t: f64,
-    p: DVec3,
-}
+/// A reference hit: `(t, point)`.
+type Ref = (f64, DVec3);
 
 fn rays(cam: &Camera) -> Vec<(DVec3, DVec3)> {
     let mut v = Vec::with_capacity(cam.width as usize * cam.height as usize);
@@ -191,9 +178,6 @@ fn rays(cam: &Camera) -> Vec<(DVec3, DVec3)> {
     }
     v
 }
-
-/// `(t, point, t_error)` of one hit, widened to f64.
-type Traced = (f64, DVec3, f64);
 
 /// Traces all rays with budget `n` in precision `F`: per ray `Some((t, point, t_error))`, and
 /// the elapsed seconds.
@@ -216,14 +200,6 @@ fn trace_all<F: Prec>(
     Ok((out, start.elapsed().as_secs_f64()))
 }
 
-fn percentile(sorted: &[f64], q: f64) -> f64 {
-    if sorted.is_empty() {
-        return 0.0;
-    }
-    let k = ((q * sorted.len() as f64).ceil() as usize).clamp(1, sorted.len()) - 1;
-    sorted[k]
-}
-
 /// Traces all rays with budget `n` on the GPU scene `gs`: as [`trace_all`].
 fn trace_gpu(
     gs: &GpuScene,
@@ -236,10 +212,10 @@ fn trace_gpu(
         .collect();
     let mut hits = vec![None; batch.len()];
     // Compile the pipeline before the clock starts.
-    gs.closest_hit_with(n, &[], 0.0, f32::MAX, &mut [])
+    gs.closest_hit(&[], 0.0, f32::MAX, n, &mut [])
         .map_err(crate::gpu::gpu_error)?;
     let start = std::time::Instant::now();
-    gs.closest_hit_with(n, &batch, 0.0, f32::MAX, &mut hits)
+    gs.closest_hit(&batch, 0.0, f32::MAX, n, &mut hits)
         .map_err(crate::gpu::gpu_error)?;
     let secs = start.elapsed().as_secs_f64();
     let out = hits
@@ -270,37 +246,11 @@ fn row_of(
     n: usize,
     diag: f64,
 ) -> Row {
-    let mut errs = Vec::new();
-    let mut terr = 0.0;
-    let mut holds = 0usize;
-    let mut dis = 0usize;
-    for (r, q) in res.iter().zip(reference) {
-        match (r, q) {
-            (Some((t, p, te)), Some(q)) => {
-                errs.push((*p - q.p).length() / diag);
-                terr += te / diag;
-                if (t - q.t).abs() <= *te {
-                    holds += 1;
-                }
-            }
-            (None, None) => {}
-            _ => dis += 1,
-        }
-    }
-    let hits = errs.len();
-    let mean = errs.iter().sum::<f64>() / hits.max(1) as f64;
-    errs.sort_by(f64::total_cmp);
     Row {
         precision,
         gpu,
         iterations: n,
-        hits,
-        max: errs.last().copied().unwrap_or(0.0),
-        p999: percentile(&errs, 0.999),
-        mean,
-        mean_t_error: terr / hits.max(1) as f64,
-        bound_holds: holds as f64 / hits.max(1) as f64,
-        disagreements: dis,
+        stats: error_stats(res, reference, diag),
         ns_per_ray: secs * 1e9 / res.len().max(1) as f64,
     }
 }
@@ -325,7 +275,7 @@ pub fn sweep_with(mesh: &Mesh, cam: &Camera, gpu: Option<&Arc<Gpu>>) -> Result<S
     }
     let rays = rays(cam);
     let (rf, _) = trace_all(&s64, &rays, REFERENCE_N)?;
-    let reference: Vec<Option<Ref>> = rf.iter().map(|r| r.map(|(t, p, _)| Ref { t, p })).collect();
+    let reference: Vec<Option<Ref>> = rf.iter().map(|r| r.map(|(t, p, _)| (t, p))).collect();
     let gs = match gpu {
         Some(g) => Some(GpuScene::smooth(g, &s32.bvh()).map_err(crate::gpu::gpu_error)?),
         None => None,
@@ -407,7 +357,7 @@ impl Study {
     pub fn plot(&self, path: &str, name: &str) -> Result<()> {
         use plotters::prelude::*;
         let floor = 1e-17;
-        let ymax = self.rows.iter().map(|r| r.max).fold(1e-3, f64::max) * 3.0;
+        let ymax = self.rows.iter().map(|r| r.stats.max).fold(1e-3, f64::max) * 3.0;
         let mut svg = String::new();
         {
             let root = SVGBackend::with_string(&mut svg, (720, 480)).into_drawing_area();
@@ -447,7 +397,7 @@ impl Study {
                     .iter()
                     .filter(|r| r.precision == prec && r.gpu == gpu)
                     .map(|r| {
-                        let v = if p999 { r.p999 } else { r.max };
+                        let v = if p999 { r.stats.p999 } else { r.stats.max };
                         (r.iterations as f64, v.max(floor))
                     })
                     .collect();
