@@ -156,12 +156,15 @@ pub unsafe extern "C" fn st_scene_build(
     iterations: u32,
     scene: *mut *mut st_scene,
 ) -> st_status {
-    let input = store::Input {
+    let vertices = store::VertexInput {
         positions,
         position_stride,
         normals,
         normal_stride,
         vertex_count,
+    };
+    let input = store::Input {
+        vertices,
         indices,
         triangle_count,
         flags,
@@ -191,12 +194,15 @@ pub unsafe extern "C" fn st_scene_build_f64(
     iterations: u32,
     scene: *mut *mut st_scene_f64,
 ) -> st_status {
-    let input = store::Input {
+    let vertices = store::VertexInput {
         positions,
         position_stride,
         normals,
         normal_stride,
         vertex_count,
+    };
+    let input = store::Input {
+        vertices,
         indices,
         triangle_count,
         flags,

@@ -205,28 +205,12 @@ pub(crate) unsafe fn required_bytes<F: Prec>(
 
 /// The arguments of `st_scene_build` that describe the mesh.
 pub(crate) struct Input<T> {
-    pub(crate) positions: *const T,
-    pub(crate) position_stride: usize,
-    pub(crate) normals: *const T,
-    pub(crate) normal_stride: usize,
-    pub(crate) vertex_count: usize,
+    /// The vertex arguments, as `st_scene_update` takes them too.
+    pub(crate) vertices: VertexInput<T>,
     pub(crate) indices: *const u32,
     pub(crate) triangle_count: usize,
     pub(crate) flags: u32,
     pub(crate) iterations: u32,
-}
-
-impl<T> Input<T> {
-    /// The vertex arguments, as `st_scene_update` takes them too.
-    fn vertices(&self) -> VertexInput<T> {
-        VertexInput {
-            positions: self.positions,
-            position_stride: self.position_stride,
-            normals: self.normals,
-            normal_stride: self.normal_stride,
-            vertex_count: self.vertex_count,
-        }
-    }
 }
 
 /// A bump allocator over the caller's memory: hands out aligned, initialised, disjoint parts.
@@ -350,7 +334,8 @@ pub(crate) unsafe fn build_into<F: Prec>(
     input: &Input<F>,
     out: *mut *mut Stored<F>,
 ) -> st_status {
-    let (vertices, vc, tc) = (input.vertices(), input.vertex_count, input.triangle_count);
+    let (vertices, tc) = (&input.vertices, input.triangle_count);
+    let vc = vertices.vertex_count;
     if memory.is_null()
         || out.is_null()
         || vertices.any_null()

@@ -19,7 +19,7 @@ mod common;
 use std::path::PathBuf;
 
 use glam::{DVec3, Vec3};
-use smoothtri::{BuildOptions, LineField, OwnedScene, Ray, SceneHit, Vertices};
+use smoothtri::{BuildOptions, BuildReport, Float, LineField, OwnedScene, Ray, SceneHit, Vertices};
 
 /// The C program `tests/c/{name}.c`, compiled once per run of this file for each build (plain
 /// for native and valgrind runs, with the sanitizers): the tests that run one program share it
@@ -128,6 +128,25 @@ fn printed64(h: &SceneHit<f64>) -> Vec<u64> {
     out
 }
 
+/// The scene of `indices` over packed `positions` and `normals` (x, y, z each), built with
+/// `options` as the C program built it, and its build report.
+fn build_packed<F: Float>(
+    positions: &[F],
+    normals: &[F],
+    indices: &[[u32; 3]],
+    mut options: BuildOptions,
+) -> (OwnedScene<F>, BuildReport) {
+    let s = OwnedScene::<F>::build(
+        Vertices::packed(positions),
+        Vertices::packed(normals),
+        indices,
+        &mut options,
+    )
+    .unwrap();
+    let report = *s.scene().report();
+    (s, report)
+}
+
 fn check_scene_test(flags: u32, iterations: u32, rays: usize, memcheck: bool) {
     let args = [flags, iterations, rays as u32].map(|x| x.to_string());
     let args: Vec<&str> = args.iter().map(String::as_str).collect();
@@ -170,28 +189,13 @@ fn check_scene_test(flags: u32, iterations: u32, rays: usize, memcheck: bool) {
                     // The C program rounded its double buffer to float; so does this.
                     let p: Vec<f32> = mesh.positions.iter().map(|&x| x as f32).collect();
                     let n: Vec<f32> = mesh.normals.iter().map(|&x| x as f32).collect();
-                    let s = OwnedScene::<f32>::build(
-                        Vertices::packed(&p),
-                        Vertices::packed(&n),
-                        &mesh.indices,
-                        &mut { options },
-                    )
-                    .unwrap();
-                    let r = *s.scene().report();
-                    scene32 = Some(s);
-                    scene64 = None;
+                    let (s, r) = build_packed(&p, &n, &mesh.indices, options);
+                    (scene32, scene64) = (Some(s), None);
                     r
                 } else {
-                    let s = OwnedScene::<f64>::build(
-                        Vertices::packed(&mesh.positions),
-                        Vertices::packed(&mesh.normals),
-                        &mesh.indices,
-                        &mut { options },
-                    )
-                    .unwrap();
-                    let r = *s.scene().report();
-                    scene64 = Some(s);
-                    scene32 = None;
+                    let (s, r) =
+                        build_packed(&mesh.positions, &mesh.normals, &mesh.indices, options);
+                    (scene32, scene64) = (None, Some(s));
                     r
                 };
                 assert_eq!(
@@ -268,28 +272,27 @@ fn st_get_isa_names_the_kernels_smoothtri_isa_an_environment_override_chooses() 
     assert_eq!(smoothtri_isa::kernels(), want);
 }
 
-#[test]
-fn c_hits_equal_the_rust_api_with_seams() {
-    check_scene_test(1, 8, 8, true);
-    check_scene_test(1, 8, 192, false);
+/// One test per list of `check_scene_test` cases (`flags, iterations, rays, memcheck`): the C
+/// program's hits equal the Rust API's for each.
+macro_rules! scene_tests {
+    ($($(#[doc = $doc:literal])* $name:ident: [$($case:expr),+ $(,)?];)+) => {$(
+        $(#[doc = $doc])*
+        #[test]
+        fn $name() {
+            for (flags, iterations, rays, memcheck) in [$($case),+] {
+                check_scene_test(flags, iterations, rays, memcheck);
+            }
+        }
+    )+};
 }
 
-#[test]
-fn c_hits_equal_the_rust_api_without_seams_on_the_shared_field() {
-    check_scene_test(2, 16, 192, false);
-}
-
-#[test]
-fn c_hits_equal_the_rust_api_bracketing_only() {
-    check_scene_test(0, 0, 192, false);
-}
-
-#[test]
-fn c_hits_equal_the_rust_api_at_any_budget() {
-    // Budgets the C API took no instantiation of before `N` was a run-time value, and the
-    // largest.
-    check_scene_test(1, 3, 64, false);
-    check_scene_test(0, 64, 64, false);
+scene_tests! {
+    c_hits_equal_the_rust_api_with_seams: [(1, 8, 8, true), (1, 8, 192, false)];
+    c_hits_equal_the_rust_api_without_seams_on_the_shared_field: [(2, 16, 192, false)];
+    c_hits_equal_the_rust_api_bracketing_only: [(0, 0, 192, false)];
+    /// Budgets the C API took no instantiation of before `N` was a run-time value, and the
+    /// largest.
+    c_hits_equal_the_rust_api_at_any_budget: [(1, 3, 64, false), (0, 64, 64, false)];
 }
 
 /// The memory tools fail a run on the errors they exist for (so the runs above prove

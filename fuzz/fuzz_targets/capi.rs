@@ -16,6 +16,10 @@ use arbitrary::Arbitrary;
 use libfuzzer_sys::fuzz_target;
 use smoothtri_capi::*;
 
+#[path = "structured.rs"]
+mod structured;
+use structured::structured;
+
 #[derive(Arbitrary, Debug)]
 struct Input {
     /// Bit 0: f64 (else f32); bit 1: memory one byte short; bit 2: structured vertices.
@@ -53,196 +57,104 @@ const STATUSES: [st_status; 11] = [
     ST_ERROR_NOT_UPDATABLE,
 ];
 
-/// Maps a fuzzed vertex onto a small sphere-like cloud: finite positions, normals pointing
-/// outwards, so most triangles are accepted.
-fn structured(v: [f64; 6]) -> [f64; 6] {
-    let f = |x: f64| {
-        if x.is_finite() {
-            (x.abs().fract() - 0.5) * 2.0
-        } else {
-            0.25
-        }
-    };
-    let p = [f(v[0]), f(v[1]), f(v[2])];
-    let n = [
-        p[0] + 0.1 * f(v[3]),
-        p[1] + 0.1 * f(v[4]),
-        p[2] + 0.1 * f(v[5]) + 1e-3,
-    ];
-    [p[0], p[1], p[2], n[0], n[1], n[2]]
-}
+/// `st_scene_build`'s signature for scalars `T` and scenes `S`.
+type BuildFn<T, S> = unsafe extern "C" fn(
+    *mut core::ffi::c_void,
+    usize,
+    *const T,
+    usize,
+    *const T,
+    usize,
+    usize,
+    *const u32,
+    usize,
+    u32,
+    u32,
+    *mut *mut S,
+) -> st_status;
+
+/// `st_scene_update`'s signature for scalars `T` and scenes `S`.
+type UpdateFn<T, S> =
+    unsafe extern "C" fn(*mut S, *const T, usize, *const T, usize, usize) -> st_status;
+
+/// `st_scene_get_info`'s signature for scenes `S`.
+type InfoFn<S> = unsafe extern "C" fn(*const S, *mut st_scene_info) -> st_status;
+
+/// `st_scene_required_bytes`'s signature.
+type RequiredFn = unsafe extern "C" fn(usize, usize, u32, *mut usize) -> st_status;
 
 /// One precision's entry points.
 trait Api: Copy + Default + PartialEq + core::fmt::Debug {
     type Scene;
+    /// `st_scene_required_bytes` (or its twin).
+    const REQUIRED: RequiredFn;
+    /// `st_scene_build` (or its twin).
+    const BUILD: BuildFn<Self, Self::Scene>;
+    /// `st_scene_update` (or its twin).
+    const UPDATE: UpdateFn<Self, Self::Scene>;
+    /// `st_scene_get_info` (or its twin).
+    const INFO: InfoFn<Self::Scene>;
     fn from_f64(x: f64) -> Self;
     fn finite(self) -> bool;
-    fn required(vc: usize, tc: usize, flags: u32, bytes: &mut usize) -> st_status;
-    #[allow(clippy::too_many_arguments)]
-    unsafe fn build(
-        memory: *mut u8,
-        bytes: usize,
-        p: *const Self,
-        ps: usize,
-        n: *const Self,
-        ns: usize,
-        vc: usize,
-        idx: *const u32,
-        tc: usize,
-        flags: u32,
-        it: u32,
-        out: *mut *mut Self::Scene,
-    ) -> st_status;
-    unsafe fn update(
-        s: *mut Self::Scene,
-        p: *const Self,
-        ps: usize,
-        n: *const Self,
-        ns: usize,
-        vc: usize,
-    ) -> st_status;
-    unsafe fn info(s: *const Self::Scene, info: *mut st_scene_info) -> st_status;
     /// `(tfar, t_error, prim_id)` of the ray's closest hit, `None` for a miss.
     unsafe fn trace(s: *const Self::Scene, ray: [f32; 6]) -> Option<(Self, Self, u32)>;
 }
 
-impl Api for f32 {
-    type Scene = st_scene;
-    fn from_f64(x: f64) -> Self {
-        x as f32
-    }
-    fn finite(self) -> bool {
-        self.is_finite()
-    }
-    fn required(vc: usize, tc: usize, flags: u32, bytes: &mut usize) -> st_status {
-        unsafe { st_scene_required_bytes(vc, tc, flags, bytes) }
-    }
-    unsafe fn build(
-        memory: *mut u8,
-        bytes: usize,
-        p: *const f32,
-        ps: usize,
-        n: *const f32,
-        ns: usize,
-        vc: usize,
-        idx: *const u32,
-        tc: usize,
-        flags: u32,
-        it: u32,
-        out: *mut *mut st_scene,
-    ) -> st_status {
-        unsafe {
-            st_scene_build(
-                memory.cast(),
-                bytes,
-                p,
-                ps,
-                n,
-                ns,
-                vc,
-                idx,
-                tc,
-                flags,
-                it,
-                out,
-            )
+/// [`Api`] for one precision: its scene and ray-hit types and its `st_*` entry points.
+macro_rules! api {
+    ($f:ty, $scene:ty, $rayhit:ty, $required:ident, $build:ident, $update:ident, $info:ident, $intersect:ident) => {
+        impl Api for $f {
+            type Scene = $scene;
+            const REQUIRED: RequiredFn = $required;
+            const BUILD: BuildFn<$f, $scene> = $build;
+            const UPDATE: UpdateFn<$f, $scene> = $update;
+            const INFO: InfoFn<$scene> = $info;
+            fn from_f64(x: f64) -> Self {
+                x as $f
+            }
+            fn finite(self) -> bool {
+                self.is_finite()
+            }
+            unsafe fn trace(s: *const $scene, r: [f32; 6]) -> Option<($f, $f, u32)> {
+                let mut rh = <$rayhit>::default();
+                rh.ray.org_x = r[0].into();
+                rh.ray.org_y = r[1].into();
+                rh.ray.org_z = r[2].into();
+                rh.ray.dir_x = r[3].into();
+                rh.ray.dir_y = r[4].into();
+                rh.ray.dir_z = r[5].into();
+                rh.ray.tfar = <$f>::INFINITY;
+                unsafe { $intersect(s, &mut rh) };
+                (rh.hit.geom_id != ST_INVALID_ID).then_some((
+                    rh.ray.tfar,
+                    rh.hit.t_error,
+                    rh.hit.prim_id,
+                ))
+            }
         }
-    }
-    unsafe fn update(
-        s: *mut st_scene,
-        p: *const f32,
-        ps: usize,
-        n: *const f32,
-        ns: usize,
-        vc: usize,
-    ) -> st_status {
-        unsafe { st_scene_update(s, p, ps, n, ns, vc) }
-    }
-    unsafe fn info(s: *const st_scene, info: *mut st_scene_info) -> st_status {
-        unsafe { st_scene_get_info(s, info) }
-    }
-    unsafe fn trace(s: *const st_scene, r: [f32; 6]) -> Option<(f32, f32, u32)> {
-        let mut rh = st_rayhit::default();
-        rh.ray.org_x = r[0];
-        rh.ray.org_y = r[1];
-        rh.ray.org_z = r[2];
-        rh.ray.dir_x = r[3];
-        rh.ray.dir_y = r[4];
-        rh.ray.dir_z = r[5];
-        rh.ray.tfar = f32::INFINITY;
-        unsafe { st_intersect1(s, &mut rh) };
-        (rh.hit.geom_id != ST_INVALID_ID).then_some((rh.ray.tfar, rh.hit.t_error, rh.hit.prim_id))
-    }
+    };
 }
 
-impl Api for f64 {
-    type Scene = st_scene_f64;
-    fn from_f64(x: f64) -> Self {
-        x
-    }
-    fn finite(self) -> bool {
-        self.is_finite()
-    }
-    fn required(vc: usize, tc: usize, flags: u32, bytes: &mut usize) -> st_status {
-        unsafe { st_scene_required_bytes_f64(vc, tc, flags, bytes) }
-    }
-    unsafe fn build(
-        memory: *mut u8,
-        bytes: usize,
-        p: *const f64,
-        ps: usize,
-        n: *const f64,
-        ns: usize,
-        vc: usize,
-        idx: *const u32,
-        tc: usize,
-        flags: u32,
-        it: u32,
-        out: *mut *mut st_scene_f64,
-    ) -> st_status {
-        unsafe {
-            st_scene_build_f64(
-                memory.cast(),
-                bytes,
-                p,
-                ps,
-                n,
-                ns,
-                vc,
-                idx,
-                tc,
-                flags,
-                it,
-                out,
-            )
-        }
-    }
-    unsafe fn update(
-        s: *mut st_scene_f64,
-        p: *const f64,
-        ps: usize,
-        n: *const f64,
-        ns: usize,
-        vc: usize,
-    ) -> st_status {
-        unsafe { st_scene_update_f64(s, p, ps, n, ns, vc) }
-    }
-    unsafe fn info(s: *const st_scene_f64, info: *mut st_scene_info) -> st_status {
-        unsafe { st_scene_get_info_f64(s, info) }
-    }
-    unsafe fn trace(s: *const st_scene_f64, r: [f32; 6]) -> Option<(f64, f64, u32)> {
-        let mut rh = st_rayhit_f64::default();
-        rh.ray.org_x = r[0].into();
-        rh.ray.org_y = r[1].into();
-        rh.ray.org_z = r[2].into();
-        rh.ray.dir_x = r[3].into();
-        rh.ray.dir_y = r[4].into();
-        rh.ray.dir_z = r[5].into();
-        rh.ray.tfar = f64::INFINITY;
-        unsafe { st_intersect1_f64(s, &mut rh) };
-        (rh.hit.geom_id != ST_INVALID_ID).then_some((rh.ray.tfar, rh.hit.t_error, rh.hit.prim_id))
-    }
-}
+api!(
+    f32,
+    st_scene,
+    st_rayhit,
+    st_scene_required_bytes,
+    st_scene_build,
+    st_scene_update,
+    st_scene_get_info,
+    st_intersect1
+);
+api!(
+    f64,
+    st_scene_f64,
+    st_rayhit_f64,
+    st_scene_required_bytes_f64,
+    st_scene_build_f64,
+    st_scene_update_f64,
+    st_scene_get_info_f64,
+    st_intersect1_f64
+);
 
 /// A vertex buffer laid out at byte strides `strides` (each rounded up to hold a vertex), as
 /// long as `count` vertices at those strides need: `(buffer, position stride, normal stride)`
@@ -304,7 +216,7 @@ fn run<T: Api>(inp: &Input) {
     let flags = inp.flags & 0xF;
     let iterations = [0, 1, 2, 4, 8, 16, 3, 32][usize::from(inp.iterations % 8)];
     let mut bytes = 0usize;
-    check_status(T::required(vc, tc, flags, &mut bytes));
+    check_status(unsafe { (T::REQUIRED)(vc, tc, flags, &mut bytes) });
     if bytes == 0 || bytes > 1 << 24 {
         return;
     }
@@ -315,8 +227,8 @@ fn run<T: Api>(inp: &Input) {
     let normals = buf.as_ptr().wrapping_add(3);
     let mut scene: *mut T::Scene = core::ptr::null_mut();
     let s = unsafe {
-        T::build(
-            memory.as_mut_ptr(),
+        (T::BUILD)(
+            memory.as_mut_ptr().cast(),
             len,
             buf.as_ptr(),
             ps,
@@ -336,7 +248,7 @@ fn run<T: Api>(inp: &Input) {
         return;
     }
     let mut info = st_scene_info::default();
-    assert_eq!(unsafe { T::info(scene, &mut info) }, ST_OK);
+    assert_eq!(unsafe { (T::INFO)(scene, &mut info) }, ST_OK);
     assert_eq!(info.triangle_count, tc);
     assert!(info.bytes_used <= len);
     let rays = &inp.rays[..inp.rays.len().min(8)];
@@ -349,7 +261,7 @@ fn run<T: Api>(inp: &Input) {
         };
         let (ubuf, ups, uns) = layout::<T>(&u.vertices, count, u.strides, structured_input);
         let s = unsafe {
-            T::update(
+            (T::UPDATE)(
                 scene,
                 ubuf.as_ptr(),
                 ups,
@@ -365,7 +277,7 @@ fn run<T: Api>(inp: &Input) {
         let after = answers::<T>(scene, rays);
         if s == ST_OK {
             let mut info = st_scene_info::default();
-            assert_eq!(unsafe { T::info(scene, &mut info) }, ST_OK);
+            assert_eq!(unsafe { (T::INFO)(scene, &mut info) }, ST_OK);
             assert_eq!(info.triangle_count, tc);
             before = after;
         } else {

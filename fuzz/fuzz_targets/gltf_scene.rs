@@ -2,7 +2,7 @@
 //! arbitrary node graphs. The fuzzer chooses up to 8 nodes (a mesh or none, children by index,
 //! cycles and shared children included, a TRS or matrix transform from raw floats), the scenes
 //! and the default scene, and each of two meshes' primitive mode and whether it is indexed;
-//! the buffer (a cube with normals, u32 indices) is fixed and valid. Random bytes rarely get
+//! the buffer (the host's cube with normals, u32 indices) is fixed and valid. Random bytes rarely get
 //! this far, so the `glb` target does not reach the walk.
 //!
 //! Asserts: loading gives a mesh or a typed error, never a panic; an accepted mesh has finite
@@ -12,6 +12,9 @@
 use arbitrary::Arbitrary;
 use libfuzzer_sys::fuzz_target;
 use smoothtri_io::{glb, gltf};
+
+#[path = "mesh_checks.rs"]
+mod mesh_checks;
 
 #[derive(Arbitrary, Debug)]
 struct Node {
@@ -41,26 +44,17 @@ fn num(x: f32) -> String {
 }
 
 fuzz_target!(|inp: Input| {
-    // The cube: 8 positions, 8 normals, 36 u32 indices.
+    // The cube of `smoothtri_host::scenes::cube`: 8 positions, 8 normals (as f32), 36 u32
+    // indices.
+    let cube = smoothtri_host::scenes::cube();
     let mut bin = Vec::new();
-    for k in 0..16u32 {
-        let v = k % 8;
-        for bit in [1, 2, 4] {
-            let c: f32 = if v & bit != 0 { 1.0 } else { -1.0 };
-            bin.extend(if k < 8 { c } else { c / 3f32.sqrt() }.to_le_bytes());
+    for v in cube.positions.iter().chain(&cube.normals) {
+        for c in v.to_array() {
+            bin.extend((c as f32).to_le_bytes());
         }
     }
-    for q in [
-        [0, 2, 3, 1],
-        [4, 5, 7, 6],
-        [0, 1, 5, 4],
-        [2, 6, 7, 3],
-        [0, 4, 6, 2],
-        [1, 3, 7, 5],
-    ] {
-        for i in [q[0], q[1], q[2], q[0], q[2], q[3]] {
-            bin.extend((i as u32).to_le_bytes());
-        }
+    for i in cube.triangles.iter().flatten() {
+        bin.extend(i.to_le_bytes());
     }
     let n = inp.nodes.len().min(8);
     let nodes: Vec<String> = inp.nodes[..n]
@@ -143,19 +137,6 @@ fuzz_target!(|inp: Input| {
     );
     let bytes = glb::build(json.as_bytes(), Some(&bin));
     if let Ok(m) = gltf::parse(&bytes, "/nonexistent-smoothtri-fuzz/scene.glb") {
-        let mesh = &m.mesh;
-        assert!(
-            mesh.positions.iter().all(|p| p.is_finite()),
-            "non-finite position"
-        );
-        assert!(
-            mesh.normals.iter().all(|p| p.is_finite()),
-            "non-finite normal"
-        );
-        let nv = mesh.positions.len() as u32;
-        assert!(
-            mesh.triangles.iter().flatten().all(|&i| i < nv),
-            "index out of range"
-        );
+        mesh_checks::assert_well_formed(&m.mesh);
     }
 });

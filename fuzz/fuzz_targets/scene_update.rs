@@ -17,6 +17,9 @@ use glam::DVec3;
 use libfuzzer_sys::fuzz_target;
 use smoothtri::{BuildOptions, Float, LineField, OwnedScene, Ray, SceneHit, Vertices};
 
+#[path = "structured.rs"]
+mod structured;
+
 #[derive(Arbitrary, Debug)]
 struct Input {
     /// Bit 0: f64 (else f32); bit 1: shared line field; bit 2: seams; bit 3: raw vertices.
@@ -40,22 +43,7 @@ fn vertex(v: [f64; 6], raw: bool) -> [f64; 6] {
     if raw {
         return v;
     }
-    let f = |x: f64| {
-        if x.is_finite() {
-            (x.abs().fract() - 0.5) * 2.0
-        } else {
-            0.25
-        }
-    };
-    let p = [f(v[0]), f(v[1]), f(v[2])];
-    [
-        p[0],
-        p[1],
-        p[2],
-        p[0] + 0.1 * f(v[3]),
-        p[1] + 0.1 * f(v[4]),
-        p[2] + 0.1 * f(v[5]) + 1e-3,
-    ]
+    structured::structured(v)
 }
 
 fn split(vs: &[[f64; 6]]) -> (Vec<f64>, Vec<f64>) {

@@ -18,6 +18,9 @@ use smoothtri::{Float, LineField};
 use smoothtri_host::tessellate::{Level, tessellate};
 use smoothtri_io::{FloatWidth, Mesh};
 
+#[path = "mesh_checks.rs"]
+mod mesh_checks;
+
 #[derive(Arbitrary, Debug)]
 struct Input {
     /// Bit 0: f32 (else f64); bit 1: raw coordinates (else bounded); bit 2: max-error levels.
@@ -80,19 +83,7 @@ fn check<F: Float>(m: &Mesh, level: Level, width: FloatWidth) {
     assert_eq!(out.positions.len(), out.normals.len());
     assert_eq!(out.triangles.len(), t.origins.len());
     assert_eq!(t.levels.len(), scene.patches().len());
-    assert!(
-        out.positions.iter().all(|p| p.is_finite()),
-        "non-finite position"
-    );
-    assert!(
-        out.normals.iter().all(|n| n.is_finite()),
-        "non-finite normal"
-    );
-    let nv = out.positions.len() as u32;
-    assert!(
-        out.triangles.iter().flatten().all(|&i| i < nv),
-        "index out of range"
-    );
+    mesh_checks::assert_well_formed(out);
     let grid: usize = t.levels.iter().map(|&l| (l * l) as usize).sum();
     match level {
         Level::Uniform(_) => assert_eq!(out.triangles.len(), grid),

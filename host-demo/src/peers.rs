@@ -18,14 +18,13 @@
 use std::fmt::Write as _;
 
 use glam::DVec3;
-use rayon::prelude::*;
 use smoothtri::Ray;
 use smoothtri_peers::torus::Torus;
 use smoothtri_peers::{Peer, PeerScene};
 
 use crate::error::{DemoError, Result};
 use crate::image::Image;
-use crate::renderer::{background, shade};
+use crate::renderer::{background, shade, trace_pixels};
 use crate::tracer::{Mode, Prec, Precision, Scene, smooth_tracer, tracer};
 use smoothtri_host::Camera;
 use smoothtri_io::Mesh;
@@ -301,57 +300,46 @@ pub fn render_study(
     let start = std::time::Instant::now();
     let light = cam.light_dir();
     let (w, h) = (cam.width, cam.height);
-    let rows: Vec<(Vec<u8>, Vec<Pixel>, u64)> = (0..h)
-        .into_par_iter()
-        .map(|y| {
-            let mut px = Vec::with_capacity(w as usize * 3);
-            let mut pixels = Vec::with_capacity(w as usize);
-            let mut rays = 0u64;
-            for x in 0..w {
-                let (o, d) = cam.pixel_ray(x, y);
+    let (data, pixels, rays) = trace_pixels(
+        cam,
+        |x, y| {
+            let (o, d) = cam.pixel_ray(x, y);
+            let mut rays = 1;
+            let Some(hit) = surface.closest_hit(o, d) else {
+                return (background(y, h), Pixel::default(), rays);
+            };
+            let flip = |n: DVec3| if n.dot(d) > 0.0 { -n } else { n };
+            let n = flip(hit.shading);
+            let mut lambert = n.dot(light).max(0.0);
+            let mut vis = 0.0;
+            if lambert > 0.0 {
                 rays += 1;
-                let Some(hit) = surface.closest_hit(o, d) else {
-                    px.extend_from_slice(&background(y, h));
-                    pixels.push(Pixel::default());
-                    continue;
-                };
-                let flip = |n: DVec3| if n.dot(d) > 0.0 { -n } else { n };
-                let n = flip(hit.shading);
-                let mut lambert = n.dot(light).max(0.0);
-                let mut vis = 0.0;
-                if lambert > 0.0 {
-                    rays += 1;
-                    let mut p = hit.point;
-                    if fix == Some(TerminatorFix::Hanika) {
-                        let t = mesh.triangles.get(hit.triangle as usize).copied();
-                        if let Some(t) = t {
-                            let tri = t.map(|i| mesh.positions[i as usize]);
-                            let nv = t.map(|i| mesh.normals[i as usize].normalize_or_zero());
-                            p = hanika_origin(p, hit.w, tri, nv);
-                        }
-                    }
-                    if fix == Some(TerminatorFix::Chiang) {
-                        lambert *= chiang_term(light, flip(hit.geometric), n);
-                    }
-                    if !surface.any_hit(p - d * eps, light, eps) {
-                        vis = 1.0;
+                let mut p = hit.point;
+                if fix == Some(TerminatorFix::Hanika) {
+                    let t = mesh.triangles.get(hit.triangle as usize).copied();
+                    if let Some(t) = t {
+                        let tri = t.map(|i| mesh.positions[i as usize]);
+                        let nv = t.map(|i| mesh.normals[i as usize].normalize_or_zero());
+                        p = hanika_origin(p, hit.w, tri, nv);
                     }
                 }
-                px.extend(shade(hit.front, lambert, vis));
-                pixels.push(Pixel {
-                    hit: true,
-                    lit: lambert > 0.0 && vis > 0.0,
-                    intensity: AMBIENT + (1.0 - AMBIENT) * lambert * vis,
-                    normal: n,
-                });
+                if fix == Some(TerminatorFix::Chiang) {
+                    lambert *= chiang_term(light, flip(hit.geometric), n);
+                }
+                if !surface.any_hit(p - d * eps, light, eps) {
+                    vis = 1.0;
+                }
             }
-            (px, pixels, rays)
-        })
-        .collect();
-    let rays = rows.iter().map(|r| r.2).sum();
-    let (data, pixels): (Vec<Vec<u8>>, Vec<Vec<Pixel>>) =
-        rows.into_iter().map(|(p, q, _)| (p, q)).unzip();
-    let (data, pixels) = (data.concat(), pixels.concat());
+            let pixel = Pixel {
+                hit: true,
+                lit: lambert > 0.0 && vis > 0.0,
+                intensity: AMBIENT + (1.0 - AMBIENT) * lambert * vis,
+                normal: n,
+            };
+            (shade(hit.front, lambert, vis), pixel, rays)
+        },
+        || {},
+    );
     Study {
         image: Image {
             width: w,

@@ -66,6 +66,43 @@ pub fn shade(front_face: bool, lambert: f64, vis: f64) -> [u8; 3] {
     albedo.map(|a| to_u8(a * s))
 }
 
+/// Traces every pixel of `cam`'s image, the rows in parallel: `pixel(x, y)` gives the colour
+/// of pixel `(x, y)` (`y` from the top), its record and the number of rays it cast; `row_done`
+/// runs after each row. Returns the RGB bytes and the records, both row by row from the top,
+/// and the total number of rays.
+pub(crate) fn trace_pixels<P: Send>(
+    cam: &Camera,
+    pixel: impl Fn(u32, u32) -> ([u8; 3], P, u64) + Sync,
+    row_done: impl Fn() + Sync,
+) -> (Vec<u8>, Vec<P>, u64) {
+    let (w, h) = (cam.width, cam.height);
+    let rows: Vec<(Vec<u8>, Vec<P>, u64)> = (0..h)
+        .into_par_iter()
+        .map(|y| {
+            let mut px = Vec::with_capacity(w as usize * 3);
+            let mut records = Vec::with_capacity(w as usize);
+            let mut rays = 0u64;
+            for x in 0..w {
+                let (rgb, record, r) = pixel(x, y);
+                px.extend(rgb);
+                records.push(record);
+                rays += r;
+            }
+            row_done();
+            (px, records, rays)
+        })
+        .collect();
+    let mut data = Vec::with_capacity(w as usize * h as usize * 3);
+    let mut records = Vec::with_capacity(w as usize * h as usize);
+    let mut rays = 0;
+    for (p, r, n) in rows {
+        data.extend(p);
+        records.extend(r);
+        rays += n;
+    }
+    (data, records, rays)
+}
+
 /// Renders `scene` through `cam` with `tracer`; `diag` is the scene's bounding-box diagonal
 /// (for ray offsets). Shows a progress bar on stderr when `progress` and stderr is a terminal.
 pub fn render<F: Prec>(
@@ -91,69 +128,53 @@ pub fn render<F: Prec>(
     } else {
         indicatif::ProgressBar::hidden()
     };
-    let rows: Vec<(Vec<u8>, Vec<PixelHit>, u64)> = (0..h)
-        .into_par_iter()
-        .map(|y| {
-            let mut px = Vec::with_capacity(w as usize * 3);
-            let mut hits = Vec::with_capacity(w as usize);
-            let mut rays = 0u64;
-            for x in 0..w {
-                let (o, d) = cam.pixel_ray(x, y);
-                let ray = Ray::<F>::new(F::from_dvec3(o), F::from_dvec3(d));
-                rays += 1;
-                // Smooth hits shade with the scene's choice of normal (seamless by default).
-                let shaded: Option<(Hit<F>, F::Vec3)> = if seamless {
-                    tracer.closest_shaded(&core, &ray, F::ZERO, F::MAX)
-                } else {
-                    tracer
-                        .closest_hit(&bvh, &ray, F::ZERO, F::MAX)
-                        .map(|hit| (hit, hit.normal))
-                };
-                let Some((hit, normal)) = shaded else {
-                    px.extend_from_slice(&background(y, h));
-                    hits.push(PixelHit::default());
-                    continue;
-                };
-                let p = F::to_dvec3(hit.point);
-                let mut n = F::to_dvec3(normal);
-                if n.dot(d) > 0.0 {
-                    n = -n;
-                }
-                let lambert = n.dot(light).max(0.0);
-                let mut vis = 0.0;
-                if lambert > 0.0 {
-                    rays += 1;
-                    let so = p - d * eps;
-                    let sray = Ray::<F>::new(F::from_dvec3(so), F::from_dvec3(light));
-                    if !tracer.any_hit(&bvh, &sray, F::from_f64(eps), F::MAX) {
-                        vis = 1.0;
-                    }
-                }
-                px.extend(shade(hit.front_face, lambert, vis));
-                hits.push(PixelHit {
-                    hit: true,
-                    point: p,
-                    t_error: hit.t_error.to_f64(),
-                    triangle: scene
-                        .tri_ids()
-                        .get(hit.patch as usize)
-                        .copied()
-                        .unwrap_or(u32::MAX),
-                });
+    let (data, hits, rays) = trace_pixels(
+        cam,
+        |x, y| {
+            let (o, d) = cam.pixel_ray(x, y);
+            let ray = Ray::<F>::new(F::from_dvec3(o), F::from_dvec3(d));
+            let mut rays = 1;
+            // Smooth hits shade with the scene's choice of normal (seamless by default).
+            let shaded: Option<(Hit<F>, F::Vec3)> = if seamless {
+                tracer.closest_shaded(&core, &ray, F::ZERO, F::MAX)
+            } else {
+                tracer
+                    .closest_hit(&bvh, &ray, F::ZERO, F::MAX)
+                    .map(|hit| (hit, hit.normal))
+            };
+            let Some((hit, normal)) = shaded else {
+                return (background(y, h), PixelHit::default(), rays);
+            };
+            let p = F::to_dvec3(hit.point);
+            let mut n = F::to_dvec3(normal);
+            if n.dot(d) > 0.0 {
+                n = -n;
             }
-            bar.inc(1);
-            (px, hits, rays)
-        })
-        .collect();
+            let lambert = n.dot(light).max(0.0);
+            let mut vis = 0.0;
+            if lambert > 0.0 {
+                rays += 1;
+                let so = p - d * eps;
+                let sray = Ray::<F>::new(F::from_dvec3(so), F::from_dvec3(light));
+                if !tracer.any_hit(&bvh, &sray, F::from_f64(eps), F::MAX) {
+                    vis = 1.0;
+                }
+            }
+            let record = PixelHit {
+                hit: true,
+                point: p,
+                t_error: hit.t_error.to_f64(),
+                triangle: scene
+                    .tri_ids()
+                    .get(hit.patch as usize)
+                    .copied()
+                    .unwrap_or(u32::MAX),
+            };
+            (shade(hit.front_face, lambert, vis), record, rays)
+        },
+        || bar.inc(1),
+    );
     bar.finish_and_clear();
-    let mut data = Vec::with_capacity(w as usize * h as usize * 3);
-    let mut hits = Vec::with_capacity(w as usize * h as usize);
-    let mut rays = 0;
-    for (p, hh, r) in rows {
-        data.extend(p);
-        hits.extend(hh);
-        rays += r;
-    }
     Rendered {
         image: Image {
             width: w,

@@ -264,40 +264,42 @@ pub trait Dispatch<F: Float> {
     fn any_hit_isa(&self, ray: &Ray<F>, t_min: F, t_max: F, n: usize) -> bool;
 }
 
-impl<F: Float> Dispatch<F> for Scene<'_, F> {
-    type Hit = SceneHit<F>;
-    #[inline]
-    fn closest_hit_isa(&self, ray: &Ray<F>, t_min: F, t_max: F, n: usize) -> Option<SceneHit<F>> {
-        kernels().scene_closest_hit(self, ray, t_min, t_max, n)
-    }
-    #[inline]
-    fn any_hit_isa(&self, ray: &Ray<F>, t_min: F, t_max: F, n: usize) -> bool {
-        kernels().scene_any_hit(self, ray, t_min, t_max, n)
-    }
+/// [`Dispatch`] for each queried type: its hit type and the [`Kernels`] queries that answer
+/// for it, each called on [`kernels`].
+macro_rules! dispatch {
+    ($($t:ty => $hit:ty: $closest:path, $any:path;)+) => {$(
+        impl<F: Float> Dispatch<F> for $t {
+            type Hit = $hit;
+            #[inline]
+            fn closest_hit_isa(&self, ray: &Ray<F>, t_min: F, t_max: F, n: usize) -> Option<$hit> {
+                $closest(kernels(), self, ray, t_min, t_max, n)
+            }
+            #[inline]
+            fn any_hit_isa(&self, ray: &Ray<F>, t_min: F, t_max: F, n: usize) -> bool {
+                $any(kernels(), self, ray, t_min, t_max, n)
+            }
+        }
+    )+};
 }
 
-impl<F: Float> Dispatch<F> for Bvh<'_, F> {
-    type Hit = Hit<F>;
-    #[inline]
-    fn closest_hit_isa(&self, ray: &Ray<F>, t_min: F, t_max: F, n: usize) -> Option<Hit<F>> {
-        kernels().bvh_closest_hit(self, ray, t_min, t_max, n)
-    }
-    #[inline]
-    fn any_hit_isa(&self, ray: &Ray<F>, t_min: F, t_max: F, n: usize) -> bool {
-        kernels().bvh_any_hit(self, ray, t_min, t_max, n)
-    }
+dispatch! {
+    Scene<'_, F> => SceneHit<F>: Kernels::scene_closest_hit, Kernels::scene_any_hit;
+    Bvh<'_, F> => Hit<F>: Kernels::bvh_closest_hit, Kernels::bvh_any_hit;
+    Patch<F> => Hit<F>: Kernels::patch_closest_hit, patch_any_hit;
 }
 
-impl<F: Float> Dispatch<F> for Patch<F> {
-    type Hit = Hit<F>;
-    #[inline]
-    fn closest_hit_isa(&self, ray: &Ray<F>, t_min: F, t_max: F, n: usize) -> Option<Hit<F>> {
-        kernels().patch_closest_hit(self, ray, t_min, t_max, n)
-    }
-    #[inline]
-    fn any_hit_isa(&self, ray: &Ray<F>, t_min: F, t_max: F, n: usize) -> bool {
-        self.closest_hit_isa(ray, t_min, t_max, n).is_some()
-    }
+/// Whether `patch` is hit in `[t_min, t_max]`: whether `k`'s closest-hit query of it hits (a
+/// patch has no any-hit kernel of its own).
+#[inline]
+fn patch_any_hit<F: Float>(
+    k: Kernels,
+    patch: &Patch<F>,
+    ray: &Ray<F>,
+    t_min: F,
+    t_max: F,
+    n: usize,
+) -> bool {
+    k.patch_closest_hit(patch, ray, t_min, t_max, n).is_some()
 }
 
 #[cfg(test)]

@@ -38,6 +38,78 @@ fn on_panic(_: &core::panic::PanicInfo) -> ! {
     unsafe { smoothtri_panic_path_survived() }
 }
 
+/// The upper half of the unit octahedron: its four corners on the equator, then its apex
+/// (the vertices of [`builder`] and [`dynamic`]).
+const UPPER_OCTAHEDRON: [[f64; 3]; 5] = [
+    [1.0, 0.0, 0.0],
+    [0.0, 1.0, 0.0],
+    [-1.0, 0.0, 0.0],
+    [0.0, -1.0, 0.0],
+    [0.0, 0.0, 1.0],
+];
+
+/// Triangles of the meshes [`builder`] and [`dynamic`] build (the triangle arrays of
+/// [`Arrays`]).
+const T: usize = 4;
+
+/// The arrays of a [`SceneStorage`] for [`T`] triangles (their ids, BVH order and corner
+/// indices, `3 T` shared edges, `3 T / 2` edge-work slots), `P` patches, `N` BVH nodes, `S`
+/// seams and `V` vertices (positions, normals, clamped normals and clamps: 0 where the build
+/// needs none).
+struct Arrays<F: Float, const P: usize, const N: usize, const S: usize, const V: usize> {
+    patches: [Patch<F>; P],
+    ids: [u32; T],
+    nodes: [BvhNode<F>; N],
+    order: [u32; T],
+    seams: [Seam<F>; S],
+    triangles: [[u32; 3]; T],
+    edges: [SharedEdge; 3 * T],
+    work: [EdgeWork<F>; 3 * T / 2],
+    /// Vertex positions, vertex normals and clamped normals.
+    vectors: [[F::Vec3; V]; 3],
+    clamps: [VertexClamp<F>; V],
+}
+
+impl<F: Float, const P: usize, const N: usize, const S: usize, const V: usize>
+    Arrays<F, P, N, S, V>
+{
+    /// Every array filled with defaults (zero vectors).
+    fn new() -> Self {
+        let zero = v::<F>(0.0, 0.0, 0.0);
+        Self {
+            patches: [Patch::default(); P],
+            ids: [0; T],
+            nodes: [BvhNode::default(); N],
+            order: [0; T],
+            seams: [Seam::default(); S],
+            triangles: [[0; 3]; T],
+            edges: [SharedEdge::default(); 3 * T],
+            work: [EdgeWork::default(); 3 * T / 2],
+            vectors: [[zero; V]; 3],
+            clamps: [VertexClamp::default(); V],
+        }
+    }
+
+    /// The storage of a build over these arrays.
+    fn storage(&mut self) -> SceneStorage<'_, F> {
+        let [positions, normals, clamped] = &mut self.vectors;
+        SceneStorage {
+            patches: &mut self.patches,
+            triangle_ids: &mut self.ids,
+            nodes: &mut self.nodes,
+            order: &mut self.order,
+            seams: &mut self.seams,
+            triangles: &mut self.triangles,
+            edges: &mut self.edges,
+            edge_work: &mut self.work,
+            vertex_positions: positions,
+            vertex_normals: normals,
+            clamped_normals: clamped,
+            vertex_clamps: &mut self.clamps,
+        }
+    }
+}
+
 /// A fixed-size `fmt::Write` sink (the `Display` impls are public functions too).
 struct Sink {
     buf: [u8; 128],
@@ -165,7 +237,8 @@ fn exercise<F: Float>() -> u32 {
     acc += fin::<F>(at) as u32;
     let (t0, t1) = (c::<F>(0.0), c::<F>(f64::INFINITY));
     let hit: Option<Hit<F>> = patch.closest_hit(&ray, t0, t1, 8);
-    let (hit2, stats): (_, KernelStats) = patch.closest_hit_stats::<DEFAULT_SAMPLES>(&ray, t0, t1, 5);
+    let (hit2, stats): (_, KernelStats) =
+        patch.closest_hit_stats::<DEFAULT_SAMPLES>(&ray, t0, t1, 5);
     let (hit3, _) = patch.closest_hit_stats::<0>(&ray, t0, t1, 0);
     let verts = patch.vertices();
     let mt = moller_trumbore(&verts, &ray, t0, t1);
@@ -294,7 +367,12 @@ fn seams<F: Float>(patches: &[Patch<F>], ray: &Ray<F>) -> u32 {
     acc += display_len(&black_box(MeshError::TooManyTriangles));
     // The pairing a port of the edge pass reads, and its errors.
     match shared_edges(&tris, black_box(9), &mut scratch) {
-        Ok(pairs) => acc += pairs.iter().map(|e| e.sides()[0] ^ e.sides()[1]).sum::<u32>(),
+        Ok(pairs) => {
+            acc += pairs
+                .iter()
+                .map(|e| e.sides()[0] ^ e.sides()[1])
+                .sum::<u32>()
+        }
         Err(e) => acc += display_len(&e),
     }
     if let Err(e) = shared_edges(&tris, 9, &mut scratch[..5]) {
@@ -394,17 +472,11 @@ fn vertex_clamps<F: Float>() -> u32 {
 /// report, and its errors (short storage, bad indices, bad layouts, nothing usable).
 fn builder<F: Float>() -> u32 {
     const V: usize = 6;
-    const T: usize = 4;
-    // An octahedron's upper half plus a degenerate triangle, interleaved position + normal.
+    // An octahedron's upper half plus a degenerate triangle (the apex again), interleaved
+    // position + normal.
     let mut buf = [0.0f64; 6 * V];
-    let corners = [
-        [1.0, 0.0, 0.0],
-        [0.0, 1.0, 0.0],
-        [-1.0, 0.0, 0.0],
-        [0.0, -1.0, 0.0],
-        [0.0, 0.0, 1.0],
-        [0.0, 0.0, 1.0],
-    ];
+    let apex = UPPER_OCTAHEDRON[4];
+    let corners = UPPER_OCTAHEDRON.iter().chain([&apex]);
     for (slot, p) in buf.chunks_exact_mut(6).zip(corners) {
         for (k, x) in p.iter().enumerate() {
             if let Some(s) = slot.get_mut(k) {
@@ -441,31 +513,8 @@ fn builder<F: Float>() -> u32 {
                 continue;
             };
             acc += sizes.bytes::<F>().map_or(0, |b| b as u32);
-            let mut patches = [Patch::<F>::default(); T];
-            let mut ids = [0u32; T];
-            let mut nodes = [BvhNode::<F>::default(); 2 * T - 1];
-            let mut order = [0u32; T];
-            let mut seam_store = [Seam::<F>::default(); T];
-            let mut triangles = [[0u32; 3]; T];
-            let mut edges = [SharedEdge::default(); 3 * T];
-            let mut work = [EdgeWork::<F>::default(); 3 * T / 2];
-            let zero = v::<F>(0.0, 0.0, 0.0);
-            let (mut vp, mut vn, mut vc) = ([zero; V], [zero; V], [zero; V]);
-            let mut clamps = [VertexClamp::<F>::default(); V];
-            let storage = SceneStorage {
-                patches: &mut patches,
-                triangle_ids: &mut ids,
-                nodes: &mut nodes,
-                order: &mut order,
-                seams: &mut seam_store,
-                triangles: &mut triangles,
-                edges: &mut edges,
-                edge_work: &mut work,
-                vertex_positions: &mut vp,
-                vertex_normals: &mut vn,
-                clamped_normals: &mut vc,
-                vertex_clamps: &mut clamps,
-            };
+            let mut arrays = Arrays::<F, T, { 2 * T - 1 }, T, V>::new();
+            let storage = arrays.storage();
             let mut rejected = 0u32;
             let mut observed = options.with_observer(OnRejected(|t: u32, e: PatchError| {
                 rejected += t + display_len(&e)
@@ -505,29 +554,10 @@ fn builder<F: Float>() -> u32 {
     }
     // Errors: an index out of range, nothing usable, no triangles, short storage.
     let mut options = BuildOptions::default();
-    let mut patches = [Patch::<F>::default(); 1];
-    let mut ids = [0u32; T];
-    let mut nodes = [BvhNode::<F>::default(); 2 * T - 1];
-    let mut order = [0u32; T];
-    let mut triangles = [[0u32; 3]; T];
-    let mut edges = [SharedEdge::default(); 3 * T];
-    let mut work = [EdgeWork::<F>::default(); 3 * T / 2];
+    let mut arrays = Arrays::<F, 1, { 2 * T - 1 }, 0, 0>::new();
     let bad: [&[[u32; 3]]; 4] = black_box([&[[0, 1, 9]], &[[4, 5, 4]], &[], &tris]);
     for tris in bad {
-        let storage = SceneStorage {
-            patches: &mut patches,
-            triangle_ids: &mut ids,
-            nodes: &mut nodes,
-            order: &mut order,
-            seams: &mut [],
-            triangles: &mut triangles,
-            edges: &mut edges,
-            edge_work: &mut work,
-            vertex_positions: &mut [],
-            vertex_normals: &mut [],
-            clamped_normals: &mut [],
-            vertex_clamps: &mut [],
-        };
+        let storage = arrays.storage();
         match Scene::<F>::build(pos, nrm, tris, &mut options, storage) {
             Ok(s) => acc += s.patches().len() as u32,
             Err(e) => acc += display_len(&e),
@@ -542,14 +572,7 @@ fn builder<F: Float>() -> u32 {
 /// other options).
 fn dynamic<F: Float>() -> u32 {
     const V: usize = 5;
-    const T: usize = 4;
-    let p = [
-        [1.0f64, 0.0, 0.0],
-        [0.0, 1.0, 0.0],
-        [-1.0, 0.0, 0.0],
-        [0.0, -1.0, 0.0],
-        [0.0, 0.0, 1.0],
-    ];
+    let p = UPPER_OCTAHEDRON;
     let flat = |q: [[f64; 3]; V]| {
         let mut out = [0.0f64; 3 * V];
         for (o, x) in out.iter_mut().zip(q.iter().flatten()) {
@@ -568,28 +591,8 @@ fn dynamic<F: Float>() -> u32 {
         seams: black_box(true),
         ..BuildOptions::default()
     };
-    let mut patches = [Patch::<F>::default(); T];
-    let mut ids = [0u32; T];
-    let mut nodes = [BvhNode::<F>::default(); T];
-    let mut order = [0u32; T];
-    let mut seams = [Seam::<F>::default(); T];
-    let mut triangles = [[0u32; 3]; T];
-    let mut edges = [SharedEdge::default(); 3 * T];
-    let mut work = [EdgeWork::<F>::default(); 3 * T / 2];
-    let storage = SceneStorage {
-        patches: &mut patches,
-        triangle_ids: &mut ids,
-        nodes: &mut nodes,
-        order: &mut order,
-        seams: &mut seams,
-        triangles: &mut triangles,
-        edges: &mut edges,
-        edge_work: &mut work,
-        vertex_positions: &mut [],
-        vertex_normals: &mut [],
-        clamped_normals: &mut [],
-        vertex_clamps: &mut [],
-    };
+    let mut arrays = Arrays::<F, T, T, T, 0>::new();
+    let storage = arrays.storage();
     let pk = Vertices::packed;
     let mut acc = 0;
     let mut scene = match DynamicScene::<F>::build(pk(&pos), pk(&pos), &tris, &mut options, storage)

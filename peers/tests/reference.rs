@@ -52,6 +52,17 @@ fn random_triangle(rng: &mut Rng, max_deg: f64) -> ([DVec3; 3], [DVec3; 3]) {
     }
 }
 
+/// `count` triangles of [`random_triangle`] (normals within `max_deg` of the face normal) from
+/// the generator seeded with `seed`.
+fn random_triangles(
+    seed: u64,
+    count: usize,
+    max_deg: f64,
+) -> impl Iterator<Item = ([DVec3; 3], [DVec3; 3])> {
+    let mut rng = Rng(seed);
+    (0..count).map(move |_| random_triangle(&mut rng, max_deg))
+}
+
 /// Phong tessellation straight from the paper's definition.
 fn phong_reference(p: [DVec3; 3], n: [DVec3; 3], alpha: f64, w1: f64, w2: f64) -> DVec3 {
     let w = [1.0 - w1 - w2, w1, w2];
@@ -75,6 +86,12 @@ fn nagata_reference(p: [DVec3; 3], n: [DVec3; 3], eta: f64, zeta: f64) -> DVec3 
 
 fn patch64(peer: Peer, p: [DVec3; 3], n: [DVec3; 3]) -> QuadPatch<f64> {
     peer.patch::<f64>(p, n).unwrap()
+}
+
+/// The patch of `peer` in `f32`, on the triangle rounded to `f32`.
+fn patch32(peer: Peer, p: [DVec3; 3], n: [DVec3; 3]) -> QuadPatch<f32> {
+    peer.patch::<f32>(p.map(|v| v.as_vec3()), n.map(|v| v.as_vec3()))
+        .unwrap()
 }
 
 const PEERS: [Peer; 3] = [
@@ -119,9 +136,7 @@ fn patches_equal_their_definitions() {
 /// equal to the face normal both peers are the flat triangle.
 #[test]
 fn vertices_tangents_and_flat_triangles() {
-    let mut rng = Rng(2);
-    for _ in 0..200 {
-        let (p, n) = random_triangle(&mut rng, 40.0);
+    for (p, n) in random_triangles(2, 200, 40.0) {
         for peer in PEERS {
             let q = patch64(peer, p, n);
             for (k, (w1, w2)) in [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0)].into_iter().enumerate() {
@@ -169,14 +184,10 @@ fn nagata_degenerate_normal_pairs() {
 /// The analytic box contains the patch: dense sampling (f32 and f64 evaluation).
 #[test]
 fn bounds_contain_dense_samples() {
-    let mut rng = Rng(3);
-    for _ in 0..150 {
-        let (p, n) = random_triangle(&mut rng, 60.0);
+    for (p, n) in random_triangles(3, 150, 60.0) {
         for peer in PEERS {
             let q64 = patch64(peer, p, n);
-            let q32 = peer
-                .patch::<f32>(p.map(|v| v.as_vec3()), n.map(|v| v.as_vec3()))
-                .unwrap();
+            let q32 = patch32(peer, p, n);
             let (b64, b32) = (q64.bounds(), q32.bounds());
             let k = 40;
             for i in 0..=k {
@@ -241,19 +252,18 @@ fn reference_hit(q: &QuadPatch<f64>, o: DVec3, d: DVec3) -> Option<(f64, f64, f6
 /// root, a wrong root (not the nearest) or an inaccurate `t`.
 #[test]
 fn solver_equals_reference() {
+    const TRIANGLES: usize = 60;
+    const RAYS_PER_PATCH: usize = 12;
     let mut rng = Rng(4);
-    let (mut hits, mut rays) = (0, 0);
-    for _ in 0..60 {
+    let mut hits = 0;
+    for _ in 0..TRIANGLES {
         let (p, n) = random_triangle(&mut rng, 45.0);
         for peer in PEERS {
             let q = patch64(peer, p, n);
-            let q32 = peer
-                .patch::<f32>(p.map(|v| v.as_vec3()), n.map(|v| v.as_vec3()))
-                .unwrap();
+            let q32 = patch32(peer, p, n);
             let c = (p[0] + p[1] + p[2]) / 3.0;
             let size = (q.bounds().max() - q.bounds().min()).length();
-            for _ in 0..12 {
-                rays += 1;
+            for _ in 0..RAYS_PER_PATCH {
                 let target = c + rng.unit() * size * 0.6 * rng.f();
                 let o = target + rng.unit() * 3.0 * size;
                 let d = (target - o) * (0.5 + rng.f());
@@ -290,6 +300,7 @@ fn solver_equals_reference() {
             }
         }
     }
+    let rays = TRIANGLES * PEERS.len() * RAYS_PER_PATCH;
     assert!(hits > rays / 5, "{hits} of {rays}");
 }
 
@@ -310,9 +321,7 @@ fn rim(q: &QuadPatch<f64>, o: DVec3, d: DVec3) -> bool {
 /// barycentrics; rays from the far side of a patch pointing away: miss.
 #[test]
 fn vertices_edges_and_misses() {
-    let mut rng = Rng(5);
-    for _ in 0..100 {
-        let (p, n) = random_triangle(&mut rng, 35.0);
+    for (p, n) in random_triangles(5, 100, 35.0) {
         for peer in PEERS {
             let q = patch64(peer, p, n);
             for (k, (w1, w2)) in [
@@ -405,29 +414,12 @@ fn grazing_rays_and_double_roots() {
 /// point lies on its patch.
 #[test]
 fn shared_edges_are_watertight() {
-    let (nu, nv, big_r, r) = (8, 8, 1.0, 0.4);
-    let mut pos = Vec::new();
-    let mut nrm = Vec::new();
-    for i in 0..nu {
-        for j in 0..nv {
-            let u = i as f64 / nu as f64 * std::f64::consts::TAU;
-            let v = j as f64 / nv as f64 * std::f64::consts::TAU;
-            let n = DVec3::new(v.cos() * u.cos(), v.cos() * u.sin(), v.sin());
-            pos.push(DVec3::new(big_r * u.cos(), big_r * u.sin(), 0.0) + n * r);
-            nrm.push(n);
-        }
-    }
-    let id = |i: usize, j: usize| ((i % nu) * nv + (j % nv)) as u32;
-    let mut tris = Vec::new();
-    for i in 0..nu {
-        for j in 0..nv {
-            tris.push([id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
-            tris.push([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
-        }
-    }
+    // The 8 × 8 torus of major radius 1 and minor radius 0.4 of the built-in scenes.
+    let torus = smoothtri_host::scenes::torus(8, 8, 1.0, 0.4);
+    let (pos, nrm, tris) = (&torus.positions, &torus.normals, &torus.triangles);
     for peer in PEERS {
-        let s64 = PeerScene::<f64>::build(peer, &pos, &nrm, &tris).unwrap();
-        let s32 = PeerScene::<f32>::build(peer, &pos, &nrm, &tris).unwrap();
+        let s64 = PeerScene::<f64>::build(peer, pos, nrm, tris).unwrap();
+        let s32 = PeerScene::<f32>::build(peer, pos, nrm, tris).unwrap();
         let (t64, t32) = (s64.tracer().unwrap(), s32.tracer().unwrap());
         let mut rng = Rng(6);
         for (k, tri) in tris.iter().enumerate() {

@@ -253,8 +253,8 @@ pub(crate) fn check_outputs(
     )
 }
 
-/// Refuses a `--width` or `--height` outside `1..=max` (a usage error); `render`, `view` and
-/// `precision` check their sizes with it.
+/// Refuses a `--width` or `--height` outside `1..=max` (a usage error); `render`, `view`,
+/// `precision` and `tessellate` check their sizes with it.
 pub(crate) fn check_size(width: u32, height: u32, max: u32) -> Result<()> {
     if width == 0 || height == 0 || width > max || height > max {
         return Err(DemoError::Usage(format!(

@@ -7,6 +7,7 @@ use std::fmt::Write as _;
 use smoothtri_host::Camera;
 use smoothtri_io::Mesh;
 
+use super::render::{check_outputs, check_size};
 use super::source::MeshSource;
 use crate::error::{DemoError, Result};
 use crate::output::Format;
@@ -70,19 +71,15 @@ fn check(a: &TessellateOptions) -> Result<()> {
     }
     if a.picture.is_some() {
         let (w, h) = a.size;
-        if w == 0 || h == 0 || w > 16384 || h > 16384 {
-            return Err(DemoError::Usage(
-                "--width and --height must be in 1..=16384".into(),
-            ));
-        }
+        check_size(w, h, 16384)?;
     }
     // The output format is chosen by extension; neither output may be the input or the other.
-    crate::output::check(
-        &crate::output::inputs(&[("--mesh", a.source.mesh.as_deref())]),
-        &crate::output::outputs(&[
+    check_outputs(
+        &a.source,
+        &[
             ("--out", Some(a.out.as_str()), Format::Mesh),
             ("--picture", a.picture.as_deref(), Format::Png),
-        ]),
+        ],
     )
 }
 

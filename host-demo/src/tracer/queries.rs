@@ -13,7 +13,11 @@ pub trait Tracer<F: Float>: Sync {
     /// scene's seams, [`Scene::shading_normal`](crate::tracer::Scene::shading_normal));
     /// `false` for the flat baselines.
     fn smooth(&self) -> bool {
-        false
+        self.smooth_budget().is_some()
+    }
+    /// The refinement budget of the smooth kernel; `None` for the flat baselines.
+    fn smooth_budget(&self) -> Option<usize> {
+        None
     }
     /// Closest hit in `[t_min, t_max]`.
     fn closest_hit(&self, bvh: &Bvh<'_, F>, ray: &Ray<F>, t_min: F, t_max: F) -> Option<Hit<F>>;
@@ -21,8 +25,9 @@ pub trait Tracer<F: Float>: Sync {
     fn any_hit(&self, bvh: &Bvh<'_, F>, ray: &Ray<F>, t_min: F, t_max: F) -> bool;
     /// The closest hit in `[t_min, t_max]` with the scene's shading normal
     /// ([`smoothtri::Scene::shading_normal`]: seamless where the scene has seams). The smooth
-    /// kernel answers with [`smoothtri::Scene::closest_hit`], which evaluates both normals at
-    /// once; the result is the same bit for bit.
+    /// kernel ([`Tracer::smooth_budget`]) answers with [`smoothtri::Scene::closest_hit`] (on
+    /// [`smoothtri_isa::kernels`]), which evaluates both normals at once; the result is the
+    /// same bit for bit.
     fn closest_shaded(
         &self,
         scene: &smoothtri::Scene<'_, F>,
@@ -30,6 +35,10 @@ pub trait Tracer<F: Float>: Sync {
         t_min: F,
         t_max: F,
     ) -> Option<(Hit<F>, F::Vec3)> {
+        if let Some(n) = self.smooth_budget() {
+            let h = scene.closest_hit_isa(ray, t_min, t_max, n)?;
+            return Some((h.hit, h.shading_normal));
+        }
         let hit = self.closest_hit(scene.bvh(), ray, t_min, t_max)?;
         Some((hit, scene.shading_normal(&hit)))
     }
@@ -41,24 +50,14 @@ struct Smooth {
     n: usize,
 }
 impl<F: Float> Tracer<F> for Smooth {
-    fn smooth(&self) -> bool {
-        true
+    fn smooth_budget(&self) -> Option<usize> {
+        Some(self.n)
     }
     fn closest_hit(&self, bvh: &Bvh<'_, F>, ray: &Ray<F>, t_min: F, t_max: F) -> Option<Hit<F>> {
         bvh.closest_hit_isa(ray, t_min, t_max, self.n)
     }
     fn any_hit(&self, bvh: &Bvh<'_, F>, ray: &Ray<F>, t_min: F, t_max: F) -> bool {
         bvh.any_hit_isa(ray, t_min, t_max, self.n)
-    }
-    fn closest_shaded(
-        &self,
-        scene: &smoothtri::Scene<'_, F>,
-        ray: &Ray<F>,
-        t_min: F,
-        t_max: F,
-    ) -> Option<(Hit<F>, F::Vec3)> {
-        let h = scene.closest_hit_isa(ray, t_min, t_max, self.n)?;
-        Some((h.hit, h.shading_normal))
     }
 }
 
