@@ -141,6 +141,15 @@ impl_wide4!(wide::f64x4, f64);
 // compile quickly where eight-lane jets are not.
 impl_wide_ops!(wide::f64x2, f64);
 
+/// `f` of each pair of entries of `a` and `b`, in order: the array lanes' and masks' `zip`.
+#[inline(always)]
+fn zip_arrays<T: Copy, const W: usize>(mut a: [T; W], b: [T; W], f: impl Fn(T, T) -> T) -> [T; W] {
+    for (x, y) in a.iter_mut().zip(b) {
+        *x = f(*x, y);
+    }
+    a
+}
+
 /// Lane types as plain arrays of `W` values, every operation a loop over the lanes with the
 /// scalar's own IEEE operation: the compiler turns each loop into vector instructions of the
 /// width that the *enclosing function* may use (the target's features, or those of a
@@ -178,11 +187,7 @@ macro_rules! array_lanes {
             /// `f` of each pair of lanes.
             #[inline(always)]
             fn zip(self, o: Self, f: impl Fn($f, $f) -> $f) -> Self {
-                let mut out = self.0;
-                for (x, y) in out.iter_mut().zip(o.0) {
-                    *x = f(*x, y);
-                }
-                $name(out)
+                $name(zip_arrays(self.0, o.0, f))
             }
             /// The mask of `f` of each pair of lanes.
             #[inline(always)]
@@ -199,11 +204,7 @@ macro_rules! array_lanes {
             /// `f` of each pair of lanes.
             #[inline(always)]
             fn zip(self, o: Self, f: impl Fn($u, $u) -> $u) -> Self {
-                let mut out = self.0;
-                for (x, y) in out.iter_mut().zip(o.0) {
-                    *x = f(*x, y);
-                }
-                $mask(out)
+                $mask(zip_arrays(self.0, o.0, f))
             }
             /// The lanes' bits, or-ed together: non-zero when any lane is set.
             #[inline(always)]
