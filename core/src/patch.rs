@@ -492,7 +492,7 @@ impl<F: Float> Patch<F> {
         t_max: F,
         n: usize,
     ) -> (Option<Hit<F>>, KernelStats) {
-        kernel::closest_hit_stats::<F, K>(self, ray, [t_min, t_max], n, &kernel::heights::Target)
+        kernel::closest_hit_stats::<F, K>(self, ray, [t_min, t_max], n, &kernel::heights::target())
     }
 
     /// The triangle's vertices in world coordinates, as given (up to rounding of the frame).

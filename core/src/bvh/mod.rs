@@ -35,7 +35,7 @@ use crate::exec::Executor;
 use build::{build_tree, refit, tree_cost};
 use node::SlabRay;
 
-use crate::kernel::heights::Target;
+use crate::kernel::heights::target;
 use crate::kernel::{
     self, Budget, Crossing, DEFAULT_SAMPLES, Heights, KernelStats, Test, WorldRay,
 };
@@ -189,7 +189,7 @@ impl<'a, F: Float> Bvh<'a, F> {
     /// # Panics
     /// Never.
     pub fn closest_hit(&self, ray: &Ray<F>, t_min: F, t_max: F, n: usize) -> Option<Hit<F>> {
-        self.closest_hit_with(ray, [t_min, t_max], n, &Target)
+        self.closest_hit_with(ray, [t_min, t_max], n, &target())
     }
 
     /// [`Bvh::closest_hit`] with the lane calls of `heights`.
@@ -268,7 +268,7 @@ impl<'a, F: Float> Bvh<'a, F> {
     /// # Panics
     /// Never.
     pub fn any_hit(&self, ray: &Ray<F>, t_min: F, t_max: F, n: usize) -> bool {
-        self.any_hit_with(ray, [t_min, t_max], n, &Target)
+        self.any_hit_with(ray, [t_min, t_max], n, &target())
     }
 
     /// [`Bvh::any_hit`] with the lane calls of `heights`.

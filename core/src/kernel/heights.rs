@@ -1,6 +1,6 @@
 //! How a patch test evaluates its function `f`: the lane calls of the kernel behind one trait,
 //! so that one search (clip, bracket, refine, [`super::crossing`]) runs with the lane code
-//! compiled for the build's target ([`Target`]) or for an instruction set chosen at run time
+//! compiled for the build's target ([`target`]) or for an instruction set chosen at run time
 //! ([`Calls`], made by `crate::isa`).
 //!
 //! Every implementation computes the same lanes with the same IEEE operations in the same
@@ -13,6 +13,9 @@ use crate::num::real::Float;
 use crate::num::vec::V3;
 use crate::surface::lanes::Prepared;
 
+/// The parameters, or the values of `f`, of one four-point estimate step.
+pub(crate) type Four<F> = [F; ESTIMATE_POINTS];
+
 /// The lane calls of one patch test: `f(τ)` at the parameters `taus` of the local ray
 /// `o + τ·r`, eight at a time (bracketing and refinement) or four (the estimate step).
 pub(crate) trait Heights<F: Float> {
@@ -20,34 +23,14 @@ pub(crate) trait Heights<F: Float> {
     fn f8(&self, prep: &Prepared<F>, o: V3<F>, r: V3<F>, taus: [F; LANES]) -> [F; LANES];
     /// `f` at four parameters: the same values as the first four lanes of [`Heights::f8`]
     /// at them.
-    fn f4(
-        &self,
-        prep: &Prepared<F>,
-        o: V3<F>,
-        r: V3<F>,
-        taus: [F; ESTIMATE_POINTS],
-    ) -> [F; ESTIMATE_POINTS];
+    fn f4(&self, prep: &Prepared<F>, o: V3<F>, r: V3<F>, taus: Four<F>) -> Four<F>;
 }
 
 /// The lane code compiled for the build's target: over [`Float::L8`] and [`Float::L4`], out
-/// of line once per lane type ([`Prepared::f`]).
-pub(crate) struct Target;
-
-impl<F: Float> Heights<F> for Target {
-    #[inline(always)]
-    fn f8(&self, prep: &Prepared<F>, o: V3<F>, r: V3<F>, taus: [F; LANES]) -> [F; LANES] {
-        eight::<F, F::L8, false>(prep, o, r, taus)
-    }
-    #[inline(always)]
-    fn f4(
-        &self,
-        prep: &Prepared<F>,
-        o: V3<F>,
-        r: V3<F>,
-        taus: [F; ESTIMATE_POINTS],
-    ) -> [F; ESTIMATE_POINTS] {
-        four::<F, F::L8, F::L4, false>(prep, o, r, taus)
-    }
+/// of line once per lane type ([`Prepared::f`]), as the lane calls of [`Calls`].
+#[inline(always)]
+pub(crate) fn target<F: Float>() -> impl Heights<F> {
+    Calls(eight::<F, F::L8, false>, four::<F, F::L8, F::L4, false>)
 }
 
 /// Lane calls made by two functions (closures): the kernels per instruction set
@@ -59,20 +42,14 @@ impl<F, A, B> Heights<F> for Calls<A, B>
 where
     F: Float,
     A: Fn(&Prepared<F>, V3<F>, V3<F>, [F; LANES]) -> [F; LANES],
-    B: Fn(&Prepared<F>, V3<F>, V3<F>, [F; ESTIMATE_POINTS]) -> [F; ESTIMATE_POINTS],
+    B: Fn(&Prepared<F>, V3<F>, V3<F>, Four<F>) -> Four<F>,
 {
     #[inline(always)]
     fn f8(&self, prep: &Prepared<F>, o: V3<F>, r: V3<F>, taus: [F; LANES]) -> [F; LANES] {
         (self.0)(prep, o, r, taus)
     }
     #[inline(always)]
-    fn f4(
-        &self,
-        prep: &Prepared<F>,
-        o: V3<F>,
-        r: V3<F>,
-        taus: [F; ESTIMATE_POINTS],
-    ) -> [F; ESTIMATE_POINTS] {
+    fn f4(&self, prep: &Prepared<F>, o: V3<F>, r: V3<F>, taus: Four<F>) -> Four<F> {
         (self.1)(prep, o, r, taus)
     }
 }

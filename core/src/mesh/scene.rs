@@ -4,7 +4,7 @@ use super::report::BuildReport;
 use super::seams::Seam;
 use crate::bvh::Bvh;
 use crate::kernel::Heights;
-use crate::kernel::heights::Target;
+use crate::kernel::heights::target;
 use crate::num::real::Float;
 use crate::patch::Patch;
 use crate::ray::{Hit, Ray};
@@ -56,7 +56,7 @@ impl<'a, F: Float> Scene<'a, F> {
     /// # Panics
     /// Never. Non-finite rays miss.
     pub fn closest_hit(&self, ray: &Ray<F>, t_min: F, t_max: F, n: usize) -> Option<SceneHit<F>> {
-        self.closest_hit_with(ray, [t_min, t_max], n, &Target)
+        self.closest_hit_with(ray, [t_min, t_max], n, &target())
     }
 
     /// [`Scene::closest_hit`] with the lane calls of `heights`.

@@ -43,6 +43,16 @@ pub enum MeshError {
         /// Triangles given.
         triangles: usize,
     },
+    /// [`clamp_vertex_normals`](crate::mesh::clamp_vertex_normals): the positions, the normals
+    /// and the output differ in number.
+    VertexCount {
+        /// Positions given.
+        positions: usize,
+        /// Normals given.
+        normals: usize,
+        /// Output entries given.
+        out: usize,
+    },
     /// A triangle has a vertex index at or above the vertex count, or repeats an index.
     BadIndex {
         /// The triangle.
@@ -64,6 +74,15 @@ impl fmt::Display for MeshError {
             MeshError::PatchCount { patches, triangles } => write!(
                 f,
                 "cracks: {patches} patches and {triangles} triangles differ in number"
+            ),
+            MeshError::VertexCount {
+                positions,
+                normals,
+                out,
+            } => write!(
+                f,
+                "vertex normals: {positions} positions, {normals} normals and {out} outputs \
+                 differ in number"
             ),
             MeshError::ScratchTooSmall { needed } => {
                 write!(f, "mesh: scratch too small, need {needed} edge entries")

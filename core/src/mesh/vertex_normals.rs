@@ -55,7 +55,7 @@ pub struct VertexClampReport {
 /// Preconditions: `normals` and `out` as long as `positions`; `scratch` at least as long;
 /// indices below `positions.len()`, distinct within a triangle. Normals need not be unit.
 /// Returns the [`VertexClampReport`], or [`MeshError::BadIndex`] /
-/// [`MeshError::ScratchTooSmall`] / [`MeshError::LengthMismatch`] (then `out` is unspecified).
+/// [`MeshError::ScratchTooSmall`] / [`MeshError::VertexCount`] (then `out` is unspecified).
 ///
 /// Work: at most `1 + NORMAL_CLAMP_DEG.len()` patch constructions per triangle and
 /// `CAP_PASSES` passes over the faces; no allocation.
@@ -95,10 +95,10 @@ pub(crate) fn remedy<F: Float>(
 ) -> Result<VertexClampReport, MeshError> {
     let n = positions.len();
     if normals.len() != n || out.len() != n {
-        return Err(MeshError::LengthMismatch {
-            patches: n,
-            triangles: triangles.len(),
-            seams: out.len().min(normals.len()),
+        return Err(MeshError::VertexCount {
+            positions: n,
+            normals: normals.len(),
+            out: out.len(),
         });
     }
     let Some(scratch) = scratch.get_mut(..n) else {

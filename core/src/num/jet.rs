@@ -147,27 +147,24 @@ impl<L: LaneOps> Partials<L> for [L; 1] {
     }
 }
 
-impl<L: LaneOps, D: Partials<L>> core::ops::Add for Jet<L, D> {
-    type Output = Self;
-    #[inline(always)]
-    fn add(self, o: Self) -> Self {
-        Jet {
-            v: self.v + o.v,
-            d: self.d.add(o.d),
-        }
-    }
+/// The sum and difference of jets: value and partials term by term.
+macro_rules! jet_linear_ops {
+    ($($tr:ident $m:ident $op:tt),*) => {
+        $(
+            impl<L: LaneOps, D: Partials<L>> core::ops::$tr for Jet<L, D> {
+                type Output = Self;
+                #[inline(always)]
+                fn $m(self, o: Self) -> Self {
+                    Jet {
+                        v: self.v $op o.v,
+                        d: self.d.$m(o.d),
+                    }
+                }
+            }
+        )*
+    };
 }
-
-impl<L: LaneOps, D: Partials<L>> core::ops::Sub for Jet<L, D> {
-    type Output = Self;
-    #[inline(always)]
-    fn sub(self, o: Self) -> Self {
-        Jet {
-            v: self.v - o.v,
-            d: self.d.sub(o.d),
-        }
-    }
-}
+jet_linear_ops!(Add add +, Sub sub -);
 
 impl<L: LaneOps, D: Partials<L>> core::ops::Mul for Jet<L, D> {
     type Output = Self;

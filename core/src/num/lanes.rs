@@ -13,6 +13,7 @@
 //! e.g. `RUSTFLAGS="-C target-cpu=native"` or `-C target-feature=+avx2,+fma` on x86-64 (NEON is
 //! on by default on aarch64). Without them the code is still correct, using SSE2 halves.
 
+use crate::num::math::{sqrt_f32, sqrt_f64};
 pub(crate) use crate::num::real::{Float, LANES, Lane, Lane4, LaneOps};
 
 macro_rules! impl_wide_ops {
@@ -140,6 +141,15 @@ impl_wide4!(wide::f64x4, f64);
 // compile quickly where eight-lane jets are not.
 impl_wide_ops!(wide::f64x2, f64);
 
+/// `f` of each pair of entries of `a` and `b`, in order: the array lanes' and masks' `zip`.
+#[inline(always)]
+fn zip_arrays<T: Copy, const W: usize>(mut a: [T; W], b: [T; W], f: impl Fn(T, T) -> T) -> [T; W] {
+    for (x, y) in a.iter_mut().zip(b) {
+        *x = f(*x, y);
+    }
+    a
+}
+
 /// Lane types as plain arrays of `W` values, every operation a loop over the lanes with the
 /// scalar's own IEEE operation: the compiler turns each loop into vector instructions of the
 /// width that the *enclosing function* may use (the target's features, or those of a
@@ -177,11 +187,7 @@ macro_rules! array_lanes {
             /// `f` of each pair of lanes.
             #[inline(always)]
             fn zip(self, o: Self, f: impl Fn($f, $f) -> $f) -> Self {
-                let mut out = self.0;
-                for (x, y) in out.iter_mut().zip(o.0) {
-                    *x = f(*x, y);
-                }
-                $name(out)
+                $name(zip_arrays(self.0, o.0, f))
             }
             /// The mask of `f` of each pair of lanes.
             #[inline(always)]
@@ -198,11 +204,7 @@ macro_rules! array_lanes {
             /// `f` of each pair of lanes.
             #[inline(always)]
             fn zip(self, o: Self, f: impl Fn($u, $u) -> $u) -> Self {
-                let mut out = self.0;
-                for (x, y) in out.iter_mut().zip(o.0) {
-                    *x = f(*x, y);
-                }
-                $mask(out)
+                $mask(zip_arrays(self.0, o.0, f))
             }
             /// The lanes' bits, or-ed together: non-zero when any lane is set.
             #[inline(always)]
@@ -373,51 +375,29 @@ macro_rules! array_lane4 {
     };
 }
 
-array_lanes!(
-    F32x8,
-    M32x8,
-    f32,
-    u32,
-    8,
-    32,
-    crate::num::math::sqrt_f32,
-    "Eight `f32` lanes: the kernel's height evaluations ([`Float::L8`] of `f32`)."
-);
-array_lane8!(F32x8, f32);
-array_lanes!(
-    F64x8,
-    M64x8,
-    f64,
-    u64,
-    8,
-    64,
-    crate::num::math::sqrt_f64,
-    "Eight `f64` lanes ([`Float::L8`] of `f64`)."
-);
-array_lane8!(F64x8, f64);
-array_lanes!(
-    F32x4,
-    M32x4,
-    f32,
-    u32,
-    4,
-    16,
-    crate::num::math::sqrt_f32,
-    "Four `f32` lanes: the estimate step, the BVH's slab test of four children, the seamless \
-     shading normal's four points ([`Float::L4`] of `f32`)."
-);
-array_lane4!(F32x4, f32);
-array_lanes!(
-    F64x4,
-    M64x4,
-    f64,
-    u64,
-    4,
-    32,
-    crate::num::math::sqrt_f64,
-    "Four `f64` lanes ([`Float::L4`] of `f64`)."
-);
-array_lane4!(F64x4, f64);
+/// The array lane types, one row each: type, mask, scalar, mask bits, lanes, alignment, square
+/// root, the lane-count trait's impl, doc.
+macro_rules! lane_types {
+    ($($name:ident $mask:ident $f:ty, $u:ty, $w:literal, $align:literal, $sqrt:path, $shape:ident,
+       $doc:literal;)*) => {
+        $(
+            array_lanes!($name, $mask, $f, $u, $w, $align, $sqrt, $doc);
+            $shape!($name, $f);
+        )*
+    };
+}
+
+lane_types! {
+    F32x8 M32x8 f32, u32, 8, 32, sqrt_f32, array_lane8,
+        "Eight `f32` lanes: the kernel's height evaluations ([`Float::L8`] of `f32`).";
+    F64x8 M64x8 f64, u64, 8, 64, sqrt_f64, array_lane8,
+        "Eight `f64` lanes ([`Float::L8`] of `f64`).";
+    F32x4 M32x4 f32, u32, 4, 16, sqrt_f32, array_lane4,
+        "Four `f32` lanes: the estimate step, the BVH's slab test of four children, the seamless \
+         shading normal's four points ([`Float::L4`] of `f32`).";
+    F64x4 M64x4 f64, u64, 4, 32, sqrt_f64, array_lane4,
+        "Four `f64` lanes ([`Float::L4`] of `f64`).";
+}
 
 /// One scalar as a lane type (`Mask = bool`): the one-point evaluations over the lane code
 /// (the hit normal's jets, `crate::surface::lanes::Prepared::derivatives`), the same arithmetic as the
@@ -425,34 +405,21 @@ array_lane4!(F64x4, f64);
 #[derive(Clone, Copy, Debug)]
 pub struct One<F>(pub(crate) F);
 
-impl<F: Float> core::ops::Add for One<F> {
-    type Output = Self;
-    #[inline(always)]
-    fn add(self, o: Self) -> Self {
-        One(self.0 + o.0)
-    }
+/// `One`'s arithmetic: the scalar's, operator by operator.
+macro_rules! one_binops {
+    ($($tr:ident $m:ident $op:tt),*) => {
+        $(
+            impl<F: Float> core::ops::$tr for One<F> {
+                type Output = Self;
+                #[inline(always)]
+                fn $m(self, o: Self) -> Self {
+                    One(self.0 $op o.0)
+                }
+            }
+        )*
+    };
 }
-impl<F: Float> core::ops::Sub for One<F> {
-    type Output = Self;
-    #[inline(always)]
-    fn sub(self, o: Self) -> Self {
-        One(self.0 - o.0)
-    }
-}
-impl<F: Float> core::ops::Mul for One<F> {
-    type Output = Self;
-    #[inline(always)]
-    fn mul(self, o: Self) -> Self {
-        One(self.0 * o.0)
-    }
-}
-impl<F: Float> core::ops::Div for One<F> {
-    type Output = Self;
-    #[inline(always)]
-    fn div(self, o: Self) -> Self {
-        One(self.0 / o.0)
-    }
-}
+one_binops!(Add add +, Sub sub -, Mul mul *, Div div /);
 impl<F: Float> core::ops::Neg for One<F> {
     type Output = Self;
     #[inline(always)]

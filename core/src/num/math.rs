@@ -4,53 +4,47 @@
 //! crate can be read off this file: square roots are correctly rounded (error ≤ 0.5 ulp), from
 //! the hardware's IEEE square root on x86 and `libm` elsewhere.
 
-/// Correctly rounded `sqrt` of an `f32`. Returns NaN for negative input; callers clamp.
-///
-/// On x86 with SSE the packed square root of `wide` (one lane used): `libm::sqrtf` is an inline
-/// `sqrtss` in the legacy SSE encoding, which in code built with AVX enabled (`-C
-/// target-feature=+avx2` or `target-cpu=native`) mixes with the VEX-encoded lane code and paid
-/// an SSE/AVX transition on every call (its cost: docs/MEASUREMENTS.md, "Notes moved from the
-/// code"). The compiler
-/// encodes `sqrtps` to match the target, and both roundings are IEEE-exact (the same bits).
-/// Elsewhere `libm`.
-#[inline(always)]
-pub(crate) fn sqrt_f32(x: f32) -> f32 {
-    #[cfg(all(
-        any(target_arch = "x86", target_arch = "x86_64"),
-        target_feature = "sse"
-    ))]
-    {
-        let [r, ..] = wide::f32x4::splat(x).sqrt().to_array();
-        r
-    }
-    #[cfg(not(all(
-        any(target_arch = "x86", target_arch = "x86_64"),
-        target_feature = "sse"
-    )))]
-    {
-        libm::sqrtf(x)
-    }
+/// The correctly rounded square roots, one per precision: `wide`'s packed root of the
+/// precision's 128-bit lanes (one lane used) on x86 with the named feature, `libm` elsewhere.
+macro_rules! sqrt_fns {
+    ($($(#[$doc:meta])* $name:ident $f:ty, $packed:ty, $feature:literal, $libm:path;)*) => {
+        $(
+            $(#[$doc])*
+            #[inline(always)]
+            pub(crate) fn $name(x: $f) -> $f {
+                #[cfg(all(
+                    any(target_arch = "x86", target_arch = "x86_64"),
+                    target_feature = $feature
+                ))]
+                {
+                    let [r, ..] = <$packed>::splat(x).sqrt().to_array();
+                    r
+                }
+                #[cfg(not(all(
+                    any(target_arch = "x86", target_arch = "x86_64"),
+                    target_feature = $feature
+                )))]
+                {
+                    $libm(x)
+                }
+            }
+        )*
+    };
 }
 
-/// Correctly rounded `sqrt` of an `f64`. Returns NaN for negative input; callers clamp.
-/// As [`sqrt_f32`]: `wide`'s packed root on x86 with SSE2, `libm` elsewhere.
-#[inline(always)]
-pub(crate) fn sqrt_f64(x: f64) -> f64 {
-    #[cfg(all(
-        any(target_arch = "x86", target_arch = "x86_64"),
-        target_feature = "sse2"
-    ))]
-    {
-        let [r, ..] = wide::f64x2::splat(x).sqrt().to_array();
-        r
-    }
-    #[cfg(not(all(
-        any(target_arch = "x86", target_arch = "x86_64"),
-        target_feature = "sse2"
-    )))]
-    {
-        libm::sqrt(x)
-    }
+sqrt_fns! {
+    /// Correctly rounded `sqrt` of an `f32`. Returns NaN for negative input; callers clamp.
+    ///
+    /// On x86 with SSE the packed square root of `wide` (one lane used): `libm::sqrtf` is an
+    /// inline `sqrtss` in the legacy SSE encoding, which in code built with AVX enabled (`-C
+    /// target-feature=+avx2` or `target-cpu=native`) mixes with the VEX-encoded lane code and
+    /// paid an SSE/AVX transition on every call (its cost: docs/MEASUREMENTS.md, "Notes moved
+    /// from the code"). The compiler encodes `sqrtps` to match the target, and both roundings
+    /// are IEEE-exact (the same bits). Elsewhere `libm`.
+    sqrt_f32 f32, wide::f32x4, "sse", libm::sqrtf;
+    /// Correctly rounded `sqrt` of an `f64`. Returns NaN for negative input; callers clamp.
+    /// As [`sqrt_f32`]: `wide`'s packed root on x86 with SSE2, `libm` elsewhere.
+    sqrt_f64 f64, wide::f64x2, "sse2", libm::sqrt;
 }
 
 /// Fast approximate `sqrt` of an `f32`: micromath's bit-level estimate (relative error up to

@@ -3,10 +3,12 @@
 //! (`num/real.rs`) and the array lane types (`num/lanes.rs`), so that neither imports the other
 //! back.
 
+use crate::num::lanes::{F32x4, F32x8, F64x4, F64x8};
+use crate::num::math::{sqrt_f32, sqrt_f64};
 use crate::num::real::{Float, Real, V3};
 
 macro_rules! impl_float {
-    ($f:ty, $v:ty, $l:ty, $l4:ty, $a:ty, $a4:ty, $sqrt:path) => {
+    ($($f:ty, $v:ty, $l:ty, $l4:ty, $a:ty, $a4:ty, $sqrt:path;)*) => {$(
         impl Real for $f {
             type F = $f;
             #[inline(always)]
@@ -79,24 +81,10 @@ macro_rules! impl_float {
                 <$v>::new(v.x, v.y, v.z)
             }
         }
-    };
+    )*};
 }
 
-impl_float!(
-    f32,
-    glam::Vec3,
-    wide::f32x8,
-    wide::f32x4,
-    super::lanes::F32x8,
-    super::lanes::F32x4,
-    crate::num::math::sqrt_f32
-);
-impl_float!(
-    f64,
-    glam::DVec3,
-    wide::f64x8,
-    wide::f64x4,
-    super::lanes::F64x8,
-    super::lanes::F64x4,
-    crate::num::math::sqrt_f64
-);
+impl_float! {
+    f32, glam::Vec3, wide::f32x8, wide::f32x4, F32x8, F32x4, sqrt_f32;
+    f64, glam::DVec3, wide::f64x8, wide::f64x4, F64x8, F64x4, sqrt_f64;
+}

@@ -11,17 +11,27 @@ use crate::surface::field::LineField;
 use crate::surface::scalar;
 use crate::testing::{Rng, random_patches_on};
 
+/// Calls `f` with each of `count` random `f64` patches (seed `seed`) on each line field, with
+/// its size and its prepared lanes; returns how many patches it saw.
+fn on_random_patches(
+    seed: u64,
+    count: usize,
+    mut f: impl FnMut(&Patch<f64>, f64, &Prepared<f64>),
+) -> usize {
+    let mut tested = 0;
+    for field in [LineField::Face, LineField::Vertex] {
+        for (patch, size) in random_patches_on(seed, count, field) {
+            tested += 1;
+            f(&patch, size, &Prepared::new(&patch.shape));
+        }
+    }
+    tested
+}
+
 #[test]
 fn equals_the_generic_height_within_rounding() {
     let mut worst = 0.0f64;
-    let mut tested = 0;
-    let fields = [LineField::Face, LineField::Vertex];
-    for (patch, size) in fields
-        .into_iter()
-        .flat_map(|f| random_patches_on(7, 400, f))
-    {
-        tested += 1;
-        let pr = Prepared::new(&patch.shape);
+    let tested = on_random_patches(7, 400, |patch, size, pr| {
         let mut xs = [[0.0; 3]; 66];
         let grid = (0..=10).flat_map(|i| (0..=(10 - i)).map(move |j| (i, j)));
         for (slot, (i, j)) in xs.iter_mut().zip(grid) {
@@ -35,13 +45,13 @@ fn equals_the_generic_height_within_rounding() {
                     x.get(c).copied().unwrap_or_default()
                 }))
             };
-            let h = height_at(&pr, [lane(0), lane(1), lane(2)]).to_array();
+            let h = height_at(pr, [lane(0), lane(1), lane(2)]).to_array();
             for (x, a) in chunk.iter().zip(h) {
                 let b = scalar::height(&patch.shape, *x);
                 worst = worst.max((a - b).abs() / size);
             }
         }
-    }
+    });
     assert!(tested > 600, "{tested}");
     assert!(
         worst < crate::accuracy::KERNEL_HEIGHT_VS_SURFACE,
@@ -52,14 +62,7 @@ fn equals_the_generic_height_within_rounding() {
 #[test]
 fn jet_derivatives_equal_the_dual_number_derivatives() {
     let mut worst = 0.0f64;
-    let mut tested = 0;
-    let fields = [LineField::Face, LineField::Vertex];
-    for (patch, size) in fields
-        .into_iter()
-        .flat_map(|f| random_patches_on(11, 300, f))
-    {
-        tested += 1;
-        let pr = Prepared::new(&patch.shape);
+    let tested = on_random_patches(11, 300, |patch, size, pr| {
         for i in 0..=8 {
             for j in 0..=(8 - i) {
                 let (w1, w2) = (i as f64 / 8.0, j as f64 / 8.0);
@@ -70,7 +73,7 @@ fn jet_derivatives_equal_the_dual_number_derivatives() {
                 worst = worst.max(d / size);
             }
         }
-    }
+    });
     assert!(tested > 400, "{tested}");
     // Same derivatives of the same surface, different rounding (exact either way).
     assert!(worst < 1e-9, "worst {worst:e}");
