@@ -286,16 +286,8 @@ impl Executor for Backwards {
         _grain: usize,
         work: &(dyn Fn(usize, &mut [T]) + Sync),
     ) {
-        let n = items.len();
-        for (k, c) in items
-            .chunks_mut(1)
-            .enumerate()
-            .collect::<Vec<_>>()
-            .into_iter()
-            .rev()
-        {
-            assert!(k < n);
-            work(k, c);
+        for k in (0..items.len()).rev() {
+            work(k, &mut items[k..k + 1]);
         }
     }
 }
