@@ -33,7 +33,7 @@ use crate::types::{
 };
 
 /// The precisions of the C API, each with the tag that marks its scenes.
-pub(crate) trait Prec: Float + 'static {
+pub(crate) trait Prec: Float + smoothtri_isa::Precision + 'static {
     /// The first eight bytes of a `Stored<Self>`.
     const MAGIC: u64;
 }

@@ -5,7 +5,8 @@
 //! ([`smoothtri::isa`]); this crate detects what the CPU has and calls them: [`Kernels`] holds
 //! one instruction set the CPU has, [`kernels`] is the process's choice (the best the CPU has,
 //! or the one `SMOOTHTRI_ISA` names), and [`Dispatch`] adds the dispatched queries to
-//! [`Scene`], [`Bvh`] and [`Patch`].
+//! [`Scene`], [`Bvh`] and [`Patch`]. The queries are compiled here, once per instruction set and
+//! precision ([`Precision`]: `f32`, `f64`), for every crate that calls them.
 //!
 //! # Accuracy
 //! Every query returns what the core's query of the same name returns, bit for bit, on every
@@ -170,24 +171,97 @@ pub struct Kernels {
     isa: Isa,
 }
 
-/// One query on the chosen instruction set: `$core` on the baseline, the core's
-/// `#[target_feature]` function of that name otherwise.
-macro_rules! dispatch {
-    ($self:ident, $core:expr, $name:ident $(::<$k:ident>)? ($($arg:expr),*)) => {
-        match $self.isa {
-            Isa::Baseline => $core,
-            // SAFETY: a `Kernels` holds `Avx2` only when the CPU has every feature of
-            // `avx2::FEATURES` (`Kernels::new` checks `Isa::supported`), the one requirement of
-            // the core's `#[target_feature]` functions.
-            #[cfg(any(target_arch = "x86", target_arch = "x86_64"))]
-            Isa::Avx2 => unsafe { smoothtri::isa::avx2::$name $(::<F, $k>)? ($($arg),*) },
-            // SAFETY: as above, for `avx512::FEATURES`.
-            #[cfg(any(target_arch = "x86", target_arch = "x86_64"))]
-            Isa::Avx512 => unsafe { smoothtri::isa::avx512::$name $(::<F, $k>)? ($($arg),*) },
-            #[cfg(not(any(target_arch = "x86", target_arch = "x86_64")))]
-            Isa::Avx2 | Isa::Avx512 => $core,
-        }
-    };
+/// The precisions with kernels compiled in this crate: `f32` and `f64`.
+///
+/// Each query of the core's list without const parameters is compiled here once per
+/// instruction set and precision, as a function of this crate, so that the crates calling
+/// [`Kernels`] link to it rather than compile every instruction set's kernel again (the lane
+/// code, the clip, the refinement and the traversal, inlined into each query). The queries
+/// with const parameters ([`Kernels::patch_closest_hit_stats`]) are compiled where they are
+/// called, for the parameters the caller names.
+pub trait Precision: Float + queries::Queries<Self> {}
+
+impl Precision for f32 {}
+impl Precision for f64 {}
+
+/// The queries per precision, sealed: [`Precision`]'s supertrait, implemented here only.
+mod queries {
+    use super::Isa;
+    use smoothtri::Float;
+
+    /// One query on the instruction set `isa`: `$core` on the baseline, the core's
+    /// `#[target_feature]` function of that name otherwise.
+    macro_rules! dispatch {
+        ($isa:ident, $core:expr, $name:ident $(::<$k:ident>)? ($($arg:expr),*)) => {
+            match $isa {
+                Isa::Baseline => $core,
+                // SAFETY: a `Kernels` holds `Avx2` only when the CPU has every feature of
+                // `avx2::FEATURES` (`Kernels::new` checks `Isa::supported`), and `Kernels` is
+                // the only caller: the one requirement of the core's `#[target_feature]`
+                // functions.
+                #[cfg(any(target_arch = "x86", target_arch = "x86_64"))]
+                Isa::Avx2 => unsafe { smoothtri::isa::avx2::$name $(::<F, $k>)? ($($arg),*) },
+                // SAFETY: as above, for `avx512::FEATURES`.
+                #[cfg(any(target_arch = "x86", target_arch = "x86_64"))]
+                Isa::Avx512 => unsafe { smoothtri::isa::avx512::$name $(::<F, $k>)? ($($arg),*) },
+                #[cfg(not(any(target_arch = "x86", target_arch = "x86_64")))]
+                Isa::Avx2 | Isa::Avx512 => $core,
+            }
+        };
+    }
+
+    /// The signatures of the queries, one per entry of the core's list
+    /// (`smoothtri::for_each_query!`), with the instruction set first.
+    macro_rules! signatures {
+        (
+            ()
+            $({ name: $name:ident, doc: $doc:literal, same: $same:literal, generics: [$($k:ident)?],
+                params: ($($p:ident: $t:ty),* $(,)?), returns: $ret:ty, lanes: ($l:ident) $lanes:expr,
+                core: $core:expr $(,)? })*
+        ) => {
+            /// The queries of the precision `F` on an instruction set the caller has checked.
+            pub trait Queries<F: Float> {
+                $(
+                    #[doc = concat!("[`", $doc, "`](smoothtri::", $doc, ") on `isa`, which the CPU must have.")]
+                    fn $name<$(const $k: usize)?>(isa: Isa, $($p: $t),*) -> $ret;
+                )*
+            }
+        };
+    }
+    smoothtri::for_each_query!(signatures);
+
+    /// The bodies of [`Queries`]: each dispatches on `isa`. Generated where `F` names the
+    /// precision, so the list's types (which name `F`) are this precision's.
+    macro_rules! bodies {
+        (
+            ()
+            $({ name: $name:ident, doc: $doc:literal, same: $same:literal, generics: [$($k:ident)?],
+                params: ($($p:ident: $t:ty),* $(,)?), returns: $ret:ty, lanes: ($l:ident) $lanes:expr,
+                core: $core:expr $(,)? })*
+        ) => {
+            impl Queries<F> for F {
+                $(
+                    fn $name<$(const $k: usize)?>(isa: Isa, $($p: $t),*) -> $ret {
+                        dispatch!(isa, $core, $name $(::<$k>)? ($($p),*))
+                    }
+                )*
+            }
+        };
+    }
+
+    /// The `f32` kernels.
+    mod single {
+        use super::{Isa, Queries};
+        type F = f32;
+        smoothtri::for_each_query!(bodies);
+    }
+
+    /// The `f64` kernels.
+    mod double {
+        use super::{Isa, Queries};
+        type F = f64;
+        smoothtri::for_each_query!(bodies);
+    }
 }
 
 /// The dispatched queries of [`Kernels`], one per entry of the core's list of queries
@@ -202,8 +276,8 @@ macro_rules! methods {
         $(
             #[doc = concat!("[`", $doc, "`](smoothtri::", $doc, ") on this instruction set: ", $same, ".")]
             #[inline]
-            pub fn $name<F: Float $(, const $k: usize)?>(self, $($p: $t),*) -> $ret {
-                dispatch!(self, $core, $name $(::<$k>)? ($($p),*))
+            pub fn $name<F: Precision $(, const $k: usize)?>(self, $($p: $t),*) -> $ret {
+                <F as queries::Queries<F>>::$name $(::<$k>)? (self.isa, $($p),*)
             }
         )*
     };
@@ -253,7 +327,7 @@ pub fn kernels() -> Kernels {
 
 /// The queries of [`Scene`], [`Bvh`] and [`Patch`] on the process's kernels ([`kernels`]):
 /// `x.closest_hit_isa(…)` returns what `x.closest_hit(…)` returns, bit for bit.
-pub trait Dispatch<F: Float> {
+pub trait Dispatch<F: Precision> {
     /// The closest hit's type: [`SceneHit`] of a scene, [`Hit`] of a BVH or a patch.
     type Hit;
     /// The closest hit of `ray` in `[t_min, t_max]` with a refinement budget of `n` steps (as
@@ -268,7 +342,7 @@ pub trait Dispatch<F: Float> {
 /// for it, each called on [`kernels`].
 macro_rules! dispatch {
     ($($t:ty => $hit:ty: $closest:path, $any:path;)+) => {$(
-        impl<F: Float> Dispatch<F> for $t {
+        impl<F: Precision> Dispatch<F> for $t {
             type Hit = $hit;
             #[inline]
             fn closest_hit_isa(&self, ray: &Ray<F>, t_min: F, t_max: F, n: usize) -> Option<$hit> {
@@ -291,7 +365,7 @@ dispatch! {
 /// Whether `patch` is hit in `[t_min, t_max]`: whether `k`'s closest-hit query of it hits (a
 /// patch has no any-hit kernel of its own).
 #[inline]
-fn patch_any_hit<F: Float>(
+fn patch_any_hit<F: Precision>(
     k: Kernels,
     patch: &Patch<F>,
     ray: &Ray<F>,

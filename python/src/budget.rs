@@ -3,7 +3,7 @@
 //! (`smoothtri_isa::kernels`; `SMOOTHTRI_ISA` overrides, the same bits on each). Every query
 //! of this crate goes through [`Budget`].
 
-use smoothtri::{Float, MAX_ITERATIONS, Ray, Scene, SceneHit};
+use smoothtri::{MAX_ITERATIONS, Ray, Scene, SceneHit};
 
 /// The budgets [`Budget::new`] accepts, as words (for messages and docs).
 pub const SUPPORTED_TEXT: &str = "0..=64";
@@ -32,7 +32,7 @@ impl Budget {
 
     /// `scene.closest_hit(ray, t_min, t_max, n)` on the process's kernels.
     #[inline]
-    pub fn closest<F: Float>(
+    pub fn closest<F: smoothtri_isa::Precision>(
         self,
         scene: &Scene<'_, F>,
         ray: &Ray<F>,
@@ -44,7 +44,13 @@ impl Budget {
 
     /// `scene.any_hit(ray, t_min, t_max, n)` on the process's kernels.
     #[inline]
-    pub fn any<F: Float>(self, scene: &Scene<'_, F>, ray: &Ray<F>, t_min: F, t_max: F) -> bool {
+    pub fn any<F: smoothtri_isa::Precision>(
+        self,
+        scene: &Scene<'_, F>,
+        ray: &Ray<F>,
+        t_min: F,
+        t_max: F,
+    ) -> bool {
         smoothtri_isa::kernels().scene_any_hit(scene, ray, t_min, t_max, self.0)
     }
 }

@@ -6,7 +6,9 @@ use smoothtri::Float;
 /// `f32` or `f64`: the core's [`Float`] that is also a numpy element (`float32`, `float64`).
 /// Vectors convert through [`Float`]'s own methods (`to_array3`, `from_array3`,
 /// `from_dvec3`).
-pub trait Prec: Float<Vec3: Send + Sync> + Element + Send + Sync + 'static {
+pub trait Prec:
+    Float<Vec3: Send + Sync> + smoothtri_isa::Precision + Element + Send + Sync + 'static
+{
     /// The numpy dtype name (`"float32"`, `"float64"`), for messages.
     const DTYPE: &'static str;
 }

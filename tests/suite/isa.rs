@@ -10,7 +10,7 @@
 use crate::common::*;
 use glam::DVec3;
 use smoothtri::{BuildOptions, MAX_ITERATIONS, OwnedScene, Patch, Ray, Vertices};
-use smoothtri_isa::{Isa, Kernels};
+use smoothtri_isa::{Isa, Kernels, Precision};
 use smoothtri_testkit::Camera;
 use smoothtri_testkit::{Mesh, scenes};
 
@@ -66,8 +66,7 @@ fn rays<F: Float>(m: &Mesh) -> Vec<Ray<F>> {
 /// warning, an error in CI's lints: each entry of the list is compared.
 mod q {
     use super::same;
-    use smoothtri::Float;
-    use smoothtri_isa::Kernels;
+    use smoothtri_isa::{Kernels, Precision};
 
     macro_rules! comparisons {
         (
@@ -78,7 +77,7 @@ mod q {
         ) => {
             $(
                 #[doc = concat!("`", $doc, "` on `k` against the core's: ", $same, ".")]
-                pub fn $name<F: Float $(, const $k: usize)?>(k: Kernels, $($p: $t),*) -> $ret {
+                pub fn $name<F: Precision $(, const $k: usize)?>(k: Kernels, $($p: $t),*) -> $ret {
                     let want = $core;
                     let got = k.$name $(::<F, $k>)? ($($p),*);
                     assert!(
@@ -96,7 +95,7 @@ mod q {
 }
 
 /// Every query of `k` on the scene of `m` equals the core's: returns the hits compared.
-fn scene_queries<F: Float>(k: Kernels, m: &Mesh, seams: bool) -> usize {
+fn scene_queries<F: Precision>(k: Kernels, m: &Mesh, seams: bool) -> usize {
     let owned = owned::<F>(m, seams);
     let scene = owned.scene();
     let bvh = scene.bvh();
@@ -141,7 +140,7 @@ fn every_instruction_set_gives_the_scene_queries_bit_for_bit() {
 
 /// Random patches and rays through them: the hit and the kernel's statistics of
 /// `closest_hit_stats::<K>`, for two bracketing sample counts.
-fn patch_tests<F: Float>(k: Kernels) {
+fn patch_tests<F: Precision>(k: Kernels) {
     let mut rng = Rng(49);
     let inf = F::from_f64(f64::INFINITY);
     for _ in 0..200 {

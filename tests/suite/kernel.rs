@@ -9,9 +9,9 @@ use crate::common::*;
 use glam::{DVec3, Vec3};
 use smoothtri::accuracy::*;
 use smoothtri::internal::{EARLY_STOP, WORST_SHRINK};
-use smoothtri::{DEFAULT_SAMPLES, DPatch, DRay, Float, Hit, Patch, Ray};
+use smoothtri::{DEFAULT_SAMPLES, DPatch, DRay, Hit, Patch, Ray};
 use smoothtri::{max_height_evals, max_lane_calls};
-use smoothtri_isa::{Dispatch, kernels};
+use smoothtri_isa::{Dispatch, Precision, kernels};
 use smoothtri_testkit::scenes::{cube, icosphere, sphere_root, torus};
 use smoothtri_testkit::{Mesh, patches32};
 
@@ -25,7 +25,7 @@ fn patches64(m: &Mesh) -> Vec<DPatch> {
 }
 
 /// Closest hit over all patches (brute force), `N` refinement steps.
-fn closest_brute<F: Float, const N: usize>(ps: &[Patch<F>], ray: &Ray<F>) -> Option<Hit<F>> {
+fn closest_brute<F: Precision, const N: usize>(ps: &[Patch<F>], ray: &Ray<F>) -> Option<Hit<F>> {
     let mut best: Option<Hit<F>> = None;
     for p in ps {
         // `t_max` is the best so far, so any hit is closer.
@@ -220,7 +220,7 @@ fn precision_versus_iterations_is_certified() {
 /// `f64`, and only respected at N = 8. Prints the mean and largest evaluations per test.
 #[test]
 fn work_per_ray_is_bounded() {
-    fn run<F: Float, const K: usize, const N: usize>(
+    fn run<F: Precision, const K: usize, const N: usize>(
         ps: &[Patch<F>],
         rays: &[Ray<F>],
     ) -> (u32, f64) {
@@ -304,7 +304,7 @@ fn work_per_ray_is_bounded() {
 /// bracket to its bound.
 #[test]
 fn t_error_is_within_the_worst_case_bound() {
-    fn check<F: Float, const K: usize, const N: usize>(
+    fn check<F: Precision, const K: usize, const N: usize>(
         p: &Patch<F>,
         ray: &Ray<F>,
         worst: &mut f64,

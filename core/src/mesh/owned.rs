@@ -25,26 +25,52 @@ use crate::patch::Patch;
 /// [`Scene`] for queries.
 #[derive(Clone, Debug)]
 pub struct OwnedScene<F: Float = f32> {
+    arrays: Arrays<F>,
+    scratch: Option<Scratch<F>>,
+    built: Built,
+    usable: bool,
+}
+
+/// The scene's own arrays: what queries read, and the triangles an update rebuilds from.
+#[derive(Clone, Debug)]
+struct Arrays<F: Float> {
     patches: Vec<Patch<F>>,
     triangle_ids: Vec<u32>,
     nodes: Vec<BvhNode<F>>,
     order: Vec<u32>,
     seams: Vec<Seam<F>>,
     triangles: Vec<[u32; 3]>,
-    scratch: Option<Scratch<F>>,
-    built: Built,
-    usable: bool,
+}
+
+impl<F: Float> Arrays<F> {
+    /// These arrays and `scratch` as the builder's storage, whole.
+    fn storage<'s>(&'s mut self, scratch: &'s mut Scratch<F>) -> SceneStorage<'s, F> {
+        SceneStorage {
+            patches: &mut self.patches,
+            triangle_ids: &mut self.triangle_ids,
+            nodes: &mut self.nodes,
+            order: &mut self.order,
+            seams: &mut self.seams,
+            triangles: &mut self.triangles,
+            edges: &mut scratch.edges,
+            edge_work: &mut scratch.edge_work,
+            vertex_positions: &mut scratch.vertex_positions,
+            vertex_normals: &mut scratch.vertex_normals,
+            clamped_normals: &mut scratch.clamped_normals,
+            vertex_clamps: &mut scratch.vertex_clamps,
+        }
+    }
 }
 
 /// The storage an update needs beside the scene's own.
 #[derive(Clone, Debug)]
 struct Scratch<F: Float> {
     edges: Vec<SharedEdge>,
-    work: Vec<EdgeWork<F>>,
+    edge_work: Vec<EdgeWork<F>>,
     vertex_positions: Vec<F::Vec3>,
     vertex_normals: Vec<F::Vec3>,
-    clamped: Vec<F::Vec3>,
-    clamps: Vec<VertexClamp<F>>,
+    clamped_normals: Vec<F::Vec3>,
+    vertex_clamps: Vec<VertexClamp<F>>,
 }
 
 impl<F: Float> Scratch<F> {
@@ -52,11 +78,11 @@ impl<F: Float> Scratch<F> {
         let zero = F::to_glam(crate::num::vec::V3::zero());
         Scratch {
             edges: vec![SharedEdge::default(); sizes.edges],
-            work: vec![EdgeWork::default(); sizes.edge_work],
+            edge_work: vec![EdgeWork::default(); sizes.edge_work],
             vertex_positions: vec![zero; sizes.vertices],
             vertex_normals: vec![zero; sizes.vertices],
-            clamped: vec![zero; sizes.vertices],
-            clamps: vec![VertexClamp::default(); sizes.vertices],
+            clamped_normals: vec![zero; sizes.vertices],
+            vertex_clamps: vec![VertexClamp::default(); sizes.vertices],
         }
     }
 }
@@ -82,44 +108,29 @@ impl<F: Float> OwnedScene<F> {
         {
             return Err(BuildError::TooLarge);
         }
-        let mut patches = vec![Patch::<F>::default(); sizes.patches];
-        let mut triangle_ids = vec![0u32; sizes.patches];
-        let mut nodes = vec![BvhNode::<F>::default(); sizes.nodes];
-        let mut order = vec![0u32; sizes.patches];
-        let mut seams = vec![Seam::<F>::default(); sizes.seams];
-        let mut triangles = vec![[0u32; 3]; sizes.patches];
-        let mut scratch = Scratch::new(&sizes);
-        let storage = SceneStorage {
-            patches: &mut patches,
-            triangle_ids: &mut triangle_ids,
-            nodes: &mut nodes,
-            order: &mut order,
-            seams: &mut seams,
-            triangles: &mut triangles,
-            edges: &mut scratch.edges,
-            edge_work: &mut scratch.work,
-            vertex_positions: &mut scratch.vertex_positions,
-            vertex_normals: &mut scratch.vertex_normals,
-            clamped_normals: &mut scratch.clamped,
-            vertex_clamps: &mut scratch.clamps,
+        let mut arrays = Arrays {
+            patches: vec![Patch::<F>::default(); sizes.patches],
+            triangle_ids: vec![0u32; sizes.patches],
+            nodes: vec![BvhNode::<F>::default(); sizes.nodes],
+            order: vec![0u32; sizes.patches],
+            seams: vec![Seam::<F>::default(); sizes.seams],
+            triangles: vec![[0u32; 3]; sizes.patches],
         };
+        let mut scratch = Scratch::new(&sizes);
+        let storage = arrays.storage(&mut scratch);
         let (_, built) = start(&positions, &normals, indices, options, storage, &sizes)?;
         let count = built.slots;
-        for v in [&mut triangle_ids, &mut order] {
+        let a = &mut arrays;
+        for v in [&mut a.triangle_ids, &mut a.order] {
             v.truncate(count);
         }
-        patches.truncate(count);
-        triangles.truncate(count);
-        order.truncate(built.kept);
-        nodes.truncate(built.nodes);
-        seams.truncate(if built.seams { count } else { 0 });
+        a.patches.truncate(count);
+        a.triangles.truncate(count);
+        a.order.truncate(built.kept);
+        a.nodes.truncate(built.nodes);
+        a.seams.truncate(if built.seams { count } else { 0 });
         Ok(OwnedScene {
-            patches,
-            triangle_ids,
-            nodes,
-            order,
-            seams,
-            triangles,
+            arrays,
             scratch: None,
             built,
             usable: true,
@@ -143,38 +154,30 @@ impl<F: Float> OwnedScene<F> {
         self.built
             .check_update::<T, F, O, E>(&positions, &normals, options)?;
         let slots = self.built.slots;
+        let plain = BuildOptions {
+            field: self.built.field,
+            seams: self.built.seams,
+            ..BuildOptions::default()
+        };
+        let sizes =
+            SceneSizes::new(self.built.vertices, slots, &plain).ok_or(BuildError::TooLarge)?;
         if self.scratch.is_none() {
-            let plain = BuildOptions {
-                field: self.built.field,
-                seams: self.built.seams,
-                ..BuildOptions::default()
-            };
-            let sizes =
-                SceneSizes::new(self.built.vertices, slots, &plain).ok_or(BuildError::TooLarge)?;
             let mut scratch = Scratch::new(&sizes);
-            pair_shared_edges(&self.triangles, self.built.vertices, &mut scratch.edges)?;
+            pair_shared_edges(
+                &self.arrays.triangles,
+                self.built.vertices,
+                &mut scratch.edges,
+            )?;
             self.scratch = Some(scratch);
-            self.order.resize(slots, 0);
-            self.nodes
+            self.arrays.order.resize(slots, 0);
+            self.arrays
+                .nodes
                 .resize(Bvh::<F>::nodes_needed(slots), BvhNode::default());
         }
         let Some(scratch) = self.scratch.as_mut() else {
             return Err(BuildError::TooLarge);
         };
-        let mut parts = Parts {
-            patches: &mut self.patches,
-            triangle_ids: &mut self.triangle_ids,
-            nodes: &mut self.nodes,
-            order: &mut self.order,
-            seams: &mut self.seams,
-            triangles: &mut self.triangles,
-            edges: &mut scratch.edges,
-            work: &mut scratch.work,
-            vertex_positions: &mut scratch.vertex_positions,
-            vertex_normals: &mut scratch.vertex_normals,
-            clamped: &mut scratch.clamped,
-            clamps: &mut scratch.clamps,
-        };
+        let mut parts = Parts::of(self.arrays.storage(scratch), &sizes)?;
         self.built
             .rerun(&mut self.usable, &positions, &normals, &mut parts, options)
     }
@@ -185,12 +188,13 @@ impl<F: Float> OwnedScene<F> {
     /// # Panics
     /// Never.
     pub fn scene(&self) -> Scene<'_, F> {
+        let a = &self.arrays;
         self.built.in_use(self.usable).scene(
-            &self.patches,
-            &self.triangle_ids,
-            &self.nodes,
-            &self.order,
-            &self.seams,
+            &a.patches,
+            &a.triangle_ids,
+            &a.nodes,
+            &a.order,
+            &a.seams,
         )
     }
 }

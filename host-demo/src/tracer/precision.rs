@@ -43,7 +43,9 @@ impl From<Precision> for smoothtri_io::FloatWidth {
 /// The two primitive precisions as the demo runs them: the core's [`Float`] (with its
 /// conversions from and to `f64`: [`Float::from_dvec3`], [`Float::to_dvec3`],
 /// [`Float::to_array3`]), the run-time name, printing and exact parsing.
-pub trait Prec: Float + Send + Sync + std::fmt::Display + 'static {
+pub trait Prec:
+    Float + smoothtri_isa::Precision + Send + Sync + std::fmt::Display + 'static
+{
     /// Which precision this is.
     const PRECISION: Precision;
     /// Parses a decimal number directly in this precision (so that printed values read back

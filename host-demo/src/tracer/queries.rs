@@ -1,14 +1,14 @@
 //! Ray-scene queries: the [`Tracer`] strategies (the smooth kernel at an iteration budget, the
 //! flat and Phong baselines) and their choice at run time ([`tracer`]).
 
-use smoothtri::{Bvh, Float, Hit, Ray, flat_hit};
-use smoothtri_isa::Dispatch;
+use smoothtri::{Bvh, Hit, Ray, flat_hit};
+use smoothtri_isa::{Dispatch, Precision};
 
 use super::modes::Mode;
 use crate::error::{DemoError, Result};
 
 /// A ray-scene query strategy (smooth kernel with a fixed budget, or a flat baseline).
-pub trait Tracer<F: Float>: Sync {
+pub trait Tracer<F: Precision>: Sync {
     /// Whether the hits are on the smooth patches (their normals may then be corrected by the
     /// scene's seams, [`Scene::shading_normal`](crate::tracer::Scene::shading_normal));
     /// `false` for the flat baselines.
@@ -49,7 +49,7 @@ pub trait Tracer<F: Float>: Sync {
 struct Smooth {
     n: usize,
 }
-impl<F: Float> Tracer<F> for Smooth {
+impl<F: Precision> Tracer<F> for Smooth {
     fn smooth_budget(&self) -> Option<usize> {
         Some(self.n)
     }
@@ -64,7 +64,7 @@ impl<F: Float> Tracer<F> for Smooth {
 struct Flat {
     phong: bool,
 }
-impl<F: Float> Tracer<F> for Flat {
+impl<F: Precision> Tracer<F> for Flat {
     fn closest_hit(&self, bvh: &Bvh<'_, F>, ray: &Ray<F>, t_min: F, t_max: F) -> Option<Hit<F>> {
         bvh.closest_with(ray, t_min, t_max, |_, p, a, b| {
             let ns = p.normals();
@@ -94,12 +94,12 @@ static SMOOTH: [Smooth; MAX_ITERATIONS + 1] = {
 
 /// The smooth kernel with an iteration budget of `n`, or `None` when `n` is above
 /// [`MAX_ITERATIONS`].
-pub fn smooth_tracer<F: Float>(n: usize) -> Option<&'static dyn Tracer<F>> {
+pub fn smooth_tracer<F: Precision>(n: usize) -> Option<&'static dyn Tracer<F>> {
     SMOOTH.get(n).map(|t| t as &'static dyn Tracer<F>)
 }
 
 /// The tracer of `mode` (the budget matters for [`Mode::Smooth`] only).
-pub fn tracer<F: Float>(mode: Mode, n: usize) -> Result<&'static dyn Tracer<F>> {
+pub fn tracer<F: Precision>(mode: Mode, n: usize) -> Result<&'static dyn Tracer<F>> {
     match mode {
         Mode::Smooth => smooth_tracer(n).ok_or_else(|| {
             DemoError::Usage(format!(
