@@ -40,6 +40,7 @@ pub(crate) mod clip;
 pub mod flat;
 pub(crate) mod heights;
 pub mod refine;
+pub(crate) mod study;
 
 use crate::geometry::Patch;
 use crate::geometry::Shape;
