@@ -18,7 +18,7 @@
 //!
 //! Counts, not timings: the figures are the same on every machine.
 
-use smoothtri::internal::{predictor_error, predictor_study};
+use smoothtri::internal::{PredictorOutcome, predictor_error, predictor_study};
 use smoothtri::{LineField, Ray};
 use smoothtri_io::load;
 use smoothtri_testkit::scenes::builtin;
@@ -39,7 +39,8 @@ fn quantile(v: &mut [f64], q: f64) -> f64 {
     v.get(i).copied().unwrap_or(f64::NAN)
 }
 
-fn row(name: &str, mesh: &Mesh, n: usize) {
+/// Prints the table's row of `mesh`; returns the hits certified elsewhere (ray index, outcome).
+fn row(name: &str, mesh: &Mesh, n: usize) -> Vec<(usize, PredictorOutcome)> {
     let owned = build_scene::<f32>(mesh, LineField::Face, false).expect("the scene builds");
     let scene = owned.scene();
     let patches = scene.bvh().patches();
@@ -47,7 +48,8 @@ fn row(name: &str, mesh: &Mesh, n: usize) {
     let (mut hits, mut pair, mut four, mut fallback, mut wrong) = (0usize, 0, 0, 0, 0);
     let (mut evals, mut today) = (0u64, 0u64);
     let (mut predicted, mut stepped) = (Vec::new(), Vec::new());
-    for ray in &rays {
+    let mut elsewhere = Vec::new();
+    for (i, ray) in rays.iter().enumerate() {
         let Some(h) = scene.bvh().closest_hit(ray, 0.0, f32::INFINITY, n) else {
             continue;
         };
@@ -63,7 +65,10 @@ fn row(name: &str, mesh: &Mesh, n: usize) {
             2 => four += 1,
             _ => fallback += 1,
         }
-        wrong += usize::from(!o.agrees);
+        if !o.agrees {
+            wrong += 1;
+            elsewhere.push((i, o));
+        }
         evals += u64::from(o.evals);
         today += u64::from(o.today_evals);
         predicted.push(o.predicted_off);
@@ -91,6 +96,7 @@ fn row(name: &str, mesh: &Mesh, n: usize) {
         quantile(&mut errors, 0.5),
         quantile(&mut errors, 1.0),
     );
+    elsewhere
 }
 
 fn main() {
@@ -113,7 +119,23 @@ fn main() {
          (median / max) |"
     );
     println!("|---|---|---|---|---|---|---|---|---|---|---|---|");
+    let mut elsewhere = Vec::new();
     for (name, mesh) in &meshes {
-        row(name, mesh, N);
+        elsewhere.extend(
+            row(name, mesh, N)
+                .into_iter()
+                .map(|(i, o)| (name.clone(), i, o)),
+        );
+    }
+    // The hits whose certified bracket does not hold today's crossing, each listed (pixel
+    // x, y of the 640×480 image).
+    println!("\n| mesh | pixel | today's t ± t_error | certified bracket | stage |");
+    println!("|---|---|---|---|---|");
+    for (name, i, o) in elsewhere {
+        let (x, y) = (i as u32 % WIDTH, i as u32 / WIDTH);
+        println!(
+            "| {name} | {x}, {y} | {:.6} ± {:.1e} | [{:.6}, {:.6}] | {} |",
+            o.today[0], o.today[1], o.certified[0], o.certified[1], o.stage
+        );
     }
 }

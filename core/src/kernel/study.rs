@@ -54,6 +54,10 @@ pub struct PredictorOutcome {
     /// Whether a certified bracket holds today's crossing (within today's `t_error`); `true`
     /// on fallback, which is today's search.
     pub agrees: bool,
+    /// Today's crossing: `t` and `t_error` (world units of the ray's `dir`).
+    pub today: [f64; 2],
+    /// The certified bracket in `t` (world units); both ends at today's `t` on fallback.
+    pub certified: [f64; 2],
 }
 
 /// [`PredictorOutcome`] of `ray` and `patch` in `[t_min, t_max]` at refinement budget `n`
@@ -98,8 +102,11 @@ pub fn predictor_study<F: Float>(
         prep.f(o, r, One(t)).0
     };
 
+    let world_t = |x: F| (cl.t0 + x).to_f64();
     let mut outcome = PredictorOutcome {
         today_evals: stats.height_evals,
+        today: [today.t.to_f64(), today.t_error.to_f64()],
+        certified: [today.t.to_f64(); 2],
         predicted_off: f64::INFINITY,
         stepped_off: f64::INFINITY,
         ..PredictorOutcome::default()
@@ -134,6 +141,7 @@ pub fn predictor_study<F: Float>(
             evals: 3,
             stage: 1,
             agrees: agree(a, b),
+            certified: [world_t(a), world_t(b)],
             ..outcome
         });
     }
@@ -167,6 +175,7 @@ pub fn predictor_study<F: Float>(
             evals: 7,
             stage: 2,
             agrees: agree(a, b),
+            certified: [world_t(a), world_t(b)],
             ..outcome
         });
     }
