@@ -210,9 +210,11 @@ mod queries {
         };
     }
 
-    /// The signatures of the queries, one per entry of the core's list
-    /// (`smoothtri::for_each_query!`), with the instruction set first.
-    macro_rules! signatures {
+    /// From the core's list of queries (`smoothtri::for_each_query!`), one entry each: the
+    /// trait [`Queries`] (the query with the instruction set first), its impls for `f32` and
+    /// `f64` (each dispatching on `isa`; generated where `F` names the precision, so that the
+    /// list's types, which name `F`, are that precision's), and [`Kernels`]' methods.
+    macro_rules! queries {
         (
             ()
             $({ name: $name:ident, doc: $doc:literal, same: $same:literal, generics: [$($k:ident)?],
@@ -226,61 +228,47 @@ mod queries {
                     fn $name<$(const $k: usize)?>(isa: Isa, $($p: $t),*) -> $ret;
                 )*
             }
-        };
-    }
-    smoothtri::for_each_query!(signatures);
 
-    /// The bodies of [`Queries`]: each dispatches on `isa`. Generated where `F` names the
-    /// precision, so the list's types (which name `F`) are this precision's.
-    macro_rules! bodies {
-        (
-            ()
-            $({ name: $name:ident, doc: $doc:literal, same: $same:literal, generics: [$($k:ident)?],
-                params: ($($p:ident: $t:ty),* $(,)?), returns: $ret:ty, lanes: ($l:ident) $lanes:expr,
-                core: $core:expr $(,)? })*
-        ) => {
-            impl Queries<F> for F {
+            /// `impl Queries<F> for F` where `F` names the precision.
+            macro_rules! bodies {
+                () => {
+                    impl Queries<F> for F {
+                        $(
+                            fn $name<$(const $k: usize)?>(isa: Isa, $($p: $t),*) -> $ret {
+                                dispatch!(isa, $core, $name $(::<$k>)? ($($p),*))
+                            }
+                        )*
+                    }
+                };
+            }
+
+            /// The `f32` kernels.
+            mod single {
+                use super::{Isa, Queries};
+                type F = f32;
+                bodies!();
+            }
+
+            /// The `f64` kernels.
+            mod double {
+                use super::{Isa, Queries};
+                type F = f64;
+                bodies!();
+            }
+
+            /// The dispatched queries: each returns what the core's query of its `doc` returns.
+            impl super::Kernels {
                 $(
-                    fn $name<$(const $k: usize)?>(isa: Isa, $($p: $t),*) -> $ret {
-                        dispatch!(isa, $core, $name $(::<$k>)? ($($p),*))
+                    #[doc = concat!("[`", $doc, "`](smoothtri::", $doc, ") on this instruction set: ", $same, ".")]
+                    #[inline]
+                    pub fn $name<F: super::Precision $(, const $k: usize)?>(self, $($p: $t),*) -> $ret {
+                        <F as Queries<F>>::$name $(::<$k>)? (self.isa, $($p),*)
                     }
                 )*
             }
         };
     }
-
-    /// The `f32` kernels.
-    mod single {
-        use super::{Isa, Queries};
-        type F = f32;
-        smoothtri::for_each_query!(bodies);
-    }
-
-    /// The `f64` kernels.
-    mod double {
-        use super::{Isa, Queries};
-        type F = f64;
-        smoothtri::for_each_query!(bodies);
-    }
-}
-
-/// The dispatched queries of [`Kernels`], one per entry of the core's list of queries
-/// (`smoothtri::for_each_query!`): each returns what the core's query of its `doc` returns.
-macro_rules! methods {
-    (
-        ()
-        $({ name: $name:ident, doc: $doc:literal, same: $same:literal, generics: [$($k:ident)?],
-            params: ($($p:ident: $t:ty),* $(,)?), returns: $ret:ty, lanes: ($l:ident) $lanes:expr,
-            core: $core:expr $(,)? })*
-    ) => {
-        $(
-            #[doc = concat!("[`", $doc, "`](smoothtri::", $doc, ") on this instruction set: ", $same, ".")]
-            #[inline]
-            pub fn $name<F: Precision $(, const $k: usize)?>(self, $($p: $t),*) -> $ret {
-                <F as queries::Queries<F>>::$name $(::<$k>)? (self.isa, $($p),*)
-            }
-        )*
-    };
+    smoothtri::for_each_query!(queries);
 }
 
 impl Kernels {
@@ -313,8 +301,6 @@ impl Kernels {
     pub fn isa(self) -> Isa {
         self.isa
     }
-
-    smoothtri::for_each_query!(methods);
 }
 
 /// The process's kernels, chosen once (at the first call): those [`Kernels::from_env`] gives,

@@ -106,12 +106,7 @@ fn closest_hit_impl<F: Float, const K: usize>(
 ) -> Option<Hit<F>> {
     let world = WorldRay::new(ray)?;
     let mut prepared = None;
-    let test = Test {
-        t_min,
-        t_max,
-        beyond: None,
-        n: Budget::new(n),
-    };
+    let test = Test::closest(t_min, t_max, n);
     let c = crossing::<F, K>(patch, &world, test, stats, &mut prepared, heights)?;
     let hit = c.hit(patch, prepared.as_ref()?, ray);
     stats.normal_evals += 1;
@@ -129,6 +124,19 @@ pub(crate) struct Test<F> {
     pub t_max: F,
     pub beyond: Option<F>,
     pub n: Budget,
+}
+
+impl<F> Test<F> {
+    /// The test of one patch alone: `[t_min, t_max]`, nothing found before, budget `n`.
+    #[inline(always)]
+    pub(crate) fn closest(t_min: F, t_max: F, n: usize) -> Self {
+        Test {
+            t_min,
+            t_max,
+            beyond: None,
+            n: Budget::new(n),
+        }
+    }
 }
 
 /// Where `ray` crosses `patch` in `[t_min, t_max]` (clip, bracket, refine; no normal yet),

@@ -21,7 +21,7 @@ use super::budget::{end_snap, rounding_allowance, secant};
 use super::clip::{WorldRay, clip};
 use super::heights::{Heights, target};
 use super::refine::{EARLY_STOP, first_sign_change};
-use super::{KernelStats, Test, bary_at, budget::Budget, crossing};
+use super::{KernelStats, Test, bary_at, crossing};
 use crate::geometry::Patch;
 use crate::num::lanes::{LANES, One};
 use crate::num::real::Float;
@@ -74,12 +74,7 @@ pub fn predictor_study<F: Float>(
     let heights = target::<F>();
     let mut stats = KernelStats::default();
     let mut prepared = None;
-    let test = Test {
-        t_min,
-        t_max,
-        beyond: None,
-        n: Budget::new(n),
-    };
+    let test = Test::closest(t_min, t_max, n);
     let today = crossing::<F, K>(patch, &world, test, &mut stats, &mut prepared, &heights)?;
     let prep = prepared?;
     let cl = clip(patch, &world, t_min, t_max, None)?;
@@ -132,18 +127,19 @@ pub fn predictor_study<F: Float>(
     let half = stop * F::from_f64(PAIR);
     let pair = [t1 - half, t1 + half].map(|t| (t, truth(t)));
     let [(a, fa), (b, fb)] = pair;
-    let agree = |lo: F, hi: F| {
+    // Certified by `stage` with `evals` true evaluations: the bracket `[lo, hi]`.
+    let certified = |stage: u8, evals: u32, lo: F, hi: F| {
         let e = today.t_error.to_f64();
-        lo.to_f64() - e <= tau && tau <= hi.to_f64() + e
+        Some(PredictorOutcome {
+            evals,
+            stage,
+            agrees: lo.to_f64() - e <= tau && tau <= hi.to_f64() + e,
+            certified: [world_t(lo), world_t(hi)],
+            ..outcome
+        })
     };
     if changes(fa, fb) {
-        return Some(PredictorOutcome {
-            evals: 3,
-            stage: 1,
-            agrees: agree(a, b),
-            certified: [world_t(a), world_t(b)],
-            ..outcome
-        });
+        return certified(1, 3, a, b);
     }
     let root = a - fa * (b - a) / (fb - fa);
     let reach = stop * F::from_f64(4.0);
@@ -171,13 +167,7 @@ pub fn predictor_study<F: Float>(
         }
     }
     if let Some((a, b)) = best {
-        return Some(PredictorOutcome {
-            evals: 7,
-            stage: 2,
-            agrees: agree(a, b),
-            certified: [world_t(a), world_t(b)],
-            ..outcome
-        });
+        return certified(2, 7, a, b);
     }
     Some(PredictorOutcome {
         predicted_off: outcome.predicted_off,
