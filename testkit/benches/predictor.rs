@@ -20,6 +20,7 @@
 
 use smoothtri::internal::{PredictorOutcome, predictor_error, predictor_study};
 use smoothtri::{LineField, Ray};
+use smoothtri_host::percentile;
 use smoothtri_io::load;
 use smoothtri_testkit::scenes::builtin;
 use smoothtri_testkit::{Camera, Mesh, assimp_models, build_scene};
@@ -31,13 +32,6 @@ const VIEW: (f64, f64) = (30.0, 35.0);
 /// The refinement budget of the Embree bench's Rust row (today's search stops early, at the
 /// same point for any larger budget: N = 8 gives the same counts).
 const N: usize = 4;
-
-/// The `q`-quantile of `v` (sorted here; NaN-free input).
-fn quantile(v: &mut [f64], q: f64) -> f64 {
-    v.sort_by(f64::total_cmp);
-    let i = ((v.len() as f64 - 1.0) * q).round() as usize;
-    v.get(i).copied().unwrap_or(f64::NAN)
-}
 
 /// Prints the table's row of `mesh`; returns the hits certified elsewhere (ray index, outcome).
 fn row(name: &str, mesh: &Mesh, n: usize) -> Vec<(usize, PredictorOutcome)> {
@@ -79,6 +73,9 @@ fn row(name: &str, mesh: &Mesh, n: usize) -> Vec<(usize, PredictorOutcome)> {
         .filter(|p| p.rejected().is_none())
         .map(predictor_error)
         .collect();
+    for v in [&mut predicted, &mut stepped, &mut errors] {
+        v.sort_by(f64::total_cmp);
+    }
     let pct = |k: usize| 100.0 * k as f64 / hits.max(1) as f64;
     let per = |e: u64| e as f64 / hits.max(1) as f64;
     println!(
@@ -89,12 +86,12 @@ fn row(name: &str, mesh: &Mesh, n: usize) -> Vec<(usize, PredictorOutcome)> {
         pct(fallback),
         per(today),
         per(evals),
-        quantile(&mut predicted, 0.5),
-        quantile(&mut predicted, 0.9),
-        quantile(&mut stepped, 0.5),
-        quantile(&mut stepped, 0.9),
-        quantile(&mut errors, 0.5),
-        quantile(&mut errors, 1.0),
+        percentile(&predicted, 0.5),
+        percentile(&predicted, 0.9),
+        percentile(&stepped, 0.5),
+        percentile(&stepped, 0.9),
+        percentile(&errors, 0.5),
+        percentile(&errors, 1.0),
     );
     elsewhere
 }
