@@ -8,7 +8,7 @@ pub use crate::kernel::refine::{
     EARLY_STOP, ESTIMATE_STEPS, INNER_OF_SPREAD, INNER_OF_STOP, OUTER_OF_INNER, OUTER_OF_SPREAD,
     OUTER_OF_WIDTH, WORST_SHRINK,
 };
-pub use crate::kernel::study::{PredictorOutcome, predictor_error, predictor_study};
+pub use crate::kernel::study::{Search, predictor_error, search_study};
 pub use crate::kernel::{ROUNDING_ULPS, WALL_MARGIN_ULPS};
 pub use crate::mesh::cracks::{CRACK_REACH, CRACK_SAMPLES, MAX_CRACK_REACH};
 pub use crate::mesh::sampling::FIT_NODES;

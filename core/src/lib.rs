@@ -129,7 +129,8 @@ pub use error::PatchError;
 pub use geometry::PatchData;
 pub use kernel::flat::{flat_hit, moller_trumbore};
 pub use kernel::{
-    DEFAULT_SAMPLES, KernelStats, MAX_ITERATIONS, iterations, max_height_evals, max_lane_calls,
+    DEFAULT_SAMPLES, KernelStats, MAX_ITERATIONS, PREDICTED_EVALS, iterations, max_height_evals,
+    max_lane_calls,
 };
 #[cfg(feature = "alloc")]
 pub use mesh::OwnedScene;

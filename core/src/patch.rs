@@ -17,6 +17,8 @@ use crate::ray::{Hit, Ray};
 use crate::surface::band;
 use crate::surface::edge;
 use crate::surface::field::LineField;
+use crate::surface::lanes::Prepared;
+use crate::surface::predictor::Predictor;
 use crate::surface::scalar::{self, project_bary};
 use crate::surface::shell;
 
@@ -180,7 +182,8 @@ impl<F: Float> Patch<F> {
             d: dl,
             k: edge::sphere_curvatures(pl, nl),
         };
-        let heights = shell::samples(&shape);
+        let prep = Prepared::new(&shape);
+        let (heights, inner) = shell::samples(&shape, &prep, Predictor::interior_nodes());
         let sigma = shell::bounds_of(&shape, &heights);
         if !shell::is_valid(&shape, sigma) {
             return Err(PatchError::InvalidShell);
@@ -196,6 +199,7 @@ impl<F: Float> Patch<F> {
             remedy: 0,
             reach,
             band: Band::UNBOUNDED,
+            predictor: Predictor::NONE,
         };
         let snap = kernel::budget::end_snap(kernel::budget::rounding_scale(&patch));
         patch.band = band::fit(
@@ -205,6 +209,7 @@ impl<F: Float> Patch<F> {
             snap,
             F::from_f64(kernel::MAX_CRACK_REACH),
         );
+        patch.predictor = Predictor::build(&shape, &prep, &heights, inner);
         if !patch.all_finite() {
             return Err(PatchError::OutOfRange);
         }
@@ -275,6 +280,8 @@ impl<F: Float> Patch<F> {
             });
             if let Ok(mut patch) = Self::with_field(p, clamped, field) {
                 patch.remedy = (k + 1) as u8;
+                // Clamped patches keep the kernel's bracketing (surface::predictor, "Domain").
+                patch.predictor = Predictor::NONE;
                 return Ok(patch);
             }
         }
@@ -627,6 +634,9 @@ impl<F: Float> Patch<F> {
         let k = V3::new(k0 + k1, k2 + k3, k4 + k5) + V3::new(s0, s1, F::ZERO);
         let a = z(self.frame.origin) + z(ex) + z(ey) + z(ez) + z(k);
         let b = zs(&self.shape.p) + zs(&self.shape.n) + zs(&self.shape.d);
-        a + b == F::ZERO && self.bbox.is_finite() && self.band.is_finite()
+        a + b == F::ZERO
+            && self.bbox.is_finite()
+            && self.band.is_finite()
+            && self.predictor.is_finite()
     }
 }

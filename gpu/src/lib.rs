@@ -28,8 +28,9 @@
 //!
 //! # Bounded work
 //! Per patch test at most `8 + 8·n + 8` height evaluations ([`SAMPLES`]` + 2` bracketing
-//! points, `n` steps of 8 and, for `n ≥ 1`, two estimate steps of 4, as the CPU's
-//! `smoothtri::max_height_evals`), every loop of the kernel with a constant trip count; per ray at most one
+//! points, `n` steps of 8 and, for `n ≥ 1`, two estimate steps of 4: the CPU's
+//! `smoothtri::max_height_evals` less its predicted search, which the GPU does not run), every
+//! loop of the kernel with a constant trip count; per ray at most one
 //! visit per BVH node, one test per index of the tree's order, and [`STACK`] pending nodes; per
 //! pixel of a frame two such rays (the camera ray and at most one shadow ray) and at most four
 //! exact normals (the hit's and, for the seamless normal, three edge points').

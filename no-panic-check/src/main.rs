@@ -237,11 +237,13 @@ fn exercise<F: Float>() -> u32 {
     acc += fin::<F>(at) as u32;
     let (t0, t1) = (c::<F>(0.0), c::<F>(f64::INFINITY));
     let hit: Option<Hit<F>> = patch.closest_hit(&ray, t0, t1, 8);
-    // The study of issue 63's predicted search (smoothtri::internal).
-    if let Some(o) = smoothtri::internal::predictor_study(&patch, &ray, t0, t1, black_box(4)) {
-        acc += o.evals + u32::from(o.stage) + o.agrees as u32;
+    // The study of the predicted search (smoothtri::internal).
+    for s in smoothtri::internal::search_study(&patch, &ray, t0, t1, black_box(4)) {
+        acc += s.evals + s.crossing.is_some() as u32;
     }
-    acc += smoothtri::internal::predictor_error(&patch).is_finite() as u32;
+    if let Some([e, b]) = smoothtri::internal::predictor_error(&patch, black_box(8)) {
+        acc += (e <= b) as u32;
+    }
     let (hit2, stats): (_, KernelStats) =
         patch.closest_hit_stats::<DEFAULT_SAMPLES>(&ray, t0, t1, 5);
     let (hit3, _) = patch.closest_hit_stats::<0>(&ray, t0, t1, 0);

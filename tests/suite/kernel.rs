@@ -10,7 +10,7 @@ use glam::{DVec3, Vec3};
 use smoothtri::accuracy::*;
 use smoothtri::internal::{EARLY_STOP, WORST_SHRINK};
 use smoothtri::{DEFAULT_SAMPLES, DPatch, DRay, Hit, Patch, Ray};
-use smoothtri::{max_height_evals, max_lane_calls};
+use smoothtri::{PREDICTED_EVALS, max_height_evals, max_lane_calls};
 use smoothtri_isa::{Dispatch, Precision, kernels};
 use smoothtri_testkit::scenes::{cube, icosphere, sphere_root, torus};
 use smoothtri_testkit::{Mesh, patches32};
@@ -212,8 +212,9 @@ fn precision_versus_iterations_is_certified() {
 }
 
 /// The work bound: at most `max_height_evals(K, N)` height evaluations per patch test
-/// (`max_lane_calls(K, N)` lane calls of eight and two estimate steps of four), hits and misses
-/// alike, and the lane calls' bound is reached. Refinement stops early
+/// (`max_lane_calls(K, N)` lane calls of eight, two estimate steps of four and the predicted
+/// search's `PREDICTED_EVALS`), hits and misses alike, and the lane calls' bound is reached
+/// (the predicted search's share is reached in `core/src/kernel/predicted.rs`'s tests). Refinement stops early
 /// once the bracket is below the rounding allowance ([`EARLY_STOP`]), and the estimated steps
 /// reach it within three steps in `f32` and six in `f64` on the torus (at most 32 and 56 of the
 /// 80 evaluations at N = 8), so the bound is asserted reached at N = 2 in `f32` and N = 4 in
@@ -268,10 +269,13 @@ fn work_per_ray_is_bounded() {
         .collect();
     assert_eq!(max_lane_calls(DEFAULT_SAMPLES, 8), 1 + 8);
     assert_eq!(max_lane_calls(10, 3), 2 + 3);
-    assert_eq!(max_height_evals(DEFAULT_SAMPLES, 8), 8 * (1 + 8) + 2 * 4);
+    assert_eq!(
+        max_height_evals(DEFAULT_SAMPLES, 8),
+        8 * (1 + 8) + 2 * 4 + PREDICTED_EVALS
+    );
     assert_eq!(max_height_evals(DEFAULT_SAMPLES, 0), 8);
-    // Reached: some ray takes every uniform step (and one estimate step of four in the first
-    // two cases: 28 of 32 and 44 of 48 evaluations; at K = 10, N = 3 the most is 40 of 48).
+    // Reached: some ray takes every uniform step (and one estimate step of four: 28 of 38 and
+    // 44 of 54 evaluations, the bound with the estimate steps and the predicted search's).
     let reached = |(max, _): (u32, f64), k: usize, n: usize| {
         assert!(
             max >= 8 * max_lane_calls(k, n) as u32,
@@ -288,7 +292,9 @@ fn work_per_ray_is_bounded() {
         DEFAULT_SAMPLES,
         4,
     );
-    reached(run::<f32, 10, 3>(&ps32, &rays32), 10, 3);
+    // At K = 10 the predictor decides the rays that took every lane call before (the most is
+    // 36 of the bound's 53): respected, not reached.
+    run::<f32, 10, 3>(&ps32, &rays32);
     run::<f32, DEFAULT_SAMPLES, 8>(&ps32, &rays32);
     run::<f64, DEFAULT_SAMPLES, 8>(&ps64, &rays);
 }

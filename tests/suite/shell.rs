@@ -1,11 +1,14 @@
 //! The shell's height range and bounding box must contain the whole surface (dense sampling of
 //! random patches), with a clearance of [`SHELL_CLEARANCE`] of its width to the height range's
-//! faces, in `f64` and `f32`; so must the band that culls rays, with [`BAND_CLEARANCE`].
+//! faces, in `f64` and `f32`; so must the band that culls rays, with [`BAND_CLEARANCE`], and
+//! the predictor's bound the predictor's error, with [`PREDICTOR_CLEARANCE`].
 
-use crate::common::pins::{BAND_CLEARANCE, SHELL_CLEARANCE};
+use crate::common::pins::{BAND_CLEARANCE, PREDICTOR_CLEARANCE, SHELL_CLEARANCE};
 use crate::common::*;
 use glam::DVec3;
+use smoothtri::internal::predictor_error;
 use smoothtri::{DPatch, LineField, Patch};
+use smoothtri_testkit::scenes;
 
 /// The cases of a test: each line field with each normal tilt of `degs` (degrees), the face
 /// field's first.
@@ -135,4 +138,72 @@ fn band_contains_dense_samples() {
             -worst
         );
     }
+}
+
+/// The predictor's bound (`core/src/surface/predictor.rs`) holds on a dense grid (the degree-24
+/// lattice, 325 points) of every patch that has one, random and real, with a clearance of
+/// [`PREDICTOR_CLEARANCE`] of the bound: exactly the patches within its domain (parallel
+/// sections, normals within 45°) have one.
+#[test]
+fn predictor_bound_holds_on_dense_grids() {
+    let mut rng = Rng(63);
+    let mut worst = 0.0f64;
+    let mut check = |what: &str, patch: &DPatch| -> bool {
+        let Some([error, bound]) = predictor_error(patch, 24) else {
+            return false;
+        };
+        assert!(
+            error <= bound,
+            "{what}: error {error:.3e} above its bound {bound:.3e}"
+        );
+        worst = worst.max(error / bound);
+        true
+    };
+    for (field, deg) in cases(&[20.0, 40.0, 50.0]) {
+        let (mut with, mut without) = (0, 0);
+        for _ in 0..150 {
+            let (p, n) = random_patch(&mut rng, deg);
+            let Ok(patch) = DPatch::with_field(p, n, field) else {
+                continue;
+            };
+            let nf = patch.face_normal();
+            let cos = n.iter().map(|v| v.normalize().dot(nf)).fold(1.0, f64::min);
+            let parallel = field == LineField::Face || {
+                let d = patch.data().d;
+                d.iter().all(|d| d[2] == 1.0)
+            };
+            if check("random", &patch) {
+                assert!(parallel && cos > 0.7070, "{p:?} {n:?}");
+                with += 1;
+            } else {
+                assert!(!parallel || cos < 0.7072, "{p:?} {n:?}");
+                without += 1;
+            }
+        }
+        eprintln!(
+            "{field:?} field, normals ≤ {deg}°: {with} patches with a predictor, {without} without"
+        );
+    }
+    let mut real = 0;
+    for (name, mesh) in [
+        ("torus 8×8", scenes::torus(8, 8, 1.0, 0.4)),
+        ("teapot", scenes::teapot(4)),
+    ] {
+        for t in &mesh.triangles {
+            let [p, n] = [&mesh.positions, &mesh.normals].map(|v| t.map(|i| v[i as usize]));
+            if let Ok(patch) = DPatch::new(p, n) {
+                real += usize::from(check(name, &patch));
+            }
+        }
+    }
+    eprintln!(
+        "{real} real patches with a predictor; the largest error is {worst:.3} of the bound \
+         (clearance {PREDICTOR_CLEARANCE})"
+    );
+    assert!(real > 500, "{real}");
+    assert!(
+        1.0 - worst >= PREDICTOR_CLEARANCE,
+        "the error comes within {:.3} of the bound",
+        1.0 - worst
+    );
 }

@@ -245,6 +245,7 @@ impl<'a, F: Float> Bvh<'a, F> {
                         t_max: b,
                         beyond,
                         n,
+                        predict: true,
                     };
                     let c = kernel::crossing::<F, DEFAULT_SAMPLES>(
                         p, &world, test, &mut stats, slot, heights,
@@ -299,6 +300,7 @@ impl<'a, F: Float> Bvh<'a, F> {
                     t_max: b,
                     beyond: None,
                     n,
+                    predict: true,
                 };
                 kernel::crossing::<F, DEFAULT_SAMPLES>(
                     p,

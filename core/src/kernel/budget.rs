@@ -3,6 +3,7 @@
 //! interval end and every wall margin is measured in (docs/METHOD.md §8).
 
 use crate::geometry::Patch;
+pub use crate::kernel::predicted::PREDICTED_EVALS;
 use crate::kernel::refine::{Bracket, ESTIMATE_POINTS, ESTIMATE_STEPS};
 use crate::num::lanes::LANES;
 use crate::num::real::Float;
@@ -137,14 +138,16 @@ pub const fn max_lane_calls(k: usize, n: usize) -> usize {
 
 /// The most height evaluations `σS` that one patch test with `k` bracketing samples and a
 /// refinement budget `n` makes: eight per lane call of [`max_lane_calls`]`(k, n)` plus, for
-/// `n ≥ 1`, the four of each estimate step (`ESTIMATE_STEPS · ESTIMATE_POINTS` = 2 · 4;
-/// `n = 0` brackets only). [`KernelStats::height_evals`](crate::KernelStats::height_evals) never exceeds it.
+/// `n ≥ 1`, the four of each estimate step (`ESTIMATE_STEPS · ESTIMATE_POINTS` = 2 · 4) and
+/// the predicted search's [`PREDICTED_EVALS`] = 6 (where a true height contradicts the
+/// predictor, today's bracketing follows them; `n = 0` brackets only).
+/// [`KernelStats::height_evals`](crate::KernelStats::height_evals) never exceeds it.
 ///
 /// # Panics
 /// Never.
 pub const fn max_height_evals(k: usize, n: usize) -> usize {
     let estimate = if n > 0 {
-        ESTIMATE_STEPS * ESTIMATE_POINTS
+        ESTIMATE_STEPS * ESTIMATE_POINTS + PREDICTED_EVALS
     } else {
         0
     };

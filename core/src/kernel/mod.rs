@@ -19,6 +19,10 @@
 //! 4. evaluates the exact surface normal once at the estimate, from the crossing's own
 //!    prepared patch ([`Crossing::hit`]).
 //!
+//! Steps 2–3 are the fallback of the **predicted search** ([`predicted`]) on patches with a
+//! predictor and `N ≥ 1`: the predictor's signs at step 2's samples decide the first sign
+//! change, and five true evaluations around its crossing usually certify it.
+//!
 //! A patch is prepared for the height evaluation once per test, into the caller's slot, and a
 //! crossing is completed into a hit with the same prepared patch: the BVH keeps the closest
 //! crossing's prepared patch in one of two slots (the other takes the next candidate's), so no
@@ -26,11 +30,11 @@
 //!
 //! `f` is evaluated at eight parameters per call, in the lanes of [`Float::L8`]
 //! ([`crate::num::lanes`]). Work per ray is at most [`max_lane_calls`]`(K, n) = ⌈(K + 2)/8⌉ + n`
-//! lane calls, two four-point calls and one normal evaluation ([`max_height_evals`] height
-//! evaluations in all), whatever the input: every loop has a bounded trip count (the
-//! refinement's at most [`MAX_ITERATIONS`] steps; a loop may stop early when it has its answer,
-//! never run longer). The final
-//! bracket's width plus a rounding allowance is returned as [`Hit::t_error`].
+//! lane calls, two four-point calls, the predicted search's [`PREDICTED_EVALS`] and one normal
+//! evaluation ([`max_height_evals`] height evaluations in all), whatever the input: every loop
+//! has a bounded trip count (the refinement's at most [`MAX_ITERATIONS`] steps; a loop may stop
+//! early when it has its answer, never run longer). The final bracket's width plus a rounding
+//! allowance is returned as [`Hit::t_error`].
 
 //!
 //! The error budget and the work bounds are named constants in [`budget`].
@@ -39,11 +43,13 @@ pub(crate) mod budget;
 pub(crate) mod clip;
 pub mod flat;
 pub(crate) mod heights;
+pub(crate) mod predicted;
 pub mod refine;
 pub(crate) mod study;
 
 use crate::geometry::Patch;
 use crate::geometry::Shape;
+use crate::num::lanes::One;
 use crate::num::real::Float;
 use crate::num::vec::V3;
 use crate::ray::{Hit, Ray};
@@ -51,13 +57,14 @@ use crate::surface::lanes::Prepared;
 use crate::surface::scalar::{normal_local, project_bary};
 pub(crate) use budget::Budget;
 pub use budget::{
-    DEFAULT_SAMPLES, MAX_CRACK_REACH, MAX_ITERATIONS, ROUNDING_ULPS, WALL_MARGIN_ULPS, iterations,
-    max_height_evals, max_lane_calls,
+    DEFAULT_SAMPLES, MAX_CRACK_REACH, MAX_ITERATIONS, PREDICTED_EVALS, ROUNDING_ULPS,
+    WALL_MARGIN_ULPS, iterations, max_height_evals, max_lane_calls,
 };
 use budget::{end_snap, rounding_allowance, secant};
 pub(crate) use clip::WorldRay;
 use clip::{Clipped, clip};
 pub(crate) use heights::Heights;
+use predicted::{Predicted, Signs};
 use refine::{ESTIMATE_POINTS, first_sign_change, refine};
 
 /// Statistics of one kernel call, for tests and studies.
@@ -124,6 +131,9 @@ pub(crate) struct Test<F> {
     pub t_max: F,
     pub beyond: Option<F>,
     pub n: Budget,
+    /// Whether the predicted search may run ([`predicted`]); `false` only for the study of
+    /// the bracketing alone.
+    pub predict: bool,
 }
 
 impl<F> Test<F> {
@@ -135,6 +145,7 @@ impl<F> Test<F> {
             t_max,
             beyond: None,
             n: Budget::new(n),
+            predict: true,
         }
     }
 }
@@ -164,6 +175,7 @@ pub(crate) fn crossing<F: Float, const K: usize>(
         t_max,
         beyond,
         n,
+        ..
     } = test;
     let cl = clip(patch, ray, t_min, t_max, beyond)?;
     let (a, b) = (cl.a, cl.b);
@@ -176,7 +188,44 @@ pub(crate) fn crossing<F: Float, const K: usize>(
         count(crate::num::lanes::LANES);
         heights.f8(prep, o, r, taus)
     };
-    let found = first_sign_change::<F, K>(a, b, end_snap(cl.scale), &mut f);
+    let mut f4 = |taus: [F; ESTIMATE_POINTS]| {
+        count(ESTIMATE_POINTS);
+        heights.f4(prep, o, r, taus)
+    };
+    let snap = end_snap(cl.scale);
+    let predictor = &patch.predictor;
+    if test.predict && n.get() > 0 && predictor.usable() {
+        let p = Predicted {
+            predictor,
+            prep,
+            o,
+            r,
+        };
+        let margin = predictor.bound() + snap + snap;
+        match predicted::signs::<F, K>(&p, a, b, margin) {
+            Signs::Miss => return None,
+            Signs::Bracket(br) => {
+                let stop =
+                    rounding_allowance(cl.scale, secant(&br)) * F::from_f64(refine::EARLY_STOP);
+                let (tp, slope) = predicted::root(&p, &br);
+                let mut f1 = |tau: F| {
+                    count(1);
+                    let [o1, r1] = [o, r].map(|v| [One(v.x), One(v.y), One(v.z)]);
+                    prep.f(o1, r1, One(tau)).0
+                };
+                if let Some((next, before, after)) =
+                    predicted::certify(br, tp, slope, stop, &mut f1, &mut f4)
+                {
+                    let start = refine::start_estimate(&next, before, after);
+                    let (fin, tau) = refine(next, start, stop, n.get(), &mut f, &mut f4);
+                    stats.height_evals += evals.get();
+                    return complete(&patch.shape, &cl, &br, &fin, tau, [t_min, t_max], prep);
+                }
+            }
+            Signs::Unsure => {}
+        }
+    }
+    let found = first_sign_change::<F, K>(a, b, snap, &mut f);
     let Some((bracket, start)) = found else {
         stats.height_evals += evals.get();
         return None;
@@ -185,10 +234,6 @@ pub(crate) fn crossing<F: Float, const K: usize>(
     // (it takes the flatter of two secants): a bracket below a fraction of it is converged.
     let floor = rounding_allowance(cl.scale, secant(&bracket));
     let stop = floor * F::from_f64(refine::EARLY_STOP);
-    let mut f4 = |taus: [F; ESTIMATE_POINTS]| {
-        count(ESTIMATE_POINTS);
-        heights.f4(prep, o, r, taus)
-    };
     let (fin, tau) = refine(bracket, start, stop, n.get(), &mut f, &mut f4);
     stats.height_evals += evals.get();
     complete(&patch.shape, &cl, &bracket, &fin, tau, [t_min, t_max], prep)

@@ -358,7 +358,7 @@ pub(crate) fn refine<F: Float>(
 /// the next estimate).
 #[inline(always)]
 #[allow(clippy::type_complexity)]
-fn narrow<F: Float, const M: usize>(
+pub(crate) fn narrow<F: Float, const M: usize>(
     br: &Bracket<F>,
     xs: &[F; M],
     fs: &[F; M],

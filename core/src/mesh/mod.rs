@@ -58,7 +58,7 @@
 //! vertex normal; on a sphere `m = n_g` and the correction vanishes (normals stay radial).
 //! Points are never changed.
 //!
-//! Memory: `size_of::<Seam<f32>>()` is 148 bytes (`f64`: 296), beside the patch's 252.
+//! Memory: `size_of::<Seam<f32>>()` is 148 bytes (`f64`: 296), beside the patch's 304.
 
 pub(crate) mod build;
 pub(crate) mod cracks;

@@ -50,7 +50,7 @@ const INTERIOR: [[f64; 3]; 4] = [
 const _: () = assert!(3 * EDGE_T.len() + INTERIOR.len() == SAMPLES);
 const _: () = assert!(EDGE_T.len() <= LANES && INTERIOR.len() <= LANES);
 
-/// Eight lanes from their values (the spare lanes of [`samples`] repeat its last point).
+/// Eight lanes from their values.
 #[inline(always)]
 fn lanes<F: Float>(f: impl Fn(usize) -> F) -> F::L8 {
     F::L8::from_array(core::array::from_fn(f))
@@ -70,13 +70,21 @@ pub(crate) fn bounds_of<F: Float>(shape: &Shape<F>, heights: &[F; SAMPLES]) -> [
     [lo - m, hi + m]
 }
 
-/// The surface height at the [`SAMPLES`] points, by the lane evaluation ([`crate::surface::lanes`]):
-/// edge `j`'s points (`t` of [`EDGE_T`]) at `5j .. 5j + 5`, one lane call per edge, then the
-/// [`INTERIOR`] points in one call. Equal to [`sample_scalar`] within rounding; where a lane is
+/// Lanes of [`samples`]' interior call that its points leave free.
+pub(crate) const SPARE: usize = LANES - INTERIOR.len();
+
+/// The surface height at the [`SAMPLES`] points of `shape` (prepared as `pr`), by the lane
+/// evaluation ([`crate::surface::lanes`]): edge `j`'s points (`t` of [`EDGE_T`]) at
+/// `5j .. 5j + 5`, one lane call per edge, then the [`INTERIOR`] points in one call, whose free
+/// lanes return the heights at the barycentrics `spare` (the predictor's interior nodes,
+/// [`crate::surface::predictor`]). Equal to [`sample_scalar`] within rounding; where a lane is
 /// not finite (never seen for an accepted patch) it is replaced by [`sample_scalar`].
 #[inline(always)]
-pub(crate) fn samples<F: Float>(shape: &Shape<F>) -> [F; SAMPLES] {
-    let pr = Prepared::new(shape);
+pub(crate) fn samples<F: Float>(
+    shape: &Shape<F>,
+    pr: &Prepared<F>,
+    spare: [[F; 3]; SPARE],
+) -> ([F; SAMPLES], [F; SPARE]) {
     let mut out = [F::ZERO; SAMPLES];
     let mut slots = out.iter_mut();
     let t = lanes(|i| F::from_f64(EDGE_T.get(i).or(EDGE_T.last()).copied().unwrap_or(0.5)));
@@ -87,25 +95,29 @@ pub(crate) fn samples<F: Float>(shape: &Shape<F>) -> [F; SAMPLES] {
         }
     }
     let bary = |c: usize| {
-        lanes(|i| {
-            let x = INTERIOR
-                .get(i)
-                .or(INTERIOR.last())
+        lanes(|i| match INTERIOR.get(i) {
+            Some(x) => F::from_f64(x.get(c).copied().unwrap_or_default()),
+            None => spare
+                .get(i.saturating_sub(INTERIOR.len()))
+                .and_then(|x| x.get(c))
                 .copied()
-                .unwrap_or_default();
-            F::from_f64(x.get(c).copied().unwrap_or_default())
+                .unwrap_or(F::ZERO),
         })
     };
     let h = pr.heights([bary(0), bary(1), bary(2)]).to_array();
-    for (h, slot) in h.into_iter().zip(slots) {
-        *slot = h;
+    let mut extra = [F::ZERO; SPARE];
+    for (h, slot) in h.iter().zip(slots) {
+        *slot = *h;
+    }
+    for (h, slot) in h.iter().skip(INTERIOR.len()).zip(extra.iter_mut()) {
+        *slot = *h;
     }
     for (i, v) in out.iter_mut().enumerate() {
         if !v.is_fin() {
             *v = sample_scalar(shape, i);
         }
     }
-    out
+    (out, extra)
 }
 
 /// The barycentrics of sample `i` of [`samples`]: edge `j`'s points at `(1 − t)·Pj + t·Pj+1`,
@@ -274,7 +286,8 @@ mod tests {
     /// Worst difference, relative to `size`, between the lane samples of `shape` and the
     /// scalar ones; asserts that every lane sample is finite.
     fn worst_sample_difference<F: Float>(shape: &Shape<F>, size: f64) -> f64 {
-        let lanes = samples(shape);
+        let third = F::ONE / F::from_f64(3.0);
+        let lanes = samples(shape, &Prepared::new(shape), [[third; 3]; SPARE]).0;
         let mut worst = 0.0f64;
         for (i, a) in lanes.into_iter().enumerate() {
             assert!(a.is_fin(), "sample {i} not finite");
@@ -298,7 +311,9 @@ mod tests {
                 worst32 = worst32.max(worst_sample_difference(&p32.shape, size));
             }
             // The sampled range is the scalar samples' range.
-            let [lo, hi] = bounds_of(&patch.shape, &samples(&patch.shape));
+            let shape = &patch.shape;
+            let heights = samples(shape, &Prepared::new(shape), [[0.25; 3]; SPARE]).0;
+            let [lo, hi] = bounds_of(shape, &heights);
             let (mut slo, mut shi) = (0.0f64, 0.0f64);
             for i in 0..SAMPLES {
                 let h = sample_scalar(&patch.shape, i);

@@ -210,6 +210,20 @@ pub(super) fn f_lanes<L: LaneOps>(pr: &Prepared<L::F>, o: [L; 3], r: [L; 3], tau
 /// out-of-line functions).
 #[inline(always)]
 pub(super) fn f_inline<L: LaneOps>(pr: &Prepared<L::F>, o: [L; 3], r: [L; 3], tau: L) -> L {
+    let (z, xp, dh) = ray_bary(pr, o, r, tau);
+    z - (height_at(pr, xp) + dh)
+}
+
+/// The local ray points `o + τ·r` of the lanes: their height `z`, their projected barycentrics
+/// and the height change of the continuation beyond the edges there ([`bary`]): what `f`
+/// evaluates the height at and adds to it.
+#[inline(always)]
+pub(super) fn ray_bary<L: LaneOps>(
+    pr: &Prepared<L::F>,
+    o: [L; 3],
+    r: [L; 3],
+    tau: L,
+) -> (L, [L; 3], L) {
     let [ox, oy, oz] = o;
     let [rx, ry, rz] = r;
     let x = L3 {
@@ -218,7 +232,7 @@ pub(super) fn f_inline<L: LaneOps>(pr: &Prepared<L::F>, o: [L; 3], r: [L; 3], ta
         z: oz + rz * tau,
     };
     let (xp, dh) = bary(pr, x);
-    x.z - (height_at(pr, xp) + dh)
+    (x.z, xp, dh)
 }
 
 /// Height `σS(X)` at eight barycentric triples (summing to one, inside the triangle).

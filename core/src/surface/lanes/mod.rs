@@ -143,6 +143,20 @@ impl<F: Float> Prepared<F> {
         height::f_inline(self, o, r, tau)
     }
 
+    /// The local ray points `o + τ·r` of the lanes: their height, their projected barycentrics
+    /// and the height change of the surface's continuation beyond the edges there, where
+    /// [`Prepared::f`] evaluates the height and what it adds to it (the predictor's `f̃` uses
+    /// the same, [`crate::surface::predictor`]).
+    #[inline(always)]
+    pub(crate) fn ray_bary<L: LaneOps<F = F>>(
+        &self,
+        o: [L; 3],
+        r: [L; 3],
+        tau: L,
+    ) -> (L, [L; 3], L) {
+        height::ray_bary(self, o, r, tau)
+    }
+
     /// The height `σS(X)` at the lanes' barycentric triples (summing to one, inside the
     /// triangle).
     #[inline(always)]
