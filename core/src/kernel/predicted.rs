@@ -2,7 +2,9 @@
 //! patch's predictor ([`crate::surface::predictor`]) points at, instead of searching for it
 //! with true heights.
 //!
-//! For a patch with a predictor and no crack reach, and a refinement budget `n ≥ 1`:
+//! For a patch with a predictor and a refinement budget `n ≥ 1` (crack reach included: `f` and
+//! `f̃` share the surface's continuation beyond the edges, and a crossing at a wall, where the
+//! end snap decides, goes to the bracketing by step 1's rule):
 //! 1. **Signs** ([`signs`]): the predictor's `f̃` at the bracketing samples (the same points as
 //!    [`first_sign_change`](super::refine::first_sign_change), eight per pass of
 //!    [`Float::L8`]). Where `|f̃|` exceeds the margin (the predictor's bound plus twice the end
@@ -64,7 +66,8 @@ pub const STEP_SPREAD: f64 = 1.0 / 256.0;
 
 /// True height evaluations of the predicted search before refinement, at most: one at the
 /// predicted crossing, four around the stepped one, and one for the end of the narrowed
-/// bracket that only the predictor had signed (at most one end is: [`certify`]).
+/// bracket that only the predictor had signed (at most one end is; docs/METHOD.md §8, "The
+/// predicted search").
 pub const PREDICTED_EVALS: usize = 1 + ESTIMATE_POINTS + 1;
 
 /// What the predictor's signs at the bracketing samples decide ([`signs`]).

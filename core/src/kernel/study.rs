@@ -59,7 +59,7 @@ pub fn search_study<F: Float>(
     })
 }
 
-/// The patch's predictor ([`crate::surface::predictor`]): the largest `|P − σS|` over the
+/// The patch's predictor (`core/src/surface/predictor.rs`): the largest `|P − σS|` over the
 /// degree-`grid` lattice of its triangle and its bound, both over the longest edge; `None`
 /// where the patch has no predictor.
 pub fn predictor_error<F: Float>(patch: &Patch<F>, grid: usize) -> Option<[f64; 2]> {
