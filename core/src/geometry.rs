@@ -11,7 +11,6 @@
 use crate::aabb::Aabb;
 use crate::num::real::{Float, Real};
 use crate::num::vec::V3;
-use crate::surface::predictor::Predictor;
 
 /// The stored geometry of one [`Patch`], in plain arrays (`repr(C)`, 60 scalars).
 ///
@@ -149,6 +148,46 @@ impl<F: Float> Band<F> {
         let [c0, c1, c2] = self.c;
         let z = c0 * F::ZERO + c1 * F::ZERO + c2 * F::ZERO + self.per_reach * F::ZERO;
         z == F::ZERO && self.lo.is_fin() && self.hi.is_fin()
+    }
+}
+
+/// The nodes of a [`Predictor`]: the degree-4 lattice's fifteen points less its three vertices.
+pub(crate) const PREDICTOR_NODES: usize = 12;
+
+/// A patch's predictor of the crossing (`crate::surface::predictor` builds and evaluates it):
+/// the quartic interpolant of the height over the section barycentrics, as its heights at the
+/// nodes, and a validated bound of its error.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Predictor<F> {
+    /// The true height at each node, in the order of `crate::surface::predictor`'s lattice.
+    pub(crate) heights: [F; PREDICTOR_NODES],
+    /// `|σS − P|` at most this over the triangle (validated); `F::MAX` for no predictor.
+    pub(crate) bound: F,
+}
+
+impl<F: Float> Predictor<F> {
+    /// No predictor: the kernel brackets with true heights.
+    pub(crate) const NONE: Self = Predictor {
+        heights: [F::ZERO; PREDICTOR_NODES],
+        bound: F::MAX,
+    };
+
+    /// Whether the patch has a predictor (`crate::surface::predictor`, "Domain").
+    #[inline(always)]
+    pub(crate) fn usable(&self) -> bool {
+        self.bound < F::MAX
+    }
+
+    /// The validated bound of `|σS − P|` (height units, the local frame's); `F::MAX` for
+    /// [`Predictor::NONE`].
+    #[inline(always)]
+    pub(crate) fn bound(&self) -> F {
+        self.bound
+    }
+
+    /// Whether every stored value is finite.
+    pub(crate) fn is_finite(&self) -> bool {
+        self.heights.iter().all(|h| h.is_fin()) && self.bound.is_fin()
     }
 }
 

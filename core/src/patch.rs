@@ -9,7 +9,7 @@
 use crate::aabb::Aabb;
 use crate::error::PatchError;
 pub use crate::geometry::Patch;
-use crate::geometry::{Band, Frame, PatchData, Shape};
+use crate::geometry::{Band, Frame, PatchData, Predictor, Shape};
 use crate::kernel::{self, DEFAULT_SAMPLES, KernelStats};
 use crate::num::real::Float;
 use crate::num::vec::V3;
@@ -18,7 +18,6 @@ use crate::surface::band;
 use crate::surface::edge;
 use crate::surface::field::LineField;
 use crate::surface::lanes::Prepared;
-use crate::surface::predictor::Predictor;
 use crate::surface::scalar::{self, project_bary};
 use crate::surface::shell;
 

@@ -46,11 +46,11 @@
 use super::refine::{
     Bracket, ESTIMATE_POINTS, INNER_OF_STOP, OUTER_OF_INNER, OUTER_OF_SPREAD, narrow,
 };
+use crate::geometry::Predictor;
 use crate::num::lanes::LANES;
 use crate::num::real::Float;
 use crate::num::vec::V3;
 use crate::surface::lanes::Prepared;
-use crate::surface::predictor::Predictor;
 
 /// Passes of eight lanes of `f̃` that locate its root inside the sampling bracket (each
 /// narrows it ninefold) before regula falsi.

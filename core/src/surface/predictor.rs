@@ -33,7 +33,7 @@
 //! # Panics
 //! No function panics.
 
-use crate::geometry::Shape;
+use crate::geometry::{PREDICTOR_NODES, Predictor, Shape};
 use crate::num::lanes::{LANES, Lane, One};
 use crate::num::real::{Float, LaneOps};
 use crate::surface::band::BAND_MIN_NORMAL_COS;
@@ -44,8 +44,10 @@ use crate::surface::shell::{MARGIN_ABS, SAMPLES, SPARE, longest_edge, sample_bar
 /// The interpolant's degree.
 pub(crate) const DEGREE: usize = 4;
 
-/// The stored nodes: the degree-4 lattice without its three vertices (where the height is 0).
-pub(crate) const NODES: usize = (DEGREE + 1) * (DEGREE + 2) / 2 - 3;
+/// The stored nodes ([`PREDICTOR_NODES`]): the degree-4 lattice without its three vertices
+/// (where the height is 0).
+pub(crate) const NODES: usize = PREDICTOR_NODES;
+const _: () = assert!(NODES == (DEGREE + 1) * (DEGREE + 2) / 2 - 3);
 
 /// The nodes' multi-indices `(i, j, k)`, `i + j + k = DEGREE`: the nine on the edges in the
 /// order of [`EDGE_NODE_SAMPLES`], then the three interior ones.
@@ -92,23 +94,7 @@ const _: () = assert!(HELD_OUT.len() + NEAR_EDGE.len() == 2 * LANES);
 /// predictor asks.
 pub const WIDEN: f64 = 6.0;
 
-/// The quartic interpolant of a patch's height over its section barycentrics, with a bound of
-/// its error.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) struct Predictor<F> {
-    /// The true height at each node of [`LATTICE`]'s order.
-    heights: [F; NODES],
-    /// `|σS − P|` at most this over the triangle (validated); `F::MAX` for no predictor.
-    bound: F,
-}
-
 impl<F: Float> Predictor<F> {
-    /// No predictor: the kernel brackets with true heights.
-    pub(crate) const NONE: Self = Predictor {
-        heights: [F::ZERO; NODES],
-        bound: F::MAX,
-    };
-
     /// The barycentrics of the three interior nodes (and the last again), for the free lanes
     /// of the shell's interior call ([`crate::surface::shell::samples`]).
     pub(crate) fn interior_nodes() -> [[F; 3]; SPARE] {
@@ -186,24 +172,6 @@ impl<F: Float> Predictor<F> {
         } else {
             Self::NONE
         }
-    }
-
-    /// Whether the patch has a predictor (module docs, "Domain").
-    #[inline(always)]
-    pub(crate) fn usable(&self) -> bool {
-        self.bound < F::MAX
-    }
-
-    /// The validated bound of `|σS − P|` (height units, the local frame's); `F::MAX` for
-    /// [`Predictor::NONE`].
-    #[inline(always)]
-    pub(crate) fn bound(&self) -> F {
-        self.bound
-    }
-
-    /// Whether every stored value is finite.
-    pub(crate) fn is_finite(&self) -> bool {
-        self.heights.iter().all(|h| h.is_fin()) && self.bound.is_fin()
     }
 
     /// `P(β)` at the lanes' barycentrics `b` (summing to one), in the lattice's Lagrange form:
